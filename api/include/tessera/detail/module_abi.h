@@ -1,0 +1,87 @@
+/* The C ABI between a program module (a shared library built from OptiX-style C++) and the
+ * engine that loads it. The module describes its variables and buffers (TesseraModuleInfo);
+ * the engine hands it a function table (TesseraRuntime) for everything a program asks of the
+ * ray tracer. Both sides check abi_version. */
+#ifndef TESSERA_DETAIL_MODULE_ABI_H_
+#define TESSERA_DETAIL_MODULE_ABI_H_
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TESSERA_MODULE_ABI_VERSION 1u
+#define TESSERA_MAX_BUFFERS_PER_MODULE 128u
+
+/* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
+ * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
+typedef struct {
+  const char* name;
+  const char* semantic;
+  const char* annotation;
+  const char* type_name;
+  size_t size;
+  void* (*address)(void);
+} TesseraVariableDecl;
+
+/* One rtBuffer object. The engine learns its name from the module's dynamic symbol table. */
+typedef struct {
+  const void* object;
+  size_t element_size;
+  unsigned dimensionality;
+} TesseraBufferDecl;
+
+/* What a program sees of a buffer bound to one of its rtBuffer declarations, per thread. */
+typedef struct {
+  void* data;
+  size_t size[3]; /* unused dimensions are 1 */
+  size_t element_size;
+  unsigned long long id;
+} TesseraBufferView;
+
+typedef struct {
+  unsigned abi_version;
+  unsigned variable_count;
+  const TesseraVariableDecl* variables;
+  unsigned buffer_count;
+  const TesseraBufferDecl* buffers;
+  TesseraBufferView* (*buffer_views)(void); /* the calling thread's views, indexed by slot */
+} TesseraModuleInfo;
+
+/* Geometry kinds for TesseraRuntime::transform. */
+enum { TESSERA_TRANSFORM_POINT = 0, TESSERA_TRANSFORM_VECTOR = 1, TESSERA_TRANSFORM_NORMAL = 2 };
+
+typedef struct {
+  unsigned abi_version;
+  /* rtTrace: `ray` points at an optix::Ray; the payload is copied in and out by value. */
+  void (*trace)(unsigned long long node, const void* ray, void* payload, size_t payload_size);
+  int (*potential_intersection)(float t);
+  int (*report_intersection)(unsigned material);
+  void (*ignore_intersection)(void);
+  void (*terminate_ray)(void);
+  void (*throw_exception)(unsigned code);
+  unsigned (*exception_code)(void);
+  void (*print_exception_details)(void);
+  int (*print_active)(void);
+  void (*print)(const char* text);
+  void (*transform)(unsigned kind, unsigned what, const float* in, float* out);
+  void (*get_transform)(unsigned kind, float* matrix16);
+  /* An index outside a buffer: raises RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS when enabled,
+   * otherwise returns zeroed scratch memory so the program cannot corrupt anything. */
+  void* (*buffer_index_error)(unsigned slot, unsigned long long x, unsigned long long y,
+                              unsigned long long z);
+  void (*intersect_child)(unsigned index);
+} TesseraRuntime;
+
+/* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
+ * returns the module's description, or null when the ABI versions differ. */
+typedef const TesseraModuleInfo* (*TesseraModuleInitFn)(const TesseraRuntime* runtime,
+                                                        unsigned abi_version);
+#define TESSERA_MODULE_INIT_SYMBOL "tessera_module_init"
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* TESSERA_DETAIL_MODULE_ABI_H_ */

@@ -1,0 +1,233 @@
+// Program-side API: what an OptiX 3 program written in CUDA C needs to compile as C++ and run on
+// Tessera. A program module is a shared library built from such code with
+//   g++ -std=c++17 -O2 -shared -fPIC -x c++ -I<tessera include dirs> prog.cu -o prog.so
+//
+// How it works: every rtDeclareVariable is a thread_local object registered (name, semantic,
+// size, slot address) with the module's registry; before a program runs the engine copies the
+// value resolved through the program's scope chain into the calling thread's slot. rtBuffer
+// objects hold a slot index into a per-thread table of buffer views. Everything else calls the
+// engine through the TesseraRuntime table handed over when the module is loaded.
+#ifndef TESSERA_DEVICE_H_
+#define TESSERA_DEVICE_H_
+
+#include <cstdarg>
+#include <cstddef>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "internal/optix_datatypes.h"
+#include "optixu/optixu_math_namespace.h"
+#include "optixu/optixu_vector_types.h"
+#include "tessera/cuda_compat.h"
+#include "tessera/detail/module_abi.h"
+#include "tessera/rt.h"
+
+#define RT_PROGRAM extern "C" __attribute__((visibility("default"), used))
+#define RT_CALLABLE_PROGRAM
+#define RT_INTERNAL_CALLABLE_PROGRAM
+
+// A node of the graph (Group, GeometryGroup, Transform, Selector) as programs see it.
+struct rtObject {
+  unsigned long long handle;
+};
+
+#pragma GCC visibility push(hidden)
+namespace tessera {
+namespace detail {
+
+struct ModuleRegistry {
+  std::vector<TesseraVariableDecl> variables;
+  std::vector<TesseraBufferDecl> buffers;
+  TesseraModuleInfo info;
+};
+
+inline ModuleRegistry& Registry() {
+  static ModuleRegistry registry;
+  return registry;
+}
+
+inline const TesseraRuntime* g_runtime = nullptr;
+inline const TesseraRuntime* Rt() { return g_runtime; }
+
+inline thread_local TesseraBufferView t_buffer_views[TESSERA_MAX_BUFFERS_PER_MODULE];
+inline TesseraBufferView* BufferViews() { return t_buffer_views; }
+
+struct VariableRegistration {
+  VariableRegistration(const char* name, const char* semantic, const char* annotation,
+                       const char* type_name, size_t size, void* (*address)()) {
+    Registry().variables.push_back({name, semantic, annotation, type_name, size, address});
+  }
+};
+
+inline unsigned RegisterBuffer(const void* object, size_t element_size, unsigned dim) {
+  auto& buffers = Registry().buffers;
+  buffers.push_back({object, element_size, dim});
+  // Slots past the table are reported by the engine when it loads the module.
+  return static_cast<unsigned>(buffers.size() - 1);
+}
+
+__attribute__((format(printf, 1, 2))) inline void Print(const char* format, ...) {
+  if (!Rt()->print_active()) return;
+  char text[2048];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(text, sizeof(text), format, args);
+  va_end(args);
+  Rt()->print(text);
+}
+
+inline float3 Transform(RTtransformkind kind, unsigned what, const float3& v) {
+  float3 out;
+  Rt()->transform(static_cast<unsigned>(kind), what, &v.x, &out.x);
+  return out;
+}
+
+}  // namespace detail
+}  // namespace tessera
+#pragma GCC visibility pop
+
+extern "C" __attribute__((weak, visibility("default"))) const TesseraModuleInfo*
+tessera_module_init(const TesseraRuntime* runtime, unsigned abi_version) {
+  if (abi_version != TESSERA_MODULE_ABI_VERSION || runtime == nullptr) return nullptr;
+  auto& r = tessera::detail::Registry();
+  tessera::detail::g_runtime = runtime;
+  r.info.abi_version = TESSERA_MODULE_ABI_VERSION;
+  r.info.variable_count = static_cast<unsigned>(r.variables.size());
+  r.info.variables = r.variables.data();
+  r.info.buffer_count = static_cast<unsigned>(r.buffers.size());
+  r.info.buffers = r.buffers.data();
+  r.info.buffer_views = &tessera::detail::BufferViews;
+  return &r.info;
+}
+
+// rtDeclareVariable(type, name, semantic, annotation) [= initializer];
+#define rtDeclareVariable(type, name, semantic, annotation)                          \
+  extern __attribute__((visibility("hidden"))) thread_local type name;               \
+  static ::tessera::detail::VariableRegistration tessera_variable_##name(            \
+      #name, #semantic, #annotation, #type, sizeof(type),                            \
+      []() -> void* { return const_cast<void*>(static_cast<const void*>(&name)); }); \
+  __attribute__((visibility("hidden"))) thread_local type name
+
+#define rtDeclareAnnotation(variable, annotation)
+
+namespace optix {
+
+struct size_t2 {
+  size_t x, y;
+};
+struct size_t3 {
+  size_t x, y, z;
+};
+inline size_t2 make_size_t2(size_t x, size_t y) { return {x, y}; }
+inline size_t3 make_size_t3(size_t x, size_t y, size_t z) { return {x, y, z}; }
+
+template <typename T, int Dim>
+struct BufferSize;
+template <typename T>
+struct BufferSize<T, 1> {
+  using type = size_t;
+};
+template <typename T>
+struct BufferSize<T, 2> {
+  using type = size_t2;
+};
+template <typename T>
+struct BufferSize<T, 3> {
+  using type = size_t3;
+};
+
+// rtBuffer<T, Dim>: a view of a buffer bound through the program's scope chain. Indices outside
+// the buffer raise RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS (or read zeroed scratch when off).
+template <typename T, int Dim = 1>
+class buffer {
+  static_assert(Dim >= 1 && Dim <= 3, "rtBuffer dimensionality must be 1, 2 or 3");
+
+ public:
+  buffer() : slot_(::tessera::detail::RegisterBuffer(this, sizeof(T), Dim)) {}
+  buffer(const buffer&) = delete;
+  buffer& operator=(const buffer&) = delete;
+
+  typename BufferSize<T, Dim>::type size() const {
+    const TesseraBufferView& v = View();
+    if constexpr (Dim == 1) {
+      return v.size[0];
+    } else if constexpr (Dim == 2) {
+      return make_size_t2(v.size[0], v.size[1]);
+    } else {
+      return make_size_t3(v.size[0], v.size[1], v.size[2]);
+    }
+  }
+
+  T& operator[](unsigned long long i) const { return At(i, 0, 0); }
+  T& operator[](long long i) const { return At(static_cast<unsigned long long>(i), 0, 0); }
+  T& operator[](unsigned int i) const { return At(i, 0, 0); }
+  T& operator[](int i) const { return At(static_cast<unsigned long long>(i), 0, 0); }
+  T& operator[](unsigned long i) const { return At(i, 0, 0); }
+  T& operator[](long i) const { return At(static_cast<unsigned long long>(i), 0, 0); }
+  T& operator[](const uint2& i) const { return At(i.x, i.y, 0); }
+  T& operator[](const int2& i) const { return At(Idx(i.x), Idx(i.y), 0); }
+  T& operator[](const size_t2& i) const { return At(i.x, i.y, 0); }
+  T& operator[](const uint3& i) const { return At(i.x, i.y, i.z); }
+  T& operator[](const int3& i) const { return At(Idx(i.x), Idx(i.y), Idx(i.z)); }
+  T& operator[](const size_t3& i) const { return At(i.x, i.y, i.z); }
+
+ private:
+  static unsigned long long Idx(int i) { return static_cast<unsigned long long>(i); }
+  const TesseraBufferView& View() const { return ::tessera::detail::t_buffer_views[slot_]; }
+  T& At(unsigned long long x, unsigned long long y, unsigned long long z) const {
+    const TesseraBufferView& v = View();
+    if (x >= v.size[0] || y >= v.size[1] || z >= v.size[2]) {
+      return *static_cast<T*>(::tessera::detail::Rt()->buffer_index_error(slot_, x, y, z));
+    }
+    return static_cast<T*>(v.data)[(z * v.size[1] + y) * v.size[0] + x];
+  }
+
+  unsigned slot_;
+};
+
+}  // namespace optix
+
+#define rtBuffer ::optix::buffer
+
+// ---- Tracing ---------------------------------------------------------------------------------
+template <typename T>
+inline void rtTrace(rtObject top, const optix::Ray& ray, T& payload) {
+  ::tessera::detail::Rt()->trace(top.handle, &ray, &payload, sizeof(T));
+}
+
+inline bool rtPotentialIntersection(float t) {
+  return ::tessera::detail::Rt()->potential_intersection(t) != 0;
+}
+inline bool rtReportIntersection(unsigned int material) {
+  return ::tessera::detail::Rt()->report_intersection(material) != 0;
+}
+// Unlike OptiX, these two return to the calling any-hit program; the effect applies when it ends.
+inline void rtIgnoreIntersection() { ::tessera::detail::Rt()->ignore_intersection(); }
+inline void rtTerminateRay() { ::tessera::detail::Rt()->terminate_ray(); }
+inline void rtIntersectChild(unsigned int index) {
+  ::tessera::detail::Rt()->intersect_child(index);
+}
+
+// ---- Transforms --------------------------------------------------------------------------------
+inline float3 rtTransformPoint(RTtransformkind kind, const float3& p) {
+  return ::tessera::detail::Transform(kind, TESSERA_TRANSFORM_POINT, p);
+}
+inline float3 rtTransformVector(RTtransformkind kind, const float3& v) {
+  return ::tessera::detail::Transform(kind, TESSERA_TRANSFORM_VECTOR, v);
+}
+inline float3 rtTransformNormal(RTtransformkind kind, const float3& n) {
+  return ::tessera::detail::Transform(kind, TESSERA_TRANSFORM_NORMAL, n);
+}
+inline void rtGetTransform(RTtransformkind kind, float matrix[16]) {
+  ::tessera::detail::Rt()->get_transform(static_cast<unsigned>(kind), matrix);
+}
+
+// ---- Exceptions and printing -------------------------------------------------------------------
+inline void rtThrow(unsigned int code) { ::tessera::detail::Rt()->throw_exception(code); }
+inline unsigned int rtGetExceptionCode() { return ::tessera::detail::Rt()->exception_code(); }
+inline void rtPrintExceptionDetails() { ::tessera::detail::Rt()->print_exception_details(); }
+
+#define rtPrintf(...) ::tessera::detail::Print(__VA_ARGS__)
+
+#endif  // TESSERA_DEVICE_H_

@@ -1,0 +1,47 @@
+# Shared build settings for project targets; see STYLE.md "CMake".
+
+# Program modules compile against the program-side headers only.
+set(TESSERA_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include CACHE INTERNAL "")
+
+add_library(tessera_warnings INTERFACE)
+target_compile_options(tessera_warnings INTERFACE
+  $<$<COMPILE_LANGUAGE:CXX>:-Wall -Wextra -Werror -Wno-unused-parameter>
+  $<$<COMPILE_LANGUAGE:C>:-Wall -Wextra -Werror>)
+
+# tessera_cc_library(NAME name SRCS ... [HDRS ...] [DEPS ...] [PUBLIC_INCLUDES ...] [SHARED])
+# Creates tessera_<name> with alias tessera::<name>.
+function(tessera_cc_library)
+  cmake_parse_arguments(A "SHARED" "NAME" "SRCS;DEPS;PUBLIC_INCLUDES" ${ARGN})
+  if(A_SHARED)
+    add_library(tessera_${A_NAME} SHARED ${A_SRCS})
+  else()
+    add_library(tessera_${A_NAME} STATIC ${A_SRCS})
+  endif()
+  add_library(tessera::${A_NAME} ALIAS tessera_${A_NAME})
+  target_link_libraries(tessera_${A_NAME} PUBLIC ${A_DEPS} PRIVATE tessera_warnings)
+  if(A_PUBLIC_INCLUDES)
+    target_include_directories(tessera_${A_NAME} PUBLIC ${A_PUBLIC_INCLUDES})
+  endif()
+endfunction()
+
+# tessera_cc_test(NAME name SRCS ... [DEPS ...])
+function(tessera_cc_test)
+  cmake_parse_arguments(A "" "NAME" "SRCS;DEPS" ${ARGN})
+  add_executable(${A_NAME} ${A_SRCS})
+  target_link_libraries(${A_NAME} PRIVATE ${A_DEPS} GTest::gtest GTest::gtest_main tessera_warnings)
+  gtest_discover_tests(${A_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 300)
+endfunction()
+
+# tessera_add_program_module(TARGET name SOURCES file.cu ...)
+# Builds an OptiX-style program module (the PTX analogue): a shared library compiled as C++
+# from .cu sources against the program-side headers. The module lands in
+# ${CMAKE_BINARY_DIR}/modules/<name>.so so hosts can find it by a stable path.
+function(tessera_add_program_module)
+  cmake_parse_arguments(A "" "TARGET" "SOURCES;INCLUDES" ${ARGN})
+  add_library(${A_TARGET} MODULE ${A_SOURCES})
+  set_source_files_properties(${A_SOURCES} PROPERTIES LANGUAGE CXX)
+  target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 -Wall -Wextra -Werror -Wno-unused-parameter)
+  target_include_directories(${A_TARGET} PRIVATE ${TESSERA_PROGRAM_INCLUDE_DIRS} ${A_INCLUDES})
+  set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"
+    LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/modules)
+endfunction()

@@ -1,0 +1,227 @@
+#include "binding.h"
+
+#include <cstring>
+
+#include "absl/strings/str_cat.h"
+#include "tessera/rt.h"
+
+namespace tessera::worker {
+namespace {
+
+bool IsNodeType(uint32_t type) {
+  return type == RT_OBJECTTYPE_GROUP || type == RT_OBJECTTYPE_GEOMETRY_GROUP ||
+         type == RT_OBJECTTYPE_TRANSFORM || type == RT_OBJECTTYPE_SELECTOR ||
+         type == RT_OBJECTTYPE_OBJECT;
+}
+
+const Value* Lookup(const std::vector<const Scope*>& scopes, const std::string& name) {
+  for (const Scope* s : scopes) {
+    if (s == nullptr) continue;
+    auto it = s->find(name);
+    if (it != s->end()) return &it->second;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+const char* KindName(ProgramKind kind) {
+  switch (kind) {
+    case ProgramKind::kRayGeneration:
+      return "ray generation";
+    case ProgramKind::kException:
+      return "exception";
+    case ProgramKind::kClosestHit:
+      return "closest hit";
+    case ProgramKind::kAnyHit:
+      return "any hit";
+    case ProgramKind::kMiss:
+      return "miss";
+    case ProgramKind::kIntersection:
+      return "intersection";
+    case ProgramKind::kBoundingBox:
+      return "bounding box";
+    case ProgramKind::kVisit:
+      return "visit";
+  }
+  return "unknown";
+}
+
+absl::StatusOr<size_t> AttributeLayout::Offset(const std::string& name, size_t size,
+                                               const std::string& where) {
+  auto it = entries_.find(name);
+  if (it != entries_.end()) {
+    if (it->second.second != size) {
+      return absl::InvalidArgumentError(absl::StrCat("attribute '", name, "' is ", size,
+                                                     " bytes in ", where, " but ",
+                                                     it->second.second, " bytes elsewhere"));
+    }
+    return it->second.first;
+  }
+  size_t offset = (used_ + 15) & ~size_t{15};
+  if (offset + size > kMaxBytes) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("attributes exceed ", kMaxBytes, " bytes at '", name, "' in ", where));
+  }
+  used_ = offset + size;
+  entries_[name] = {offset, size};
+  return offset;
+}
+
+void BoundProgram::Load() const {
+  void* const* slots = module->Slots();
+  for (const Copy& c : copies) std::memcpy(slots[c.var], c.src, c.size);
+  if (!views.empty()) {
+    TesseraBufferView* v = module->Views();
+    for (const auto& [slot, view] : views) v[slot] = view;
+  }
+}
+
+absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint64_t program_id,
+                                  const std::vector<const Scope*>& outer,
+                                  AttributeLayout& attributes) {
+  const ProgramRec* program = replica.Find(replica.programs, program_id);
+  if (program == nullptr) {
+    return absl::NotFoundError(
+        absl::StrCat(KindName(kind), " program #", program_id, " is unknown to the device"));
+  }
+  absl::StatusOr<const Module*> module = ModuleCache::Get().Load(program->module_path);
+  if (!module.ok()) return module.status();
+  BoundProgram b;
+  b.kind = kind;
+  b.id = program_id;
+  b.module = *module;
+  b.name =
+      absl::StrCat(KindName(kind), " program '", program->function, "' in ", program->module_path);
+  b.function = b.module->Function(program->function);
+  if (b.function == nullptr) {
+    return absl::NotFoundError(absl::StrCat(b.name, ": no such function in the module"));
+  }
+  std::vector<const Scope*> scopes;
+  scopes.push_back(&program->vars);
+  scopes.insert(scopes.end(), outer.begin(), outer.end());
+
+  const auto& vars = b.module->variables();
+  for (unsigned i = 0; i < vars.size(); ++i) {
+    const ModuleVariable& v = vars[i];
+    switch (v.semantic) {
+      case Semantic::kLaunchIndex:
+        b.launch_index = i;
+        continue;
+      case Semantic::kLaunchDim:
+        b.launch_dim = i;
+        continue;
+      case Semantic::kCurrentRay:
+        b.ray = i;
+        continue;
+      case Semantic::kPayload:
+        b.payload = i;
+        continue;
+      case Semantic::kDistance:
+        b.distance = i;
+        continue;
+      case Semantic::kAttribute: {
+        absl::StatusOr<size_t> offset = attributes.Offset(v.attribute, v.size, b.name);
+        if (!offset.ok()) return offset.status();
+        b.attributes.push_back({i, *offset, v.size});
+        continue;
+      }
+      case Semantic::kUser:
+        break;
+    }
+    const Value* value = Lookup(scopes, v.name);
+    if (value == nullptr) {
+      b.copies.push_back({i, v.initial.data(), v.size});
+      continue;
+    }
+    if (value->type == RT_OBJECTTYPE_BUFFER || value->type == RT_OBJECTTYPE_PROGRAM ||
+        value->type == RT_OBJECTTYPE_TEXTURE_SAMPLER) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          b.name, ": variable '", v.name, "' is declared with rtDeclareVariable but bound to an ",
+          "object of type ", value->type, " (use rtBuffer for buffers)"));
+    }
+    if (IsNodeType(value->type)) {
+      if (v.size != sizeof(uint64_t)) {
+        return absl::InvalidArgumentError(absl::StrCat(b.name, ": variable '", v.name,
+                                                       "' is bound to a graph node; declare it "
+                                                       "as rtObject"));
+      }
+      b.copies.push_back({i, &value->object_id, sizeof(uint64_t)});
+      continue;
+    }
+    if (value->data.size() != v.size) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(b.name, ": variable '", v.name, "' is declared as ", v.type_name, " (",
+                       v.size, " bytes) but its value is ", value->data.size(), " bytes"));
+    }
+    b.copies.push_back({i, value->data.data(), v.size});
+  }
+
+  const auto& buffers = b.module->buffers();
+  for (unsigned slot = 0; slot < buffers.size(); ++slot) {
+    const ModuleBuffer& mb = buffers[slot];
+    TesseraBufferView view{nullptr, {0, 1, 1}, mb.element_size, 0};
+    const Value* value = Lookup(scopes, mb.name);
+    if (value != nullptr) {
+      if (value->type != RT_OBJECTTYPE_BUFFER) {
+        return absl::InvalidArgumentError(absl::StrCat(b.name, ": rtBuffer '", mb.name,
+                                                       "' is bound to a variable that is not a "
+                                                       "buffer"));
+      }
+      const BufferRec* buf = replica.Find(replica.buffers, value->object_id);
+      if (buf == nullptr && value->object_id != 0) {
+        return absl::NotFoundError(absl::StrCat(
+            b.name, ": rtBuffer '", mb.name, "' is bound to unknown buffer #", value->object_id));
+      }
+      if (buf != nullptr) {
+        if (buf->element_size != mb.element_size) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(b.name, ": rtBuffer '", mb.name, "' has elements of ", mb.element_size,
+                           " bytes but buffer #", value->object_id, " has elements of ",
+                           buf->element_size, " bytes"));
+        }
+        if (buf->ndims != 0 && buf->ndims != mb.dimensionality) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(b.name, ": rtBuffer '", mb.name, "' is ", mb.dimensionality,
+                           "D but buffer #", value->object_id, " is ", buf->ndims, "D"));
+        }
+        view.data = const_cast<unsigned char*>(buf->data.data());
+        view.size[0] = buf->dims[0];
+        view.size[1] = buf->dims[1];
+        view.size[2] = buf->dims[2];
+        view.id = value->object_id;
+      }
+    }
+    b.views.push_back({slot, view});
+  }
+  return b;
+}
+
+void SlotSnapshot::Save(const Module* m) {
+  module = m;
+  bytes.clear();
+  if (m == nullptr) return;
+  void* const* slots = m->Slots();
+  const auto& vars = m->variables();
+  for (size_t i = 0; i < vars.size(); ++i) {
+    const auto* p = static_cast<const unsigned char*>(slots[i]);
+    bytes.insert(bytes.end(), p, p + vars[i].size);
+  }
+  const auto* views = reinterpret_cast<const unsigned char*>(m->Views());
+  bytes.insert(bytes.end(), views, views + m->buffers().size() * sizeof(TesseraBufferView));
+}
+
+void SlotSnapshot::Restore() const {
+  if (module == nullptr) return;
+  void* const* slots = module->Slots();
+  const auto& vars = module->variables();
+  size_t at = 0;
+  for (size_t i = 0; i < vars.size(); ++i) {
+    std::memcpy(slots[i], bytes.data() + at, vars[i].size);
+    at += vars[i].size;
+  }
+  std::memcpy(module->Views(), bytes.data() + at,
+              module->buffers().size() * sizeof(TesseraBufferView));
+}
+
+}  // namespace tessera::worker

@@ -1,0 +1,81 @@
+// Programs bound to a scope chain (OptiX guide Table 5): what to copy into a module's variable
+// slots and buffer views before the program runs. Bindings are computed once per launch plan.
+#ifndef TESSERA_WORKER_CORE_BINDING_H_
+#define TESSERA_WORKER_CORE_BINDING_H_
+
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "module.h"
+#include "replica.h"
+
+namespace tessera::worker {
+
+enum class ProgramKind {
+  kRayGeneration,
+  kException,
+  kClosestHit,
+  kAnyHit,
+  kMiss,
+  kIntersection,
+  kBoundingBox,
+  kVisit
+};
+const char* KindName(ProgramKind kind);
+
+// Attribute names across all loaded modules → bytes in a hit's attribute block.
+class AttributeLayout {
+ public:
+  static constexpr size_t kMaxBytes = 512;
+  // Returns the offset of `name`, adding it; sizes must agree across modules.
+  absl::StatusOr<size_t> Offset(const std::string& name, size_t size, const std::string& where);
+
+ private:
+  std::unordered_map<std::string, std::pair<size_t, size_t>> entries_;  // name -> offset, size
+  size_t used_ = 0;
+};
+
+struct BoundProgram {
+  struct Copy {
+    unsigned var;
+    const void* src;
+    size_t size;
+  };
+  struct Attribute {
+    unsigned var;
+    size_t offset;
+    size_t size;
+  };
+  ProgramKind kind = ProgramKind::kRayGeneration;
+  uint64_t id = 0;
+  std::string name;  // "function in module" for messages
+  const Module* module = nullptr;
+  void* function = nullptr;
+  std::vector<Copy> copies;
+  std::vector<std::pair<unsigned, TesseraBufferView>> views;
+  std::vector<Attribute> attributes;
+  int launch_index = -1, launch_dim = -1, ray = -1, payload = -1, distance = -1;
+
+  // Copies the bound values into the calling thread's slots of the module.
+  void Load() const;
+};
+
+// Binds `program_id` with scopes searched in order (the program's own scope comes first).
+absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint64_t program_id,
+                                  const std::vector<const Scope*>& scopes,
+                                  AttributeLayout& attributes);
+
+// Saves and restores every slot of a module, around nested rtTrace.
+struct SlotSnapshot {
+  const Module* module = nullptr;
+  std::vector<unsigned char> bytes;
+  void Save(const Module* m);
+  void Restore() const;
+};
+
+}  // namespace tessera::worker
+
+#endif  // TESSERA_WORKER_CORE_BINDING_H_

@@ -1,0 +1,140 @@
+#include "tessera/worker/inproc_device.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <mutex>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "plan.h"
+#include "replica.h"
+#include "runtime.h"
+#include "tessera/rt.h"
+
+namespace tessera {
+namespace {
+
+using worker::FatalError;
+using worker::Index3;
+
+class InprocDevice : public Device {
+ public:
+  explicit InprocDevice(int num_threads)
+      : num_threads_(num_threads > 0 ? num_threads
+                                     : static_cast<int>(std::thread::hardware_concurrency())),
+        embree_(rtcNewDevice(nullptr)),
+        scenes_(embree_) {}
+  ~InprocDevice() override {
+    plan_.reset();
+    scenes_ = worker::SceneCache(embree_);
+    rtcReleaseDevice(embree_);
+  }
+
+  DeviceInfo Info() const override { return DeviceInfo{"inproc", "inproc", num_threads_}; }
+
+  absl::Status Apply(const v1::StateDelta& delta) override {
+    plan_.reset();  // bound programs point into the replica
+    return replica_.Apply(delta);
+  }
+
+  absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
+                      const std::function<void(v1::TileResult&&)>& on_result) override {
+    if (request.dims_size() < 1 || request.dims_size() > 3) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("launch with ", request.dims_size(), " dimensions"));
+    }
+    if (!plan_ || plan_->generation != replica_.generation()) {
+      absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan;
+      try {
+        plan = worker::MakePlan(replica_, scenes_);
+      } catch (const FatalError& e) {
+        plan = e.status;
+      }
+      if (!plan.ok()) return plan.status();
+      plan_ = std::move(*plan);
+    }
+    Index3 dims{1, 1, 1};
+    bool empty = false;
+    for (int i = 0; i < request.dims_size(); ++i) {
+      dims[i] = static_cast<uint32_t>(request.dims(i));
+      empty = empty || request.dims(i) == 0;
+    }
+    if (empty) return absl::OkStatus();  // the all-zero launch only builds accelerations
+    if (request.entry_point() >= plan_->ray_generation.size()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("entry point ", request.entry_point(), " out of range"));
+    }
+
+    std::mutex result_mu;
+    std::atomic<bool> stop{false};
+    absl::Status failure;
+    auto run_tile = [&](const v1::Tile& tile) {
+      v1::TileResult result;
+      result.set_launch_id(request.launch_id());
+      result.set_tile_index(tile.index());
+      Index3 origin{0, 0, 0}, size{1, 1, 1};
+      for (int i = 0; i < tile.origin_size() && i < 3; ++i) origin[i] = tile.origin(i);
+      for (int i = 0; i < tile.size_size() && i < 3; ++i) size[i] = tile.size(i);
+      try {
+        for (uint32_t z = origin[2]; z < origin[2] + size[2] && z < dims[2]; ++z) {
+          for (uint32_t y = origin[1]; y < origin[1] + size[1] && y < dims[1]; ++y) {
+            if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
+              return;
+            }
+            for (uint32_t x = origin[0]; x < origin[0] + size[0] && x < dims[0]; ++x) {
+              worker::RunLaunchIndex(*plan_, request.entry_point(), {x, y, z}, dims, result);
+            }
+          }
+        }
+      } catch (const FatalError& e) {
+        std::lock_guard<std::mutex> lock(result_mu);
+        if (failure.ok()) failure = e.status;
+        stop = true;
+        result.set_error(std::string(e.status.message()));
+        result.set_error_code(RT_ERROR_LAUNCH_FAILED);
+      }
+      std::lock_guard<std::mutex> lock(result_mu);
+      on_result(std::move(result));
+    };
+
+    int threads = replica_.context().num_threads > 0
+                      ? static_cast<int>(replica_.context().num_threads)
+                      : num_threads_;
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      tbb::parallel_for(0, request.tiles_size(), 1, [&](int i) { run_tile(request.tiles(i)); });
+    });
+    if (!failure.ok()) return failure;
+    if (cancel.load()) return absl::CancelledError("launch cancelled");
+
+    v1::TileResult final_result;
+    final_result.set_launch_id(request.launch_id());
+    final_result.set_tile_index(kFinalTileIndex);
+    for (const auto& [id, buffer] : replica_.buffers) {
+      if (!(buffer.desc & RT_BUFFER_OUTPUT) || (buffer.desc & RT_BUFFER_GPU_LOCAL)) continue;
+      v1::BufferRegion* region = final_result.add_regions();
+      region->set_buffer_id(id);
+      region->set_offset(0);
+      region->set_data(buffer.data.data(), buffer.data.size());
+    }
+    on_result(std::move(final_result));
+    return absl::OkStatus();
+  }
+
+ private:
+  int num_threads_;
+  RTCDevice embree_;
+  worker::Replica replica_;
+  worker::SceneCache scenes_;
+  std::unique_ptr<worker::LaunchPlan> plan_;
+};
+
+}  // namespace
+
+std::unique_ptr<Device> CreateInprocDevice(int num_threads) {
+  return std::make_unique<InprocDevice>(num_threads);
+}
+
+}  // namespace tessera

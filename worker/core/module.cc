@@ -1,0 +1,151 @@
+#include "module.h"
+
+#include <cxxabi.h>
+#include <dlfcn.h>
+
+#include <cstdlib>
+#include <cstring>
+
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/strip.h"
+#include "runtime.h"
+
+namespace tessera::worker {
+namespace {
+
+std::string Unquote(std::string s) {
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') return s.substr(1, s.size() - 2);
+  return s;
+}
+
+absl::Status ParseSemantic(const std::string& module, ModuleVariable& v, const char* text) {
+  std::string s = text ? text : "";
+  if (s.empty()) return absl::OkStatus();
+  static const std::pair<const char*, Semantic> kBuiltins[] = {
+      {"rtLaunchIndex", Semantic::kLaunchIndex},       {"rtLaunchDim", Semantic::kLaunchDim},
+      {"rtCurrentRay", Semantic::kCurrentRay},         {"rtPayload", Semantic::kPayload},
+      {"rtIntersectionDistance", Semantic::kDistance},
+  };
+  for (const auto& [name, semantic] : kBuiltins) {
+    if (s == name) {
+      v.semantic = semantic;
+      return absl::OkStatus();
+    }
+  }
+  absl::string_view rest = s;
+  if (absl::ConsumePrefix(&rest, "attribute")) {
+    rest = absl::StripAsciiWhitespace(rest);
+    if (!rest.empty()) {
+      v.semantic = Semantic::kAttribute;
+      v.attribute = std::string(rest);
+      return absl::OkStatus();
+    }
+  }
+  return absl::InvalidArgumentError(
+      absl::StrCat("module ", module, ": variable '", v.name, "' has unknown semantic '", s, "'"));
+}
+
+// The unqualified name of the symbol at `object` (rtBuffer objects are named by their symbol).
+std::string SymbolName(const void* object) {
+  Dl_info info{};
+  if (dladdr(object, &info) == 0 || info.dli_sname == nullptr || info.dli_saddr != object) {
+    return "";
+  }
+  std::string name = info.dli_sname;
+  int status = 0;
+  char* demangled = abi::__cxa_demangle(info.dli_sname, nullptr, nullptr, &status);
+  if (status == 0 && demangled != nullptr) name = demangled;
+  std::free(demangled);
+  size_t colon = name.rfind("::");
+  return colon == std::string::npos ? name : name.substr(colon + 2);
+}
+
+thread_local std::vector<std::vector<void*>> t_slots;
+
+}  // namespace
+
+void* const* Module::Slots() const {
+  if (t_slots.size() <= static_cast<size_t>(index_)) t_slots.resize(index_ + 1);
+  std::vector<void*>& slots = t_slots[index_];
+  if (slots.size() != variables_.size()) {
+    slots.resize(variables_.size());
+    for (size_t i = 0; i < variables_.size(); ++i) slots[i] = variables_[i].address();
+  }
+  return slots.data();
+}
+
+void* Module::Function(const std::string& name) const { return dlsym(handle_, name.c_str()); }
+
+ModuleCache& ModuleCache::Get() {
+  static ModuleCache* cache = new ModuleCache();
+  return *cache;
+}
+
+absl::StatusOr<const Module*> ModuleCache::Load(const std::string& path) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (auto it = modules_.find(path); it != modules_.end()) return it->second.get();
+
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (handle == nullptr) {
+    const char* err = dlerror();
+    return absl::NotFoundError(
+        absl::StrCat("cannot load program module ", path, ": ", err ? err : "unknown error"));
+  }
+  auto init = reinterpret_cast<TesseraModuleInitFn>(dlsym(handle, TESSERA_MODULE_INIT_SYMBOL));
+  if (init == nullptr) {
+    dlclose(handle);
+    return absl::InvalidArgumentError(absl::StrCat("program module ", path,
+                                                   " was not built against tessera/device.h (no ",
+                                                   TESSERA_MODULE_INIT_SYMBOL, ")"));
+  }
+  const TesseraModuleInfo* info = init(EngineRuntime(), TESSERA_MODULE_ABI_VERSION);
+  if (info == nullptr || info->abi_version != TESSERA_MODULE_ABI_VERSION) {
+    dlclose(handle);
+    return absl::FailedPreconditionError(
+        absl::StrCat("program module ", path, " was built for another Tessera module ABI"));
+  }
+  if (info->buffer_count > TESSERA_MAX_BUFFERS_PER_MODULE) {
+    dlclose(handle);
+    return absl::ResourceExhaustedError(absl::StrCat("program module ", path, " declares ",
+                                                     info->buffer_count, " rtBuffers; at most ",
+                                                     TESSERA_MAX_BUFFERS_PER_MODULE));
+  }
+  auto module = std::make_unique<Module>();
+  module->index_ = next_index_++;
+  module->path_ = path;
+  module->handle_ = handle;
+  module->info_ = info;
+  for (unsigned i = 0; i < info->variable_count; ++i) {
+    const TesseraVariableDecl& d = info->variables[i];
+    ModuleVariable v;
+    v.name = d.name;
+    v.annotation = Unquote(d.annotation ? d.annotation : "");
+    v.type_name = d.type_name ? d.type_name : "";
+    v.size = d.size;
+    v.address = d.address;
+    if (absl::Status s = ParseSemantic(path, v, d.semantic); !s.ok()) return s;
+    // This thread's slot still holds the static initializer (or zeros): that is the default.
+    const auto* initial = static_cast<const unsigned char*>(d.address());
+    v.initial.assign(initial, initial + d.size);
+    module->variables_.push_back(std::move(v));
+  }
+  for (unsigned i = 0; i < info->buffer_count; ++i) {
+    const TesseraBufferDecl& d = info->buffers[i];
+    ModuleBuffer b;
+    b.name = SymbolName(d.object);
+    b.element_size = d.element_size;
+    b.dimensionality = d.dimensionality;
+    if (b.name.empty()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "program module ", path, ": rtBuffer #", i,
+          " has no exported name (declare rtBuffer objects at namespace scope, not static)"));
+    }
+    module->buffers_.push_back(std::move(b));
+  }
+  const Module* result = module.get();
+  modules_.emplace(path, std::move(module));
+  return result;
+}
+
+}  // namespace tessera::worker

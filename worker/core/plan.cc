@@ -1,0 +1,124 @@
+#include "plan.h"
+
+#include "absl/strings/str_cat.h"
+#include "tessera/rt.h"
+
+namespace tessera::worker {
+namespace {
+
+// Bytes of OptiX stack one nested rtTrace costs; the context's stack size divided by this is the
+// deepest trace allowed (default 1024 bytes: 8 levels). See docs/COMPATIBILITY.md.
+constexpr uint64_t kStackBytesPerTrace = 128;
+
+void CollectRoots(const Scope& scope, std::vector<uint64_t>& roots) {
+  for (const auto& [name, v] : scope) {
+    if (v.object_id != 0 &&
+        (v.type == RT_OBJECTTYPE_GROUP || v.type == RT_OBJECTTYPE_GEOMETRY_GROUP ||
+         v.type == RT_OBJECTTYPE_TRANSFORM || v.type == RT_OBJECTTYPE_SELECTOR ||
+         v.type == RT_OBJECTTYPE_OBJECT)) {
+      roots.push_back(v.object_id);
+    }
+  }
+}
+
+}  // namespace
+
+bool LaunchPlan::ExceptionEnabled(unsigned code) const {
+  if (code >= RT_EXCEPTION_USER) return user_exceptions;
+  if (code < RT_EXCEPTION_PROGRAM_ID_INVALID || code > RT_EXCEPTION_INTERNAL_ERROR) return false;
+  return (exception_mask >> (code - RT_EXCEPTION_PROGRAM_ID_INVALID)) & 1u;
+}
+
+uint32_t LaunchPlan::NodeType(uint64_t id) const {
+  if (replica->groups.count(id)) return RT_OBJECTTYPE_GROUP;
+  if (replica->geometry_groups.count(id)) return RT_OBJECTTYPE_GEOMETRY_GROUP;
+  if (replica->transforms.count(id)) return RT_OBJECTTYPE_TRANSFORM;
+  if (replica->selectors.count(id)) return RT_OBJECTTYPE_SELECTOR;
+  return 0;
+}
+
+absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes) {
+  auto plan = std::make_unique<LaunchPlan>();
+  plan->generation = replica.generation();
+  plan->replica = &replica;
+  plan->scenes = &scenes;
+  const ContextRec& ctx = replica.context();
+  plan->max_depth = std::max<uint64_t>(1, ctx.stack_size / kStackBytesPerTrace);
+  plan->exception_mask = ctx.exception_mask;
+  plan->user_exceptions = ctx.user_exceptions;
+  plan->print_enabled = ctx.print_enabled;
+  plan->print_index = ctx.print_index;
+
+  auto bind = [&](ProgramKind kind, uint64_t id,
+                  std::vector<const Scope*> scopes) -> absl::StatusOr<const BoundProgram*> {
+    if (id == 0) return nullptr;
+    absl::StatusOr<BoundProgram> b = Bind(replica, kind, id, scopes, plan->attributes);
+    if (!b.ok()) return b.status();
+    plan->programs.push_back(std::move(*b));
+    return &plan->programs.back();
+  };
+  const Scope* context_scope = &ctx.vars;
+  auto bind_all = [&](ProgramKind kind, const std::vector<uint64_t>& ids,
+                      std::vector<const BoundProgram*>& out) -> absl::Status {
+    for (uint64_t id : ids) {
+      absl::StatusOr<const BoundProgram*> b = bind(kind, id, {context_scope});
+      if (!b.ok()) return b.status();
+      out.push_back(*b);
+    }
+    return absl::OkStatus();
+  };
+  if (auto s = bind_all(ProgramKind::kRayGeneration, ctx.ray_generation, plan->ray_generation);
+      !s.ok()) {
+    return s;
+  }
+  if (auto s = bind_all(ProgramKind::kException, ctx.exception, plan->exception); !s.ok()) return s;
+  if (auto s = bind_all(ProgramKind::kMiss, ctx.miss, plan->miss); !s.ok()) return s;
+
+  std::vector<uint64_t> roots;
+  CollectRoots(ctx.vars, roots);
+  for (const auto& [id, p] : replica.programs) CollectRoots(p.vars, roots);
+
+  for (const auto& [id, gi] : replica.instances) {
+    InstancePlan ip;
+    ip.id = id;
+    const GeometryRec* g = replica.Find(replica.geometries, gi.geometry);
+    if (g == nullptr) {
+      return absl::NotFoundError(
+          absl::StrCat("geometry instance #", id, " has no geometry on the device"));
+    }
+    auto is =
+        bind(ProgramKind::kIntersection, g->intersection, {&gi.vars, &g->vars, context_scope});
+    if (!is.ok()) return is.status();
+    auto bb = bind(ProgramKind::kBoundingBox, g->bounds, {&gi.vars, &g->vars, context_scope});
+    if (!bb.ok()) return bb.status();
+    ip.intersection = *is;
+    ip.bounds = *bb;
+    for (uint64_t mid : gi.materials) {
+      const MaterialRec* m = replica.Find(replica.materials, mid);
+      if (m == nullptr) {
+        return absl::NotFoundError(
+            absl::StrCat("geometry instance #", id, " uses unknown material #", mid));
+      }
+      std::vector<HitGroup> groups(ctx.ray_type_count);
+      for (uint32_t rt = 0; rt < ctx.ray_type_count; ++rt) {
+        uint64_t ch = rt < m->closest_hit.size() ? m->closest_hit[rt] : 0;
+        uint64_t ah = rt < m->any_hit.size() ? m->any_hit[rt] : 0;
+        auto chb = bind(ProgramKind::kClosestHit, ch, {&gi.vars, &m->vars, context_scope});
+        if (!chb.ok()) return chb.status();
+        auto ahb = bind(ProgramKind::kAnyHit, ah, {&gi.vars, &m->vars, context_scope});
+        if (!ahb.ok()) return ahb.status();
+        groups[rt] = HitGroup{*chb, *ahb};
+        ip.has_any_hit = ip.has_any_hit || *ahb != nullptr;
+      }
+      ip.materials.push_back(std::move(groups));
+      CollectRoots(m->vars, roots);
+    }
+    CollectRoots(gi.vars, roots);
+    CollectRoots(g->vars, roots);
+    plan->instances.emplace(id, std::move(ip));
+  }
+  if (absl::Status s = scenes.Update(*plan, roots); !s.ok()) return s;
+  return plan;
+}
+
+}  // namespace tessera::worker

@@ -1,0 +1,108 @@
+// A launch plan: every program bound to its scopes, Embree scenes for the graph's accelerations,
+// and launch-wide settings. Rebuilt when the replica changes; scenes are rebuilt only for
+// accelerations whose inputs changed.
+#ifndef TESSERA_WORKER_CORE_PLAN_H_
+#define TESSERA_WORKER_CORE_PLAN_H_
+
+#include <embree3/rtcore.h>
+
+#include <array>
+#include <deque>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "binding.h"
+#include "replica.h"
+
+namespace tessera::worker {
+
+struct HitGroup {
+  const BoundProgram* closest_hit = nullptr;
+  const BoundProgram* any_hit = nullptr;
+};
+
+struct InstancePlan {
+  uint64_t id = 0;
+  const BoundProgram* intersection = nullptr;
+  const BoundProgram* bounds = nullptr;
+  std::vector<std::vector<HitGroup>> materials;  // [material index][ray type]
+  bool has_any_hit = false;
+};
+
+// User data of one Embree geometry in a GeometryGroup's scene.
+struct GeometryInfo {
+  uint64_t instance_id = 0;
+  bool triangles = false;        // native Embree triangles; the intersection program only reports
+  bool filter = false;           // an any-hit program exists: Embree calls our filter per candidate
+  std::vector<float> bounds;     // user geometry: 6 floats per primitive
+  InstancePlan* plan = nullptr;  // refreshed with every plan
+};
+
+// User data of one child of a Group's scene.
+struct ChildInfo {
+  NodeRef child;
+  std::array<float, 6> bounds{};
+};
+
+struct SceneEntry {
+  RTCScene scene = nullptr;
+  uint64_t stamp = 0;
+  std::vector<std::unique_ptr<GeometryInfo>> geometries;
+  std::vector<std::unique_ptr<ChildInfo>> children;
+  std::array<float, 6> bounds{};
+  ~SceneEntry();
+};
+
+class SceneCache;
+
+struct LaunchPlan {
+  uint64_t generation = 0;
+  const Replica* replica = nullptr;
+  std::deque<BoundProgram> programs;  // owns every bound program
+  std::vector<const BoundProgram*> ray_generation, exception, miss;
+  std::unordered_map<uint64_t, InstancePlan> instances;
+  AttributeLayout attributes;
+  SceneCache* scenes = nullptr;
+  size_t max_depth = 8;
+  uint32_t exception_mask = 0;
+  bool user_exceptions = false;
+  bool print_enabled = false;
+  std::array<int32_t, 3> print_index{-1, -1, -1};
+
+  bool ExceptionEnabled(unsigned code) const;
+  // RTobjecttype of a graph node id, or 0 if none.
+  uint32_t NodeType(uint64_t id) const;
+};
+
+class SceneCache {
+ public:
+  explicit SceneCache(RTCDevice device) : device_(device) {}
+  // Builds or refreshes the scenes of every node reachable from `roots`.
+  absl::Status Update(LaunchPlan& plan, const std::vector<uint64_t>& roots);
+  const SceneEntry* Find(uint64_t id) const {
+    auto it = entries_.find(id);
+    return it == entries_.end() ? nullptr : it->second.get();
+  }
+  void Forget(uint64_t id) { entries_.erase(id); }
+
+ private:
+  absl::StatusOr<const SceneEntry*> Node(LaunchPlan& plan, NodeRef ref, int depth);
+  absl::StatusOr<std::array<float, 6>> Bounds(LaunchPlan& plan, NodeRef ref, int depth);
+  absl::StatusOr<const SceneEntry*> BuildGeometryGroup(LaunchPlan& plan, uint64_t id);
+  absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
+
+  RTCDevice device_;
+  std::unordered_map<uint64_t, std::unique_ptr<SceneEntry>> entries_;
+  uint64_t built_ = 0;  // scenes (re)built, for tests and logs
+ public:
+  uint64_t built_count() const { return built_; }
+};
+
+// Builds the plan for `replica`: binds every program, then updates the scenes.
+absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes);
+
+}  // namespace tessera::worker
+
+#endif  // TESSERA_WORKER_CORE_PLAN_H_

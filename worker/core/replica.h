@@ -1,0 +1,122 @@
+// A device's replica of one host session's context state, built from StateDelta messages.
+#ifndef TESSERA_WORKER_CORE_REPLICA_H_
+#define TESSERA_WORKER_CORE_REPLICA_H_
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "tessera/v1/state.pb.h"
+
+namespace tessera::worker {
+
+struct Value {
+  uint32_t type = 0;  // RTobjecttype
+  std::string data;
+  uint64_t object_id = 0;
+};
+using Scope = std::unordered_map<std::string, Value>;
+
+struct NodeRef {
+  uint64_t id = 0;
+  uint32_t type = 0;  // RTobjecttype
+};
+
+struct ProgramRec {
+  std::string module_path, module_hash, function;
+  Scope vars;
+};
+struct BufferRec {
+  uint32_t desc = 0, format = 0;
+  uint64_t element_size = 0;
+  std::array<uint64_t, 3> dims{0, 1, 1};
+  unsigned ndims = 0;
+  std::vector<unsigned char> data;
+  uint64_t Bytes() const { return element_size * dims[0] * dims[1] * dims[2]; }
+};
+struct GeometryRec {
+  uint64_t primitive_count = 0, intersection = 0, bounds = 0;
+  Scope vars;
+};
+struct MaterialRec {
+  std::vector<uint64_t> closest_hit, any_hit;
+  Scope vars;
+};
+struct InstanceRec {
+  uint64_t geometry = 0;
+  std::vector<uint64_t> materials;
+  Scope vars;
+};
+struct AccelRec {
+  std::string builder, traverser;
+  std::map<std::string, std::string> properties;
+  uint64_t build_epoch = 0;
+};
+struct GeometryGroupRec {
+  uint64_t acceleration = 0;
+  std::vector<uint64_t> children;
+};
+struct GroupRec {
+  uint64_t acceleration = 0;
+  std::vector<NodeRef> children;
+};
+struct TransformRec {
+  std::array<float, 16> matrix{}, inverse{};
+  NodeRef child;
+};
+struct SelectorRec {
+  uint64_t visit = 0;
+  std::vector<NodeRef> children;
+  Scope vars;
+};
+
+struct ContextRec {
+  uint32_t entry_point_count = 0, ray_type_count = 0;
+  std::vector<uint64_t> ray_generation, exception, miss;
+  uint64_t stack_size = 1024;
+  bool print_enabled = false;
+  std::array<int32_t, 3> print_index{-1, -1, -1};
+  uint32_t exception_mask = 0;
+  bool user_exceptions = false;
+  uint32_t num_threads = 0;
+  Scope vars;
+};
+
+class Replica {
+ public:
+  // Applies a delta: checks it whole first (sequence, ids, chunk bounds), so a rejected delta
+  // leaves the replica as it was.
+  absl::Status Apply(const v1::StateDelta& delta);
+
+  const ContextRec& context() const { return context_; }
+  template <typename T>
+  const T* Find(const std::unordered_map<uint64_t, T>& map, uint64_t id) const {
+    auto it = map.find(id);
+    return it == map.end() ? nullptr : &it->second;
+  }
+  std::unordered_map<uint64_t, ProgramRec> programs;
+  std::unordered_map<uint64_t, BufferRec> buffers;
+  std::unordered_map<uint64_t, GeometryRec> geometries;
+  std::unordered_map<uint64_t, MaterialRec> materials;
+  std::unordered_map<uint64_t, InstanceRec> instances;
+  std::unordered_map<uint64_t, AccelRec> accelerations;
+  std::unordered_map<uint64_t, GeometryGroupRec> geometry_groups;
+  std::unordered_map<uint64_t, GroupRec> groups;
+  std::unordered_map<uint64_t, TransformRec> transforms;
+  std::unordered_map<uint64_t, SelectorRec> selectors;
+  uint64_t generation() const { return generation_; }  // bumps with every applied delta
+
+ private:
+  ContextRec context_;
+  uint64_t session_id_ = 0;
+  uint64_t sequence_ = 0;
+  uint64_t generation_ = 0;
+};
+
+}  // namespace tessera::worker
+
+#endif  // TESSERA_WORKER_CORE_REPLICA_H_

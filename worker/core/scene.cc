@@ -1,0 +1,349 @@
+// Embree scenes for GeometryGroups and Groups. Groups hold their children as one-primitive user
+// geometries whose callback traverses the child, so graphs deeper than Debian Embree's single
+// instance level work; GeometryGroups use native triangles where the acceleration names vertex
+// and index buffers and user geometry (intersection programs) otherwise.
+#include <cmath>
+#include <cstring>
+
+#include "absl/hash/hash.h"
+#include "absl/strings/str_cat.h"
+#include "callbacks.h"
+#include "plan.h"
+#include "runtime.h"
+#include "tessera/rt.h"
+
+namespace tessera::worker {
+namespace {
+
+constexpr int kMaxGraphDepth = 64;
+
+using Box = std::array<float, 6>;
+
+Box EmptyBox() {
+  float inf = INFINITY;
+  return {inf, inf, inf, -inf, -inf, -inf};
+}
+
+void Grow(Box& b, float x, float y, float z) {
+  b[0] = std::min(b[0], x);
+  b[1] = std::min(b[1], y);
+  b[2] = std::min(b[2], z);
+  b[3] = std::max(b[3], x);
+  b[4] = std::max(b[4], y);
+  b[5] = std::max(b[5], z);
+}
+
+bool IsEmpty(const Box& b) { return !(b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[5]); }
+
+Box TransformBox(const std::array<float, 16>& m, const Box& b) {
+  Box out = EmptyBox();
+  if (IsEmpty(b)) return out;
+  for (int c = 0; c < 8; ++c) {
+    float p[3] = {b[(c & 1) ? 3 : 0], b[(c & 2) ? 4 : 1], b[(c & 4) ? 5 : 2]};
+    float q[4];
+    for (int r = 0; r < 4; ++r)
+      q[r] = m[r * 4] * p[0] + m[r * 4 + 1] * p[1] + m[r * 4 + 2] * p[2] + m[r * 4 + 3];
+    float w = q[3] != 0.f ? q[3] : 1.f;
+    Grow(out, q[0] / w, q[1] / w, q[2] / w);
+  }
+  return out;
+}
+
+Box SceneBounds(RTCScene scene) {
+  RTCBounds b;
+  rtcGetSceneBounds(scene, &b);
+  return {b.lower_x, b.lower_y, b.lower_z, b.upper_x, b.upper_y, b.upper_z};
+}
+
+void BoundsFromArray(const RTCBoundsFunctionArguments* args) {
+  const auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
+  const float* b = &info->bounds[size_t{args->primID} * 6];
+  args->bounds_o->lower_x = b[0];
+  args->bounds_o->lower_y = b[1];
+  args->bounds_o->lower_z = b[2];
+  args->bounds_o->upper_x = b[3];
+  args->bounds_o->upper_y = b[4];
+  args->bounds_o->upper_z = b[5];
+}
+
+void ChildBounds(const RTCBoundsFunctionArguments* args) {
+  const auto* info = static_cast<const ChildInfo*>(args->geometryUserPtr);
+  const Box& b = info->bounds;
+  *args->bounds_o = RTCBounds{b[0], b[1], b[2], 0.f, b[3], b[4], b[5], 0.f};
+}
+
+// OptiX builder names → Embree build quality (docs/COMPATIBILITY.md "Accelerations").
+RTCBuildQuality Quality(const AccelRec& a, bool has_filter) {
+  auto refit = a.properties.find("refit");
+  if (refit != a.properties.end() && refit->second != "0") return RTC_BUILD_QUALITY_REFIT;
+  const std::string& b = a.builder;
+  if (b == "Sbvh" || b == "TriangleKdTree" || b == "KdTree" || b == "Trbvh") {
+    // HIGH uses spatial splits, which can report one primitive twice to a filter callback;
+    // any-hit programs must see each candidate once.
+    return has_filter ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+  }
+  if (b == "MedianBvh" || b == "Lbvh" || b == "NoAccel") return RTC_BUILD_QUALITY_LOW;
+  return RTC_BUILD_QUALITY_MEDIUM;
+}
+
+bool TriangleBuilder(const AccelRec& a) {
+  return a.builder == "Sbvh" || a.builder == "TriangleKdTree" || a.builder == "KdTree" ||
+         a.builder == "Trbvh" || a.properties.count("vertex_buffer_name") > 0;
+}
+
+std::string Property(const AccelRec& a, const std::string& name, const std::string& fallback) {
+  auto it = a.properties.find(name);
+  return it == a.properties.end() ? fallback : it->second;
+}
+
+const BufferRec* FindBuffer(const Replica& r, const InstanceRec& gi, const GeometryRec& g,
+                            const std::string& name) {
+  for (const Scope* s : {&gi.vars, &g.vars}) {
+    auto it = s->find(name);
+    if (it != s->end() && it->second.type == RT_OBJECTTYPE_BUFFER) {
+      return r.Find(r.buffers, it->second.object_id);
+    }
+  }
+  return nullptr;
+}
+
+struct TriangleSource {
+  const BufferRec* vertices = nullptr;
+  const BufferRec* indices = nullptr;
+  size_t vertex_stride = 12, index_stride = 12;
+};
+
+bool FindTriangles(const Replica& r, const AccelRec& a, const InstanceRec& gi, const GeometryRec& g,
+                   TriangleSource& t) {
+  if (!TriangleBuilder(a)) return false;
+  t.vertices = FindBuffer(r, gi, g, Property(a, "vertex_buffer_name", "vertex_buffer"));
+  t.indices = FindBuffer(r, gi, g, Property(a, "index_buffer_name", "index_buffer"));
+  if (t.vertices == nullptr || t.indices == nullptr) return false;
+  t.vertex_stride = std::stoul(Property(a, "vertex_buffer_stride", "0"));
+  t.index_stride = std::stoul(Property(a, "index_buffer_stride", "0"));
+  if (t.vertex_stride == 0) t.vertex_stride = t.vertices->element_size;
+  if (t.index_stride == 0) t.index_stride = t.indices->element_size;
+  return t.vertex_stride >= 12 && t.index_stride >= 12;
+}
+
+}  // namespace
+
+SceneEntry::~SceneEntry() {
+  if (scene != nullptr) rtcReleaseScene(scene);
+}
+
+absl::Status SceneCache::Update(LaunchPlan& plan, const std::vector<uint64_t>& roots) {
+  for (uint64_t id : roots) {
+    uint32_t type = plan.NodeType(id);
+    if (type == 0) continue;  // reported when a program traces it
+    if (absl::StatusOr<const SceneEntry*> e = Node(plan, NodeRef{id, type}, 0); !e.ok()) {
+      return e.status();
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref, int depth) {
+  if (depth > kMaxGraphDepth) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "graph deeper than ", kMaxGraphDepth, " levels at node #", ref.id, " (is there a cycle?)"));
+  }
+  switch (ref.type) {
+    case RT_OBJECTTYPE_GEOMETRY_GROUP:
+      return BuildGeometryGroup(plan, ref.id);
+    case RT_OBJECTTYPE_GROUP:
+      return BuildGroup(plan, ref.id, depth);
+    case RT_OBJECTTYPE_TRANSFORM: {
+      const TransformRec* t = plan.replica->Find(plan.replica->transforms, ref.id);
+      if (t == nullptr) return absl::NotFoundError(absl::StrCat("unknown transform #", ref.id));
+      if (t->child.id == 0) {
+        return absl::FailedPreconditionError(absl::StrCat("transform #", ref.id, " has no child"));
+      }
+      return Node(plan, t->child, depth + 1);
+    }
+    case RT_OBJECTTYPE_SELECTOR:
+      return absl::UnimplementedError(
+          absl::StrCat("selector #", ref.id, ": selectors are not supported yet"));
+    default:
+      return absl::InvalidArgumentError(
+          absl::StrCat("object #", ref.id, " is not a graph node (type ", ref.type, ")"));
+  }
+}
+
+absl::StatusOr<Box> SceneCache::Bounds(LaunchPlan& plan, NodeRef ref, int depth) {
+  absl::StatusOr<const SceneEntry*> e = Node(plan, ref, depth);
+  if (!e.ok()) return e.status();
+  if (ref.type != RT_OBJECTTYPE_TRANSFORM) return (*e)->bounds;
+  const TransformRec* t = plan.replica->Find(plan.replica->transforms, ref.id);
+  absl::StatusOr<Box> child = Bounds(plan, t->child, depth + 1);
+  if (!child.ok()) return child.status();
+  return TransformBox(t->matrix, *child);
+}
+
+absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& plan, uint64_t id) {
+  const Replica& r = *plan.replica;
+  const GeometryGroupRec* gg = r.Find(r.geometry_groups, id);
+  if (gg == nullptr) return absl::NotFoundError(absl::StrCat("unknown geometry group #", id));
+  const AccelRec* accel = r.Find(r.accelerations, gg->acceleration);
+  if (accel == nullptr) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("geometry group #", id, " has no acceleration"));
+  }
+  // What the scene depends on: the acceleration's epoch and the geometry layout.
+  size_t stamp = absl::HashOf(gg->acceleration, accel->build_epoch, accel->builder,
+                              accel->properties.size(), gg->children);
+  for (uint64_t gid : gg->children) {
+    const InstanceRec* gi = r.Find(r.instances, gid);
+    const GeometryRec* g = gi ? r.Find(r.geometries, gi->geometry) : nullptr;
+    if (g == nullptr) {
+      return absl::FailedPreconditionError(
+          absl::StrCat("geometry group #", id, ": child #", gid, " has no geometry"));
+    }
+    auto ip = plan.instances.find(gid);
+    stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count,
+                         ip != plan.instances.end() && ip->second.has_any_hit);
+  }
+  auto& slot = entries_[id];
+  if (slot && slot->stamp == stamp) {
+    for (auto& info : slot->geometries) info->plan = &plan.instances[info->instance_id];
+    return slot.get();
+  }
+
+  auto entry = std::make_unique<SceneEntry>();
+  entry->stamp = stamp;
+  entry->scene = rtcNewScene(device_);
+  bool any_filter = false;
+  for (uint64_t gid : gg->children) any_filter |= plan.instances[gid].has_any_hit;
+  RTCBuildQuality quality = Quality(*accel, any_filter);
+  rtcSetSceneBuildQuality(entry->scene,
+                          quality == RTC_BUILD_QUALITY_REFIT ? RTC_BUILD_QUALITY_MEDIUM : quality);
+  if (quality == RTC_BUILD_QUALITY_REFIT) rtcSetSceneFlags(entry->scene, RTC_SCENE_FLAG_DYNAMIC);
+
+  for (uint64_t gid : gg->children) {
+    const InstanceRec& gi = r.instances.at(gid);
+    const GeometryRec& g = r.geometries.at(gi.geometry);
+    InstancePlan& ip = plan.instances[gid];
+    auto info = std::make_unique<GeometryInfo>();
+    info->instance_id = gid;
+    info->plan = &ip;
+    info->filter = ip.has_any_hit;
+    RTCGeometry geom;
+    TriangleSource tris;
+    if (FindTriangles(r, *accel, gi, g, tris)) {
+      info->triangles = true;
+      size_t nverts = tris.vertices->data.size() / tris.vertex_stride;
+      size_t ntris =
+          std::min<size_t>(g.primitive_count, tris.indices->data.size() / tris.index_stride);
+      geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* v = static_cast<float*>(
+          rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, nverts));
+      for (size_t i = 0; i < nverts; ++i) {
+        std::memcpy(v + 3 * i, tris.vertices->data.data() + i * tris.vertex_stride, 12);
+      }
+      auto* idx = static_cast<uint32_t*>(
+          rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, ntris));
+      for (size_t i = 0; i < ntris; ++i) {
+        std::memcpy(idx + 3 * i, tris.indices->data.data() + i * tris.index_stride, 12);
+        for (int k = 0; k < 3; ++k) {
+          if (idx[3 * i + k] >= nverts) {
+            rtcReleaseGeometry(geom);
+            return absl::OutOfRangeError(absl::StrCat("geometry instance #", gid, ": triangle ", i,
+                                                      " uses vertex ", idx[3 * i + k],
+                                                      " but the vertex buffer holds ", nverts));
+          }
+        }
+      }
+      if (info->filter) rtcSetGeometryIntersectFilterFunction(geom, &FilterTriangles);
+    } else {
+      if (ip.bounds == nullptr || ip.intersection == nullptr) {
+        return absl::FailedPreconditionError(absl::StrCat(
+            "geometry #", gi.geometry, " needs an intersection and a bounding box program"));
+      }
+      info->bounds.resize(size_t{g.primitive_count} * 6);
+      for (uint64_t p = 0; p < g.primitive_count; ++p) {
+        float* b = &info->bounds[p * 6];
+        RunBoundsProgram(plan, *ip.bounds, static_cast<unsigned>(p), b);
+        bool finite = true;
+        for (int k = 0; k < 6; ++k) finite = finite && std::isfinite(b[k]);
+        if (!finite || b[0] > b[3] || b[1] > b[4] || b[2] > b[5]) {
+          // Invalid bounds: the primitive can never be hit (OptiX leaves this undefined).
+          b[0] = b[1] = b[2] = 1.f;
+          b[3] = b[4] = b[5] = -1.f;
+        }
+      }
+      geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+      rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(g.primitive_count));
+      rtcSetGeometryBoundsFunction(geom, &BoundsFromArray, nullptr);
+      rtcSetGeometryIntersectFunction(geom, &IntersectUserGeometry);
+    }
+    rtcSetGeometryUserData(geom, info.get());
+    rtcSetGeometryBuildQuality(geom, quality);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(entry->scene, geom);
+    rtcReleaseGeometry(geom);
+    entry->geometries.push_back(std::move(info));
+  }
+  rtcCommitScene(entry->scene);
+  if (RTCError err = rtcGetDeviceError(device_); err != RTC_ERROR_NONE) {
+    return absl::InternalError(
+        absl::StrCat("Embree could not build geometry group #", id, " (error ", err, ")"));
+  }
+  entry->bounds = entry->geometries.empty() ? EmptyBox() : SceneBounds(entry->scene);
+  ++built_;
+  slot = std::move(entry);
+  return slot.get();
+}
+
+absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint64_t id, int depth) {
+  const Replica& r = *plan.replica;
+  const GroupRec* group = r.Find(r.groups, id);
+  if (group == nullptr) return absl::NotFoundError(absl::StrCat("unknown group #", id));
+  const AccelRec* accel = r.Find(r.accelerations, group->acceleration);
+  if (accel == nullptr) {
+    return absl::FailedPreconditionError(absl::StrCat("group #", id, " has no acceleration"));
+  }
+  std::vector<Box> bounds;
+  size_t stamp = absl::HashOf(group->acceleration, accel->build_epoch);
+  for (const NodeRef& child : group->children) {
+    absl::StatusOr<Box> b = Bounds(plan, child, depth + 1);
+    if (!b.ok()) return b.status();
+    bounds.push_back(*b);
+    stamp = absl::HashOf(stamp, child.id, child.type, (*b)[0], (*b)[1], (*b)[2], (*b)[3], (*b)[4],
+                         (*b)[5]);
+  }
+  // A child rebuilt elsewhere changes its bounds or leaves them; traversal looks the child's
+  // scene up at trace time, so equal bounds need no rebuild here.
+  auto& slot = entries_[id];
+  if (slot && slot->stamp == stamp) return slot.get();
+
+  auto entry = std::make_unique<SceneEntry>();
+  entry->stamp = stamp;
+  entry->scene = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(entry->scene, RTC_BUILD_QUALITY_MEDIUM);
+  for (size_t i = 0; i < group->children.size(); ++i) {
+    auto info = std::make_unique<ChildInfo>();
+    info->child = group->children[i];
+    info->bounds = IsEmpty(bounds[i]) ? Box{1.f, 1.f, 1.f, -1.f, -1.f, -1.f} : bounds[i];
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(geom, 1);
+    rtcSetGeometryUserData(geom, info.get());
+    rtcSetGeometryBoundsFunction(geom, &ChildBounds, nullptr);
+    rtcSetGeometryIntersectFunction(geom, &IntersectChild);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(entry->scene, geom);
+    rtcReleaseGeometry(geom);
+    entry->children.push_back(std::move(info));
+  }
+  rtcCommitScene(entry->scene);
+  entry->bounds = EmptyBox();
+  for (const Box& b : bounds) {
+    if (IsEmpty(b)) continue;
+    Grow(entry->bounds, b[0], b[1], b[2]);
+    Grow(entry->bounds, b[3], b[4], b[5]);
+  }
+  ++built_;
+  slot = std::move(entry);
+  return slot.get();
+}
+
+}  // namespace tessera::worker
