@@ -40,7 +40,8 @@ function(tessera_add_program_module)
   cmake_parse_arguments(A "" "TARGET" "SOURCES;INCLUDES" ${ARGN})
   add_library(${A_TARGET} MODULE ${A_SOURCES})
   set_source_files_properties(${A_SOURCES} PROPERTIES LANGUAGE CXX)
-  target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 -Wall -Wextra -Werror -Wno-unused-parameter)
+  target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 -Wall -Wextra -Werror -Wno-unused-parameter
+    -Wno-sign-compare)  # rtBuffer::size() is size_t, as in OptiX; SDK loops use int
   target_include_directories(${A_TARGET} PRIVATE ${TESSERA_PROGRAM_INCLUDE_DIRS} ${A_INCLUDES})
   set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"
     LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/modules)

@@ -16,7 +16,7 @@ cmake --build "$build_dir" -j "$jobs"
 case "$mode" in
   demo)
     out="$PWD/$build_dir/tessera-demo.png"
-    "$build_dir/samples/tutorial/tessera-tutorial" --step 11 --width 1024 --height 768 --out "$out"
+    "$build_dir/samples/tutorial/tessera-tutorial" --step 10 --width 1024 --height 768 --out "$out"
     echo "Rendered the demo scene to $out"
     ;;
   test)

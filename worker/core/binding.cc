@@ -68,7 +68,22 @@ absl::StatusOr<size_t> AttributeLayout::Offset(const std::string& name, size_t s
   return offset;
 }
 
+namespace {
+// Per thread and module index: the binding whose values the module's slots hold.
+thread_local std::vector<const BoundProgram*> t_loaded;
+
+const BoundProgram*& Loaded(const Module* m) {
+  if (t_loaded.size() <= static_cast<size_t>(m->index())) t_loaded.resize(m->index() + 1);
+  return t_loaded[m->index()];
+}
+}  // namespace
+
+void ResetLoadedBindings() { t_loaded.clear(); }
+
 void BoundProgram::Load() const {
+  const BoundProgram*& loaded = Loaded(module);
+  if (loaded == this) return;
+  loaded = this;
   void* const* slots = module->Slots();
   for (const Copy& c : copies) std::memcpy(slots[c.var], c.src, c.size);
   if (!views.empty()) {
@@ -106,19 +121,19 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
     const ModuleVariable& v = vars[i];
     switch (v.semantic) {
       case Semantic::kLaunchIndex:
-        b.launch_index = i;
+        b.launch_index.push_back(i);
         continue;
       case Semantic::kLaunchDim:
-        b.launch_dim = i;
+        b.launch_dim.push_back(i);
         continue;
       case Semantic::kCurrentRay:
-        b.ray = i;
+        b.ray.push_back(i);
         continue;
       case Semantic::kPayload:
-        b.payload = i;
+        b.payload.push_back(i);
         continue;
       case Semantic::kDistance:
-        b.distance = i;
+        b.distance.push_back(i);
         continue;
       case Semantic::kAttribute: {
         absl::StatusOr<size_t> offset = attributes.Offset(v.attribute, v.size, b.name);
@@ -199,16 +214,18 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
 
 void SlotSnapshot::Save(const Module* m) {
   module = m;
-  bytes.clear();
   if (m == nullptr) return;
+  loaded = Loaded(m);
   void* const* slots = m->Slots();
   const auto& vars = m->variables();
+  size_t views = m->buffers().size() * sizeof(TesseraBufferView);
+  bytes.resize(m->slot_bytes() + views);
+  unsigned char* at = bytes.data();
   for (size_t i = 0; i < vars.size(); ++i) {
-    const auto* p = static_cast<const unsigned char*>(slots[i]);
-    bytes.insert(bytes.end(), p, p + vars[i].size);
+    std::memcpy(at, slots[i], vars[i].size);
+    at += vars[i].size;
   }
-  const auto* views = reinterpret_cast<const unsigned char*>(m->Views());
-  bytes.insert(bytes.end(), views, views + m->buffers().size() * sizeof(TesseraBufferView));
+  std::memcpy(at, m->Views(), views);
 }
 
 void SlotSnapshot::Restore() const {
@@ -222,6 +239,7 @@ void SlotSnapshot::Restore() const {
   }
   std::memcpy(module->Views(), bytes.data() + at,
               module->buffers().size() * sizeof(TesseraBufferView));
+  Loaded(module) = loaded;
 }
 
 }  // namespace tessera::worker

@@ -57,11 +57,18 @@ struct BoundProgram {
   std::vector<Copy> copies;
   std::vector<std::pair<unsigned, TesseraBufferView>> views;
   std::vector<Attribute> attributes;
-  int launch_index = -1, launch_dim = -1, ray = -1, payload = -1, distance = -1;
+  // Variables declared with each semantic (a module may declare one several times, e.g. a
+  // radiance and a shadow payload).
+  std::vector<unsigned> launch_index, launch_dim, ray, payload, distance;
 
-  // Copies the bound values into the calling thread's slots of the module.
+  // Copies the bound values into the calling thread's slots of the module, unless this binding
+  // is already what those slots hold.
   void Load() const;
 };
+
+// Forgets which binding each module's slots hold on the calling thread (a new plan may reuse
+// the addresses of an old plan's bindings).
+void ResetLoadedBindings();
 
 // Binds `program_id` with scopes searched in order (the program's own scope comes first).
 absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint64_t program_id,
@@ -71,6 +78,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
 // Saves and restores every slot of a module, around nested rtTrace.
 struct SlotSnapshot {
   const Module* module = nullptr;
+  const BoundProgram* loaded = nullptr;  // the binding the slots held
   std::vector<unsigned char> bytes;
   void Save(const Module* m);
   void Restore() const;

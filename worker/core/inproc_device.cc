@@ -61,8 +61,7 @@ class InprocDevice : public Device {
       dims[i] = static_cast<uint32_t>(request.dims(i));
       empty = empty || request.dims(i) == 0;
     }
-    if (empty) return absl::OkStatus();  // the all-zero launch only builds accelerations
-    if (request.entry_point() >= plan_->ray_generation.size()) {
+    if (!empty && request.entry_point() >= plan_->ray_generation.size()) {
       return absl::InvalidArgumentError(
           absl::StrCat("entry point ", request.entry_point(), " out of range"));
     }
@@ -102,10 +101,12 @@ class InprocDevice : public Device {
     int threads = replica_.context().num_threads > 0
                       ? static_cast<int>(replica_.context().num_threads)
                       : num_threads_;
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-      tbb::parallel_for(0, request.tiles_size(), 1, [&](int i) { run_tile(request.tiles(i)); });
-    });
+    if (!empty) {  // the all-zero launch only builds accelerations
+      tbb::task_arena arena(threads);
+      arena.execute([&] {
+        tbb::parallel_for(0, request.tiles_size(), 1, [&](int i) { run_tile(request.tiles(i)); });
+      });
+    }
     if (!failure.ok()) return failure;
     if (cancel.load()) return absl::CancelledError("launch cancelled");
 

@@ -128,6 +128,7 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& path) {
     // This thread's slot still holds the static initializer (or zeros): that is the default.
     const auto* initial = static_cast<const unsigned char*>(d.address());
     v.initial.assign(initial, initial + d.size);
+    module->slot_bytes_ += v.size;
     module->variables_.push_back(std::move(v));
   }
   for (unsigned i = 0; i < info->buffer_count; ++i) {

@@ -47,6 +47,7 @@ class Module {
   const std::string& path() const { return path_; }
   const std::vector<ModuleVariable>& variables() const { return variables_; }
   const std::vector<ModuleBuffer>& buffers() const { return buffers_; }
+  size_t slot_bytes() const { return slot_bytes_; }  // sum of the variables' sizes
   // The calling thread's slot addresses, one per variable (cached per thread).
   void* const* Slots() const;
   TesseraBufferView* Views() const { return info_->buffer_views(); }
@@ -61,6 +62,7 @@ class Module {
   const TesseraModuleInfo* info_ = nullptr;
   std::vector<ModuleVariable> variables_;
   std::vector<ModuleBuffer> buffers_;
+  size_t slot_bytes_ = 0;
 };
 
 // Process-wide: a module is loaded once and never unloaded (programs may still run from it).

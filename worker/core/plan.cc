@@ -1,5 +1,7 @@
 #include "plan.h"
 
+#include <atomic>
+
 #include "absl/strings/str_cat.h"
 #include "tessera/rt.h"
 
@@ -38,7 +40,9 @@ uint32_t LaunchPlan::NodeType(uint64_t id) const {
 }
 
 absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes) {
+  static std::atomic<uint64_t> next_serial{1};
   auto plan = std::make_unique<LaunchPlan>();
+  plan->serial = next_serial++;
   plan->generation = replica.generation();
   plan->replica = &replica;
   plan->scenes = &scenes;

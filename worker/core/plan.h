@@ -58,6 +58,7 @@ struct SceneEntry {
 class SceneCache;
 
 struct LaunchPlan {
+  uint64_t serial = 0;  // unique per plan in this process
   uint64_t generation = 0;
   const Replica* replica = nullptr;
   std::deque<BoundProgram> programs;  // owns every bound program

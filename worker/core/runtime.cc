@@ -80,6 +80,7 @@ struct ExceptionSignal {
 
 struct ThreadState {
   const LaunchPlan* plan = nullptr;
+  uint64_t plan_serial = 0;
   Index3 index{}, dims{};
   std::vector<Frame> frames;
   std::vector<SlotSnapshot> snapshots;
@@ -120,16 +121,30 @@ void Raise(unsigned code, std::string details) {
   if (t_state.plan->ExceptionEnabled(code)) throw ExceptionSignal{code, std::move(details)};
 }
 
-void WriteSlot(const BoundProgram& p, int var, const void* src, size_t size) {
-  if (var < 0) return;
-  size_t n = std::min(size, p.module->variables()[var].size);
-  std::memcpy(p.module->Slots()[var], src, n);
+void WriteSlot(const BoundProgram& p, const std::vector<unsigned>& vars, const void* src,
+               size_t size) {
+  for (unsigned var : vars) {
+    size_t n = std::min(size, p.module->variables()[var].size);
+    std::memcpy(p.module->Slots()[var], src, n);
+  }
 }
 
-void ReadSlot(const BoundProgram& p, int var, void* dst, size_t size) {
-  if (var < 0) return;
-  size_t n = std::min(size, p.module->variables()[var].size);
-  std::memcpy(dst, p.module->Slots()[var], n);
+// Copies the payload back from the program's payload variable. With several payload variables
+// (radiance and shadow, say) the one of the traced payload's size that the program changed wins.
+void ReadPayload(const BoundProgram& p, void* dst, size_t size) {
+  const unsigned* chosen = nullptr;
+  for (const unsigned& var : p.payload) {
+    if (p.module->variables()[var].size != size) continue;
+    if (chosen == nullptr) chosen = &var;
+    if (std::memcmp(p.module->Slots()[var], dst, size) != 0) {
+      chosen = &var;
+      break;
+    }
+  }
+  if (chosen == nullptr && !p.payload.empty()) chosen = &p.payload.front();
+  if (chosen == nullptr) return;
+  size_t n = std::min(size, p.module->variables()[*chosen].size);
+  std::memcpy(dst, p.module->Slots()[*chosen], n);
 }
 
 void LoadAttributes(const BoundProgram& p, const unsigned char* block) {
@@ -165,7 +180,7 @@ void Shade(const BoundProgram& p, Frame& f) {
     LoadAttributes(p, f.hit.attributes);
   }
   reinterpret_cast<void (*)()>(p.function)();
-  ReadSlot(p, p.payload, f.payload, f.payload_size);
+  ReadPayload(p, f.payload, f.payload_size);
   (void)ts;
 }
 
@@ -416,7 +431,7 @@ int RtReportIntersection(unsigned material) {
   LoadAttributes(*ah, c.attributes);
   ts.ah_ignore = ts.ah_terminate = false;
   reinterpret_cast<void (*)()>(ah->function)();
-  ReadSlot(*ah, ah->payload, f.payload, f.payload_size);
+  ReadPayload(*ah, f.payload, f.payload_size);
   bool accepted = !ts.ah_ignore;
   bool terminate = ts.ah_terminate;
   ts.snapshots[depth].Restore();
@@ -664,10 +679,19 @@ void FilterTriangles(const RTCFilterFunctionNArguments* args) {
   if (!accepted) args->valid[0] = 0;
 }
 
+// Binds the calling thread to `plan`.
+void UsePlan(ThreadState& ts, const LaunchPlan& plan) {
+  ts.plan = &plan;
+  if (ts.plan_serial != plan.serial) {
+    ts.plan_serial = plan.serial;
+    ResetLoadedBindings();
+  }
+}
+
 void RunLaunchIndex(const LaunchPlan& plan, unsigned entry, const Index3& index, const Index3& dims,
                     v1::TileResult& out) {
   ThreadState& ts = t_state;
-  ts.plan = &plan;
+  UsePlan(ts, plan);
   ts.index = index;
   ts.dims = dims;
   ts.out = &out;
@@ -709,7 +733,7 @@ void RunLaunchIndex(const LaunchPlan& plan, unsigned entry, const Index3& index,
 void RunBoundsProgram(const LaunchPlan& plan, const BoundProgram& program, unsigned primitive,
                       float result[6]) {
   ThreadState& ts = t_state;
-  ts.plan = &plan;
+  UsePlan(ts, plan);
   ts.out = nullptr;
   ts.frames.clear();
   try {

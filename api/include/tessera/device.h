@@ -122,6 +122,28 @@ struct size_t3 {
 inline size_t2 make_size_t2(size_t x, size_t y) { return {x, y}; }
 inline size_t3 make_size_t3(size_t x, size_t y, size_t z) { return {x, y, z}; }
 
+}  // namespace optix
+
+// Conversions SDK programs apply to buffer sizes, e.g. make_float2(output_buffer.size()).
+inline float2 make_float2(const optix::size_t2& s) {
+  return make_float2(static_cast<float>(s.x), static_cast<float>(s.y));
+}
+inline float3 make_float3(const optix::size_t3& s) {
+  return make_float3(static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z));
+}
+inline uint2 make_uint2(const optix::size_t2& s) {
+  return make_uint2(static_cast<unsigned>(s.x), static_cast<unsigned>(s.y));
+}
+inline uint3 make_uint3(const optix::size_t3& s) {
+  return make_uint3(static_cast<unsigned>(s.x), static_cast<unsigned>(s.y),
+                    static_cast<unsigned>(s.z));
+}
+inline int2 make_int2(const optix::size_t2& s) {
+  return make_int2(static_cast<int>(s.x), static_cast<int>(s.y));
+}
+
+namespace optix {
+
 template <typename T, int Dim>
 struct BufferSize;
 template <typename T>

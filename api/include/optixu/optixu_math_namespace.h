@@ -1,0 +1,405 @@
+// Vector math for OptiX 3 programs: the operators and functions OptiX's optixu_math_namespace.h
+// offers on float2/3/4, int2/3/4 and uint2/3/4 (arithmetic, dot, cross, normalize, reflect,
+// refract, clamp, lerp, ...), the M_PIf family of float constants, and conversions such as
+// make_float3(float4).
+//
+// Placement: everything is defined in the global namespace, where float3 itself lives, so
+// argument-dependent lookup finds it from any namespace even without `using namespace optix;`.
+// It is then re-exported into namespace optix with using-declarations, which name the very same
+// functions: `optix::normalize(v)`, `using namespace optix; normalize(v)` and plain
+// `normalize(v)` all work and can never be ambiguous with each other.
+//
+// Scalar fminf, fmaxf, expf, floor... are the C library's; this header only adds vector
+// overloads beside them, and never declares anything in namespace std.
+#ifndef OPTIXU_OPTIXU_MATH_NAMESPACE_H_
+#define OPTIXU_OPTIXU_MATH_NAMESPACE_H_
+
+#include <math.h>
+
+#include <cmath>
+
+#include "../tessera/cuda_compat.h"  // Global min/max for int and unsigned, as CUDA has them.
+#include "optixu_vector_types.h"
+
+// ---- Constants ----------------------------------------------------------------------------------
+// float versions of the <math.h> M_ constants, so programs do not drag doubles into float math.
+#ifndef M_PIf
+#define M_Ef 2.71828182845904523536f
+#define M_LOG2Ef 1.44269504088896340736f
+#define M_LOG10Ef 0.434294481903251827651f
+#define M_LN2f 0.693147180559945309417f
+#define M_LN10f 2.30258509299404568402f
+#define M_PIf 3.14159265358979323846f
+#define M_PI_2f 1.57079632679489661923f
+#define M_PI_4f 0.785398163397448309616f
+#define M_1_PIf 0.318309886183790671538f
+#define M_2_PIf 0.636619772367581343076f
+#define M_2_SQRTPIf 1.12837916709551257390f
+#define M_SQRT2f 1.41421356237309504880f
+#define M_SQRT1_2f 0.707106781186547524401f
+#endif
+
+// ---- Scalar helpers -----------------------------------------------------------------------------
+inline float clamp(float f, float a, float b) { return ::fmaxf(a, ::fminf(f, b)); }
+inline int clamp(int f, int a, int b) { return ::max(a, ::min(f, b)); }
+inline unsigned int clamp(unsigned int f, unsigned int a, unsigned int b) {
+  return ::max(a, ::min(f, b));
+}
+// Linear interpolation: a at t == 0, b at t == 1.
+inline float lerp(float a, float b, float t) { return a + t * (b - a); }
+// Bilinear interpolation of a cell's corners x<u><v>: lerp along u, then along v.
+inline float bilerp(float x00, float x10, float x01, float x11, float u, float v) {
+  return lerp(lerp(x00, x10, u), lerp(x01, x11, u), v);
+}
+// Hermite step: 0 below edge0, 1 above edge1, smooth (zero slope at both ends) between.
+inline float smoothstep(float edge0, float edge1, float x) {
+  const float t = clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+// ---- Component-wise operations, generated -------------------------------------------------------
+// Nine vector types share the same component-wise operators and functions; writing them out would
+// be ~1500 lines of near-identical code where a typo in one component hides easily. The macros
+// below expand one expression per component instead. OPTIXU_MAP<N>_(E, arg) expands E(c, arg) for
+// each component c of an N-vector, comma-separated (for a braced initializer); OPTIXU_SUM<N>_ joins
+// them with +.
+#define OPTIXU_MAP2_(E, arg) E(x, arg), E(y, arg)
+#define OPTIXU_MAP3_(E, arg) E(x, arg), E(y, arg), E(z, arg)
+#define OPTIXU_MAP4_(E, arg) E(x, arg), E(y, arg), E(z, arg), E(w, arg)
+#define OPTIXU_SUM2_(E, arg) (E(x, arg) + E(y, arg))
+#define OPTIXU_SUM3_(E, arg) (E(x, arg) + E(y, arg) + E(z, arg))
+#define OPTIXU_SUM4_(E, arg) (E(x, arg) + E(y, arg) + E(z, arg) + E(w, arg))
+#define OPTIXU_ALL2_(E, arg) (E(x, arg) && E(y, arg))
+#define OPTIXU_ALL3_(E, arg) (E(x, arg) && E(y, arg) && E(z, arg))
+#define OPTIXU_ALL4_(E, arg) (E(x, arg) && E(y, arg) && E(z, arg) && E(w, arg))
+
+// Per-component expressions over the parameters a, b (vectors), s (scalar), lo and hi (bounds).
+#define OPTIXU_VV_(c, op) a.c op b.c
+#define OPTIXU_VS_(c, op) a.c op s
+#define OPTIXU_SV_(c, op) s op a.c
+#define OPTIXU_NEG_(c, unused) -a.c
+#define OPTIXU_FN_(c, fn) fn(a.c)
+#define OPTIXU_FN2_(c, fn) fn(a.c, b.c)
+#define OPTIXU_FN_SCALAR_BOUNDS_(c, fn) fn(a.c, lo, hi)
+#define OPTIXU_FN_VECTOR_BOUNDS_(c, fn) fn(a.c, lo.c, hi.c)
+#define OPTIXU_FRAC_(c, unused) a.c - std::floor(a.c)
+#define OPTIXU_EQ_(c, unused) a.c == b.c
+
+// + - * / between vectors, vector and scalar (either order), and the compound forms.
+#define OPTIXU_ARITHMETIC_(V, S, N, op)                                                       \
+  inline V operator op(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_VV_, op)}; } \
+  inline V operator op(const V& a, S s) { return {OPTIXU_MAP##N##_(OPTIXU_VS_, op)}; }        \
+  inline V operator op(S s, const V& a) { return {OPTIXU_MAP##N##_(OPTIXU_SV_, op)}; }        \
+  inline V& operator op##=(V& a, const V& b) { return a = a op b; }                           \
+  inline V& operator op##=(V& a, S s) { return a = a op s; }
+
+#define OPTIXU_ALL_ARITHMETIC_(V, S, N) \
+  OPTIXU_ARITHMETIC_(V, S, N, +)        \
+  OPTIXU_ARITHMETIC_(V, S, N, -)        \
+  OPTIXU_ARITHMETIC_(V, S, N, *)        \
+  OPTIXU_ARITHMETIC_(V, S, N, /)
+
+// float2/3/4.
+#define OPTIXU_FLOAT_VECTOR_(V, N)                                                             \
+  OPTIXU_ALL_ARITHMETIC_(V, float, N)                                                          \
+  inline V operator-(const V& a) { return {OPTIXU_MAP##N##_(OPTIXU_NEG_, _)}; }                \
+  inline V fminf(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::fminf)}; }  \
+  inline V fmaxf(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::fmaxf)}; }  \
+  inline V fmodf(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::fmodf)}; }  \
+  inline V copysignf(const V& a, const V& b) {                                                 \
+    return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::copysignf)};                                       \
+  }                                                                                            \
+  inline V fabs(const V& a) { return {OPTIXU_MAP##N##_(OPTIXU_FN_, std::fabs)}; }              \
+  inline V floor(const V& a) { return {OPTIXU_MAP##N##_(OPTIXU_FN_, std::floor)}; }            \
+  inline V ceil(const V& a) { return {OPTIXU_MAP##N##_(OPTIXU_FN_, std::ceil)}; }              \
+  inline V expf(const V& a) { return {OPTIXU_MAP##N##_(OPTIXU_FN_, ::expf)}; }                 \
+  /* Fractional part, a - floor(a): in [0, 1) also for negative components. */                 \
+  inline V frac(const V& a) { return {OPTIXU_MAP##N##_(OPTIXU_FRAC_, _)}; }                    \
+  inline V clamp(const V& a, float lo, float hi) {                                             \
+    return {OPTIXU_MAP##N##_(OPTIXU_FN_SCALAR_BOUNDS_, ::clamp)};                              \
+  }                                                                                            \
+  inline V clamp(const V& a, const V& lo, const V& hi) {                                       \
+    return {OPTIXU_MAP##N##_(OPTIXU_FN_VECTOR_BOUNDS_, ::clamp)};                              \
+  }                                                                                            \
+  inline V lerp(const V& a, const V& b, float t) { return a + t * (b - a); }                   \
+  inline V bilerp(const V& x00, const V& x10, const V& x01, const V& x11, float u, float v) {  \
+    return lerp(lerp(x00, x10, u), lerp(x01, x11, u), v);                                      \
+  }                                                                                            \
+  inline float dot(const V& a, const V& b) { return OPTIXU_SUM##N##_(OPTIXU_VV_, *); }         \
+  inline float length(const V& a) { return std::sqrt(dot(a, a)); }                             \
+  /* A zero vector has no direction and normalizes to NaNs, as on the GPU. */                  \
+  inline V normalize(const V& a) { return a * (1.0f / std::sqrt(dot(a, a))); }                 \
+  /* Mirror direction of i about the plane with normal n (n unit length). */                   \
+  inline V reflect(const V& i, const V& n) { return i - 2.0f * n * dot(n, i); }                \
+  /* n where dot(i, nref) > 0, -n where it is < 0. Programs pass i = -ray.direction and the */ \
+  /* geometric normal as nref, which turns the shading normal toward the viewer. */            \
+  inline V faceforward(const V& n, const V& i, const V& nref) {                                \
+    return n * ::copysignf(1.0f, dot(i, nref));                                                \
+  }
+
+// int2/3/4 and uint2/3/4.
+#define OPTIXU_INTEGER_VECTOR_(V, S, N)                                                      \
+  OPTIXU_ALL_ARITHMETIC_(V, S, N)                                                            \
+  inline bool operator==(const V& a, const V& b) { return OPTIXU_ALL##N##_(OPTIXU_EQ_, _); } \
+  inline bool operator!=(const V& a, const V& b) { return !(a == b); }                       \
+  inline V min(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::min)}; }    \
+  inline V max(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::max)}; }    \
+  inline V clamp(const V& a, S lo, S hi) {                                                   \
+    return {OPTIXU_MAP##N##_(OPTIXU_FN_SCALAR_BOUNDS_, ::clamp)};                            \
+  }                                                                                          \
+  inline V clamp(const V& a, const V& lo, const V& hi) {                                     \
+    return {OPTIXU_MAP##N##_(OPTIXU_FN_VECTOR_BOUNDS_, ::clamp)};                            \
+  }
+
+OPTIXU_FLOAT_VECTOR_(float2, 2)
+OPTIXU_FLOAT_VECTOR_(float3, 3)
+OPTIXU_FLOAT_VECTOR_(float4, 4)
+OPTIXU_INTEGER_VECTOR_(int2, int, 2)
+OPTIXU_INTEGER_VECTOR_(int3, int, 3)
+OPTIXU_INTEGER_VECTOR_(int4, int, 4)
+OPTIXU_INTEGER_VECTOR_(uint2, unsigned int, 2)
+OPTIXU_INTEGER_VECTOR_(uint3, unsigned int, 3)
+OPTIXU_INTEGER_VECTOR_(uint4, unsigned int, 4)
+
+// Unsigned vectors get no unary minus: it would silently wrap every component.
+inline int2 operator-(const int2& a) { return {-a.x, -a.y}; }
+inline int3 operator-(const int3& a) { return {-a.x, -a.y, -a.z}; }
+inline int4 operator-(const int4& a) { return {-a.x, -a.y, -a.z, -a.w}; }
+
+#undef OPTIXU_INTEGER_VECTOR_
+#undef OPTIXU_FLOAT_VECTOR_
+#undef OPTIXU_ALL_ARITHMETIC_
+#undef OPTIXU_ARITHMETIC_
+#undef OPTIXU_EQ_
+#undef OPTIXU_FRAC_
+#undef OPTIXU_FN_VECTOR_BOUNDS_
+#undef OPTIXU_FN_SCALAR_BOUNDS_
+#undef OPTIXU_FN2_
+#undef OPTIXU_FN_
+#undef OPTIXU_NEG_
+#undef OPTIXU_SV_
+#undef OPTIXU_VS_
+#undef OPTIXU_VV_
+#undef OPTIXU_ALL4_
+#undef OPTIXU_ALL3_
+#undef OPTIXU_ALL2_
+#undef OPTIXU_SUM4_
+#undef OPTIXU_SUM3_
+#undef OPTIXU_SUM2_
+#undef OPTIXU_MAP4_
+#undef OPTIXU_MAP3_
+#undef OPTIXU_MAP2_
+
+// ---- Reductions ---------------------------------------------------------------------------------
+// fminf/fmaxf of a single vector give its smallest/largest component.
+inline float fminf(const float2& a) { return ::fminf(a.x, a.y); }
+inline float fminf(const float3& a) { return ::fminf(::fminf(a.x, a.y), a.z); }
+inline float fminf(const float4& a) { return ::fminf(::fminf(a.x, a.y), ::fminf(a.z, a.w)); }
+inline float fmaxf(const float2& a) { return ::fmaxf(a.x, a.y); }
+inline float fmaxf(const float3& a) { return ::fmaxf(::fmaxf(a.x, a.y), a.z); }
+inline float fmaxf(const float4& a) { return ::fmaxf(::fmaxf(a.x, a.y), ::fmaxf(a.z, a.w)); }
+
+// ---- float3 geometry ----------------------------------------------------------------------------
+// Right-handed: cross(x, y) == z.
+inline float3 cross(const float3& a, const float3& b) {
+  return make_float3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+
+// Refraction of the incident direction i (pointing toward the surface) at a surface with unit
+// normal n, where ior is the index of refraction inside (the side n points away from) over
+// outside. i may arrive from either side: if it travels along n it is leaving the medium, so n
+// is flipped and the ratio inverted. Writes the transmitted direction to r (unit length when
+// i is) and returns true, or, on total internal reflection, writes zero and returns false.
+inline bool refract(float3& r, const float3& i, const float3& n, const float ior) {
+  float3 nn = n;
+  float cos_i = -dot(i, n);  // Cosine of the incidence angle, against the facing normal.
+  float eta = 1.0f / ior;    // Ratio of the index being left over the index being entered.
+  if (cos_i < 0.0f) {
+    nn = -n;
+    cos_i = -cos_i;
+    eta = ior;
+  }
+  const float k = 1.0f - eta * eta * (1.0f - cos_i * cos_i);
+  if (k < 0.0f) {
+    r = make_float3(0.0f, 0.0f, 0.0f);
+    return false;
+  }
+  r = eta * i + (eta * cos_i - std::sqrt(k)) * nn;
+  return true;
+}
+
+// Luminance of a linear RGB color: NTSC weights, and the Rec. 709 weights CIE Y uses.
+inline float luminance(const float3& rgb) { return dot(rgb, make_float3(0.30f, 0.59f, 0.11f)); }
+inline float luminanceCIE(const float3& rgb) {
+  return dot(rgb, make_float3(0.2126f, 0.7152f, 0.0722f));
+}
+
+// Schlick's approximation of Fresnel reflectance: `minimum` at normal incidence rising to
+// `maximum` at grazing angles.
+inline float fresnel_schlick(float cos_theta, float exponent = 5.0f, float minimum = 0.0f,
+                             float maximum = 1.0f) {
+  float f = minimum + (maximum - minimum) * powf(fmaxf(0.0f, 1.0f - cos_theta), exponent);
+  return fminf(fmaxf(f, minimum), maximum);
+}
+inline float3 fresnel_schlick(float cos_theta, float exponent, const float3& minimum,
+                              const float3& maximum) {
+  return make_float3(fresnel_schlick(cos_theta, exponent, minimum.x, maximum.x),
+                     fresnel_schlick(cos_theta, exponent, minimum.y, maximum.y),
+                     fresnel_schlick(cos_theta, exponent, minimum.z, maximum.z));
+}
+
+// ---- Component access by index ------------------------------------------------------------------
+// i must be in [0, N); out-of-range indices read or write the last component. Selecting the member,
+// rather than indexing past x, keeps this defined behavior in C++.
+#define OPTIXU_BY_INDEX_(V, S)                                               \
+  inline S getByIndex(const V& v, int i) { return OPTIXU_COMPONENT_(v, i); } \
+  inline void setByIndex(V& v, int i, S x) { OPTIXU_COMPONENT_(v, i) = x; }
+#define OPTIXU_COMPONENT_(v, i) ((void)(i), v.x)  // i can only be 0.
+OPTIXU_BY_INDEX_(float1, float)
+OPTIXU_BY_INDEX_(int1, int)
+OPTIXU_BY_INDEX_(uint1, unsigned int)
+#undef OPTIXU_COMPONENT_
+#define OPTIXU_COMPONENT_(v, i) ((i) == 0 ? v.x : v.y)
+OPTIXU_BY_INDEX_(float2, float)
+OPTIXU_BY_INDEX_(int2, int)
+OPTIXU_BY_INDEX_(uint2, unsigned int)
+#undef OPTIXU_COMPONENT_
+#define OPTIXU_COMPONENT_(v, i) ((i) == 0 ? v.x : (i) == 1 ? v.y : v.z)
+OPTIXU_BY_INDEX_(float3, float)
+OPTIXU_BY_INDEX_(int3, int)
+OPTIXU_BY_INDEX_(uint3, unsigned int)
+#undef OPTIXU_COMPONENT_
+#define OPTIXU_COMPONENT_(v, i) ((i) == 0 ? v.x : (i) == 1 ? v.y : (i) == 2 ? v.z : v.w)
+OPTIXU_BY_INDEX_(float4, float)
+OPTIXU_BY_INDEX_(int4, int)
+OPTIXU_BY_INDEX_(uint4, unsigned int)
+#undef OPTIXU_COMPONENT_
+#undef OPTIXU_BY_INDEX_
+
+// ---- Conversions --------------------------------------------------------------------------------
+// From one scalar (all components), from a smaller vector plus components (a missing last component
+// is 0), from a larger vector (dropping the tail), and between float, int and unsigned vectors of
+// one size (float to integer truncates toward zero, like a C cast).
+inline float2 make_float2(float s) { return make_float2(s, s); }
+inline float2 make_float2(const float3& a) { return make_float2(a.x, a.y); }
+inline float2 make_float2(const float4& a) { return make_float2(a.x, a.y); }
+inline float2 make_float2(const int2& a) {
+  return make_float2(static_cast<float>(a.x), static_cast<float>(a.y));
+}
+inline float2 make_float2(const uint2& a) {
+  return make_float2(static_cast<float>(a.x), static_cast<float>(a.y));
+}
+
+inline float3 make_float3(float s) { return make_float3(s, s, s); }
+inline float3 make_float3(const float2& a) { return make_float3(a.x, a.y, 0.0f); }
+inline float3 make_float3(const float2& a, float z) { return make_float3(a.x, a.y, z); }
+inline float3 make_float3(const float4& a) { return make_float3(a.x, a.y, a.z); }
+inline float3 make_float3(const int3& a) {
+  return make_float3(static_cast<float>(a.x), static_cast<float>(a.y), static_cast<float>(a.z));
+}
+inline float3 make_float3(const uint3& a) {
+  return make_float3(static_cast<float>(a.x), static_cast<float>(a.y), static_cast<float>(a.z));
+}
+
+inline float4 make_float4(float s) { return make_float4(s, s, s, s); }
+inline float4 make_float4(const float3& a) { return make_float4(a.x, a.y, a.z, 0.0f); }
+inline float4 make_float4(const float3& a, float w) { return make_float4(a.x, a.y, a.z, w); }
+inline float4 make_float4(const float2& a, float z, float w) { return make_float4(a.x, a.y, z, w); }
+inline float4 make_float4(const int4& a) {
+  return make_float4(static_cast<float>(a.x), static_cast<float>(a.y), static_cast<float>(a.z),
+                     static_cast<float>(a.w));
+}
+inline float4 make_float4(const uint4& a) {
+  return make_float4(static_cast<float>(a.x), static_cast<float>(a.y), static_cast<float>(a.z),
+                     static_cast<float>(a.w));
+}
+
+// int and unsigned vectors share one shape: V is the family, S its scalar, Other the other family.
+#define OPTIXU_INTEGER_CONVERSIONS_(V, S, Other)                                         \
+  inline V##2 make_##V##2(S s) { return make_##V##2(s, s); }                             \
+  inline V##2 make_##V##2(const V##3 & a) { return make_##V##2(a.x, a.y); }              \
+  inline V##2 make_##V##2(const V##4 & a) { return make_##V##2(a.x, a.y); }              \
+  inline V##2 make_##V##2(const float2& a) {                                             \
+    return make_##V##2(static_cast<S>(a.x), static_cast<S>(a.y));                        \
+  }                                                                                      \
+  inline V##2 make_##V##2(const Other##2 & a) {                                          \
+    return make_##V##2(static_cast<S>(a.x), static_cast<S>(a.y));                        \
+  }                                                                                      \
+  inline V##3 make_##V##3(S s) { return make_##V##3(s, s, s); }                          \
+  inline V##3 make_##V##3(const V##2 & a) { return make_##V##3(a.x, a.y, 0); }           \
+  inline V##3 make_##V##3(const V##2 & a, S z) { return make_##V##3(a.x, a.y, z); }      \
+  inline V##3 make_##V##3(const V##4 & a) { return make_##V##3(a.x, a.y, a.z); }         \
+  inline V##3 make_##V##3(const float3& a) {                                             \
+    return make_##V##3(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z));   \
+  }                                                                                      \
+  inline V##3 make_##V##3(const Other##3 & a) {                                          \
+    return make_##V##3(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z));   \
+  }                                                                                      \
+  inline V##4 make_##V##4(S s) { return make_##V##4(s, s, s, s); }                       \
+  inline V##4 make_##V##4(const V##3 & a) { return make_##V##4(a.x, a.y, a.z, 0); }      \
+  inline V##4 make_##V##4(const V##3 & a, S w) { return make_##V##4(a.x, a.y, a.z, w); } \
+  inline V##4 make_##V##4(const float4& a) {                                             \
+    return make_##V##4(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z),    \
+                       static_cast<S>(a.w));                                             \
+  }                                                                                      \
+  inline V##4 make_##V##4(const Other##4 & a) {                                          \
+    return make_##V##4(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z),    \
+                       static_cast<S>(a.w));                                             \
+  }
+OPTIXU_INTEGER_CONVERSIONS_(int, int, uint)
+OPTIXU_INTEGER_CONVERSIONS_(uint, unsigned int, int)
+#undef OPTIXU_INTEGER_CONVERSIONS_
+
+// ---- Re-export into namespace optix -------------------------------------------------------------
+// A using-declaration brings in the overloads declared before it, so this block stays last.
+namespace optix {
+using ::operator+;
+using ::operator-;
+using ::operator*;
+using ::operator/;
+using ::operator+=;
+using ::operator-=;
+using ::operator*=;
+using ::operator/=;
+using ::operator==;
+using ::operator!=;
+using ::bilerp;
+using ::ceil;
+using ::clamp;
+using ::copysignf;
+using ::cross;
+using ::dot;
+using ::expf;
+using ::fabs;
+using ::faceforward;
+using ::floor;
+using ::fmaxf;
+using ::fminf;
+using ::fmodf;
+using ::frac;
+using ::fresnel_schlick;
+using ::getByIndex;
+using ::length;
+using ::lerp;
+using ::luminance;
+using ::luminanceCIE;
+using ::max;
+using ::min;
+using ::normalize;
+using ::reflect;
+using ::refract;
+using ::setByIndex;
+using ::smoothstep;
+// Repeating these using-declarations picks up the conversion overloads added above.
+using ::make_float2;
+using ::make_float3;
+using ::make_float4;
+using ::make_int2;
+using ::make_int3;
+using ::make_int4;
+using ::make_uint2;
+using ::make_uint3;
+using ::make_uint4;
+}  // namespace optix
+
+#endif  // OPTIXU_OPTIXU_MATH_NAMESPACE_H_

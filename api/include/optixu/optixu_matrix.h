@@ -1,0 +1,8 @@
+// Forwards to the namespaced matrix header: optix::Matrix is only ever spelled with its
+// namespace (or after `using namespace optix;`), so there is no global variant to provide.
+#ifndef OPTIXU_OPTIXU_MATRIX_H_
+#define OPTIXU_OPTIXU_MATRIX_H_
+
+#include "optixu_matrix_namespace.h"
+
+#endif  // OPTIXU_OPTIXU_MATRIX_H_

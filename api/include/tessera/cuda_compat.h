@@ -1,0 +1,450 @@
+// The parts of the CUDA C device language that OptiX 3 programs use, for programs compiled as
+// plain C++ by g++: the function and variable qualifiers become no-ops, and the device
+// intrinsics (__float_as_int, __saturatef, __popc, atomicAdd, ...) become inline functions with
+// the documented CUDA semantics. Everything is in the global namespace, where CUDA puts it.
+//
+// Deliberately absent:
+//   threadIdx, blockIdx, blockDim, gridDim, warpSize: a Tessera launch index is not a CUDA
+//     thread (the OptiX guide already tells programs to use rtLaunchIndex instead), so code that
+//     reads them should fail to compile rather than silently see zeros.
+//   Warp intrinsics (__shfl*, __ballot, __any, __all): there is no warp.
+//   clock(): the C library already declares `clock_t clock()` globally and a second
+//     declaration cannot differ only in return type, so programs get the C function (process
+//     CPU time, non-decreasing). clock64() below is a monotonic nanosecond counter.
+#ifndef TESSERA_CUDA_COMPAT_H_
+#define TESSERA_CUDA_COMPAT_H_
+
+// The C++ <math.h> comes first, for two reasons: it puts the float overloads of sqrt, pow,
+// floor, fabs... in the global namespace, which CUDA programs rely on (`pow(x, y)` with floats
+// stays float); and glibc's <math.h> declares __expf, __sinf etc. that the definitions below
+// must redeclare compatibly. <memory> comes before the __noinline__ macro because libstdc++'s
+// shared_ptr spells `__attribute__((__noinline__))`, which the macro would break if that
+// header were first read after it.
+#include <math.h>
+
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <ctime>
+#include <limits>
+#include <memory>
+
+// ---- Qualifiers ---------------------------------------------------------------------------------
+// Host and device code are the same code here, so the execution-space and memory-space
+// qualifiers mean nothing. __inline__ and __restrict__ are GCC keywords already and are left
+// alone. __forceinline__ is plain `inline`: always_inline turns a recursive or address-taken
+// function into a hard error, and g++ -O2 inlines small functions anyway.
+#ifndef __device__
+#define __device__
+#endif
+#ifndef __host__
+#define __host__
+#endif
+#ifndef __global__
+#define __global__
+#endif
+#ifndef __constant__
+#define __constant__
+#endif
+#ifndef __shared__
+#define __shared__
+#endif
+#ifndef __managed__
+#define __managed__
+#endif
+#ifndef __forceinline__
+#define __forceinline__ inline
+#endif
+#ifndef __noinline__
+#define __noinline__ __attribute__((noinline))
+#endif
+#ifndef __align__
+#define __align__(n) __attribute__((aligned(n)))
+#endif
+#ifndef __launch_bounds__
+#define __launch_bounds__(...)
+#endif
+
+namespace tessera {
+namespace cuda_compat_detail {
+
+// PTX float-to-integer conversions saturate: NaN gives 0 and out-of-range values clamp to the
+// destination's range, instead of being undefined behavior as a C++ cast would be.
+template <typename Int, typename Float>
+inline Int SaturatingCast(Float rounded) {
+  if (rounded != rounded) return 0;
+  constexpr Int kLow = std::numeric_limits<Int>::min();
+  constexpr Int kHigh = std::numeric_limits<Int>::max();
+  if (rounded <= static_cast<Float>(kLow)) return kLow;
+  // kHigh rounds up to a power of two as a float, so >= catches every value that does not fit.
+  if (rounded >= static_cast<Float>(kHigh)) return kHigh;
+  return static_cast<Int>(rounded);
+}
+
+// CAS loop for read-modify-write operations the __atomic builtins lack (float add, min/max,
+// wrapping increment). Returns the value seen before the update, as every CUDA atomic does.
+template <typename T, typename Update>
+inline T AtomicUpdate(T* address, Update update) {
+  T old;
+  __atomic_load(address, &old, __ATOMIC_RELAXED);
+  T desired;
+  do {
+    desired = update(old);
+  } while (!__atomic_compare_exchange(address, &old, &desired, /*weak=*/true, __ATOMIC_SEQ_CST,
+                                      __ATOMIC_RELAXED));
+  return old;
+}
+
+}  // namespace cuda_compat_detail
+}  // namespace tessera
+
+// ---- Reinterpretation ---------------------------------------------------------------------------
+// memcpy is the defined way to reinterpret bits in C++17; g++ compiles it to a register move.
+inline int __float_as_int(float x) {
+  int i;
+  std::memcpy(&i, &x, sizeof i);
+  return i;
+}
+inline unsigned int __float_as_uint(float x) {
+  unsigned int u;
+  std::memcpy(&u, &x, sizeof u);
+  return u;
+}
+inline float __int_as_float(int i) {
+  float x;
+  std::memcpy(&x, &i, sizeof x);
+  return x;
+}
+inline float __uint_as_float(unsigned int u) {
+  float x;
+  std::memcpy(&x, &u, sizeof x);
+  return x;
+}
+inline long long __double_as_longlong(double x) {
+  long long i;
+  std::memcpy(&i, &x, sizeof i);
+  return i;
+}
+inline double __longlong_as_double(long long i) {
+  double x;
+  std::memcpy(&x, &i, sizeof x);
+  return x;
+}
+
+// ---- Conversions with an explicit rounding mode -------------------------------------------------
+// _rn rounds to nearest even (nearbyint in the default floating-point environment), _rz toward
+// zero, _ru up, _rd down. Results saturate like the PTX instructions they stand for.
+inline int __float2int_rn(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<int>(std::nearbyint(x));
+}
+inline int __float2int_rz(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<int>(std::trunc(x));
+}
+inline int __float2int_ru(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<int>(std::ceil(x));
+}
+inline int __float2int_rd(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<int>(std::floor(x));
+}
+inline unsigned int __float2uint_rn(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned int>(std::nearbyint(x));
+}
+inline unsigned int __float2uint_rz(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned int>(std::trunc(x));
+}
+inline unsigned int __float2uint_ru(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned int>(std::ceil(x));
+}
+inline unsigned int __float2uint_rd(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned int>(std::floor(x));
+}
+inline long long __float2ll_rn(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<long long>(std::nearbyint(x));
+}
+inline long long __float2ll_rz(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<long long>(std::trunc(x));
+}
+inline int __double2int_rn(double x) {
+  return tessera::cuda_compat_detail::SaturatingCast<int>(std::nearbyint(x));
+}
+inline int __double2int_rz(double x) {
+  return tessera::cuda_compat_detail::SaturatingCast<int>(std::trunc(x));
+}
+// int-to-float and double-to-float conversions round to nearest in the default environment,
+// which is what _rn asks for.
+inline float __int2float_rn(int i) { return static_cast<float>(i); }
+inline float __uint2float_rn(unsigned int u) { return static_cast<float>(u); }
+inline float __ll2float_rn(long long i) { return static_cast<float>(i); }
+inline float __double2float_rn(double x) { return static_cast<float>(x); }
+
+// ---- Single-precision intrinsics ----------------------------------------------------------------
+// CUDA's fast versions trade accuracy for speed on the GPU; on a CPU the accurate libm function
+// is the sensible stand-in, and programs only ever get more precision than they asked for.
+inline float __saturatef(float x) {
+  // NaN fails both comparisons and becomes 0, as CUDA specifies.
+  return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f;
+}
+inline float __fdividef(float x, float y) { return x / y; }
+inline float __fadd_rn(float x, float y) { return x + y; }
+inline float __fsub_rn(float x, float y) { return x - y; }
+inline float __fmul_rn(float x, float y) { return x * y; }
+inline float __fdiv_rn(float x, float y) { return x / y; }
+inline float __fmaf_rn(float x, float y, float z) { return std::fma(x, y, z); }
+inline float __frcp_rn(float x) { return 1.0f / x; }
+inline float __fsqrt_rn(float x) { return std::sqrt(x); }
+inline float __frsqrt_rn(float x) { return 1.0f / std::sqrt(x); }
+inline float rsqrtf(float x) { return 1.0f / std::sqrt(x); }
+inline double rsqrt(double x) { return 1.0 / std::sqrt(x); }
+inline float rcbrtf(float x) { return 1.0f / std::cbrt(x); }
+inline double rcbrt(double x) { return 1.0 / std::cbrt(x); }
+
+#if !defined(__USE_GNU)
+// glibc declares sincosf only for _GNU_SOURCE (which g++ defines by default); CUDA always has it.
+inline void sincosf(float x, float* s, float* c) {
+  *s = std::sin(x);
+  *c = std::cos(x);
+}
+#endif
+
+// glibc's <math.h> declares __expf, __sinf, ... as internal extern "C" functions that libm does
+// not export, so a program calling them would fail to load. Redeclaring them inline, with the
+// same C linkage and noexcept, gives them bodies without conflicting with those declarations.
+extern "C" {
+inline float __expf(float x) noexcept { return expf(x); }
+inline float __exp10f(float x) noexcept { return powf(10.0f, x); }
+inline float __logf(float x) noexcept { return logf(x); }
+inline float __log2f(float x) noexcept { return log2f(x); }
+inline float __log10f(float x) noexcept { return log10f(x); }
+inline float __powf(float x, float y) noexcept { return powf(x, y); }
+inline float __sinf(float x) noexcept { return sinf(x); }
+inline float __cosf(float x) noexcept { return cosf(x); }
+inline float __tanf(float x) noexcept { return tanf(x); }
+inline void __sincosf(float x, float* s, float* c) noexcept {
+  *s = sinf(x);
+  *c = cosf(x);
+}
+}  // extern "C"
+
+// ---- Integer intrinsics -------------------------------------------------------------------------
+inline int __popc(unsigned int x) { return __builtin_popcount(x); }
+inline int __popcll(unsigned long long x) { return __builtin_popcountll(x); }
+// __builtin_clz is undefined for 0; CUDA defines the count as the full width.
+inline int __clz(int x) { return x == 0 ? 32 : __builtin_clz(static_cast<unsigned int>(x)); }
+inline int __clzll(long long x) {
+  return x == 0 ? 64 : __builtin_clzll(static_cast<unsigned long long>(x));
+}
+inline int __ffs(int x) { return __builtin_ffs(x); }
+inline int __ffsll(long long x) { return __builtin_ffsll(x); }
+inline unsigned int __brev(unsigned int x) {
+  // Swap ever larger groups of bits: neighbours, pairs, nibbles, bytes, halves.
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
+  x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
+  return (x >> 16) | (x << 16);
+}
+inline unsigned long long __brevll(unsigned long long x) {
+  return (static_cast<unsigned long long>(__brev(static_cast<unsigned int>(x))) << 32) |
+         __brev(static_cast<unsigned int>(x >> 32));
+}
+// 24-bit multiplies: only the low 24 bits of each operand take part (sign-extended for the
+// signed form), and the low 32 bits of the product are returned.
+inline int __mul24(int x, int y) {
+  const int64_t x24 = static_cast<int32_t>(static_cast<uint32_t>(x) << 8) >> 8;
+  const int64_t y24 = static_cast<int32_t>(static_cast<uint32_t>(y) << 8) >> 8;
+  return static_cast<int>(static_cast<uint32_t>(x24 * y24));
+}
+inline unsigned int __umul24(unsigned int x, unsigned int y) {
+  return static_cast<unsigned int>(static_cast<uint64_t>(x & 0xFFFFFFu) * (y & 0xFFFFFFu));
+}
+// High halves of full-width products.
+inline int __mulhi(int x, int y) { return static_cast<int>((static_cast<int64_t>(x) * y) >> 32); }
+inline unsigned int __umulhi(unsigned int x, unsigned int y) {
+  return static_cast<unsigned int>((static_cast<uint64_t>(x) * y) >> 32);
+}
+inline long long __mul64hi(long long x, long long y) {
+  __extension__ typedef __int128 Wide;  // __extension__ keeps -pedantic quiet.
+  return static_cast<long long>((static_cast<Wide>(x) * y) >> 64);
+}
+inline unsigned long long __umul64hi(unsigned long long x, unsigned long long y) {
+  __extension__ typedef unsigned __int128 Wide;
+  return static_cast<unsigned long long>((static_cast<Wide>(x) * y) >> 64);
+}
+
+// ---- min / max ----------------------------------------------------------------------------------
+// CUDA declares these overloads globally; std::min/std::max stay untouched in namespace std.
+// Under `using namespace std;` these non-templates win over the std templates for exact matches.
+// Mixed signed/unsigned pairs compare as unsigned and mixed float/double as double, following
+// the usual arithmetic conversions the way CUDA's overloads do.
+inline int min(int a, int b) { return a < b ? a : b; }
+inline unsigned int min(unsigned int a, unsigned int b) { return a < b ? a : b; }
+inline unsigned int min(int a, unsigned int b) { return min(static_cast<unsigned int>(a), b); }
+inline unsigned int min(unsigned int a, int b) { return min(a, static_cast<unsigned int>(b)); }
+inline long min(long a, long b) { return a < b ? a : b; }
+inline unsigned long min(unsigned long a, unsigned long b) { return a < b ? a : b; }
+inline unsigned long min(long a, unsigned long b) { return min(static_cast<unsigned long>(a), b); }
+inline unsigned long min(unsigned long a, long b) { return min(a, static_cast<unsigned long>(b)); }
+inline long long min(long long a, long long b) { return a < b ? a : b; }
+inline unsigned long long min(unsigned long long a, unsigned long long b) { return a < b ? a : b; }
+inline unsigned long long min(long long a, unsigned long long b) {
+  return min(static_cast<unsigned long long>(a), b);
+}
+inline unsigned long long min(unsigned long long a, long long b) {
+  return min(a, static_cast<unsigned long long>(b));
+}
+inline float min(float a, float b) { return fminf(a, b); }
+inline double min(double a, double b) { return fmin(a, b); }
+inline double min(float a, double b) { return fmin(a, b); }
+inline double min(double a, float b) { return fmin(a, b); }
+
+inline int max(int a, int b) { return a > b ? a : b; }
+inline unsigned int max(unsigned int a, unsigned int b) { return a > b ? a : b; }
+inline unsigned int max(int a, unsigned int b) { return max(static_cast<unsigned int>(a), b); }
+inline unsigned int max(unsigned int a, int b) { return max(a, static_cast<unsigned int>(b)); }
+inline long max(long a, long b) { return a > b ? a : b; }
+inline unsigned long max(unsigned long a, unsigned long b) { return a > b ? a : b; }
+inline unsigned long max(long a, unsigned long b) { return max(static_cast<unsigned long>(a), b); }
+inline unsigned long max(unsigned long a, long b) { return max(a, static_cast<unsigned long>(b)); }
+inline long long max(long long a, long long b) { return a > b ? a : b; }
+inline unsigned long long max(unsigned long long a, unsigned long long b) { return a > b ? a : b; }
+inline unsigned long long max(long long a, unsigned long long b) {
+  return max(static_cast<unsigned long long>(a), b);
+}
+inline unsigned long long max(unsigned long long a, long long b) {
+  return max(a, static_cast<unsigned long long>(b));
+}
+inline float max(float a, float b) { return fmaxf(a, b); }
+inline double max(double a, double b) { return fmax(a, b); }
+inline double max(float a, double b) { return fmax(a, b); }
+inline double max(double a, float b) { return fmax(a, b); }
+
+// ---- Atomics ------------------------------------------------------------------------------------
+// Launch indices run on many CPU threads at once, so these must be real atomics. They are
+// sequentially consistent: on x86-64 that costs nothing over relaxed for read-modify-writes, and
+// it keeps lock-style code correct even where a CUDA program forgot its __threadfence(). Each
+// returns the value stored at `address` before the operation, as in CUDA.
+inline int atomicAdd(int* address, int val) {
+  return __atomic_fetch_add(address, val, __ATOMIC_SEQ_CST);
+}
+inline unsigned int atomicAdd(unsigned int* address, unsigned int val) {
+  return __atomic_fetch_add(address, val, __ATOMIC_SEQ_CST);
+}
+inline unsigned long long atomicAdd(unsigned long long* address, unsigned long long val) {
+  return __atomic_fetch_add(address, val, __ATOMIC_SEQ_CST);
+}
+inline float atomicAdd(float* address, float val) {
+  return tessera::cuda_compat_detail::AtomicUpdate(address, [val](float old) { return old + val; });
+}
+inline double atomicAdd(double* address, double val) {
+  return tessera::cuda_compat_detail::AtomicUpdate(address,
+                                                   [val](double old) { return old + val; });
+}
+inline int atomicSub(int* address, int val) {
+  return __atomic_fetch_sub(address, val, __ATOMIC_SEQ_CST);
+}
+inline unsigned int atomicSub(unsigned int* address, unsigned int val) {
+  return __atomic_fetch_sub(address, val, __ATOMIC_SEQ_CST);
+}
+
+inline int atomicExch(int* address, int val) {
+  return __atomic_exchange_n(address, val, __ATOMIC_SEQ_CST);
+}
+inline unsigned int atomicExch(unsigned int* address, unsigned int val) {
+  return __atomic_exchange_n(address, val, __ATOMIC_SEQ_CST);
+}
+inline unsigned long long atomicExch(unsigned long long* address, unsigned long long val) {
+  return __atomic_exchange_n(address, val, __ATOMIC_SEQ_CST);
+}
+inline float atomicExch(float* address, float val) {
+  float old;
+  __atomic_exchange(address, &val, &old, __ATOMIC_SEQ_CST);
+  return old;
+}
+
+#define TESSERA_CUDA_ATOMIC_MIN_MAX_(T)                           \
+  inline T atomicMin(T* address, T val) {                         \
+    return tessera::cuda_compat_detail::AtomicUpdate(             \
+        address, [val](T old) { return old < val ? old : val; }); \
+  }                                                               \
+  inline T atomicMax(T* address, T val) {                         \
+    return tessera::cuda_compat_detail::AtomicUpdate(             \
+        address, [val](T old) { return old > val ? old : val; }); \
+  }
+TESSERA_CUDA_ATOMIC_MIN_MAX_(int)
+TESSERA_CUDA_ATOMIC_MIN_MAX_(unsigned int)
+TESSERA_CUDA_ATOMIC_MIN_MAX_(long long)
+TESSERA_CUDA_ATOMIC_MIN_MAX_(unsigned long long)
+#undef TESSERA_CUDA_ATOMIC_MIN_MAX_
+
+// Wrapping counters: atomicInc stores (old >= val) ? 0 : old + 1; atomicDec stores
+// (old == 0 || old > val) ? val : old - 1.
+inline unsigned int atomicInc(unsigned int* address, unsigned int val) {
+  return tessera::cuda_compat_detail::AtomicUpdate(
+      address, [val](unsigned int old) { return old >= val ? 0u : old + 1u; });
+}
+inline unsigned int atomicDec(unsigned int* address, unsigned int val) {
+  return tessera::cuda_compat_detail::AtomicUpdate(
+      address, [val](unsigned int old) { return (old == 0u || old > val) ? val : old - 1u; });
+}
+
+// atomicCAS stores val only if the current value equals compare; either way it returns the
+// value it found.
+inline int atomicCAS(int* address, int compare, int val) {
+  __atomic_compare_exchange_n(address, &compare, val, /*weak=*/false, __ATOMIC_SEQ_CST,
+                              __ATOMIC_SEQ_CST);
+  return compare;
+}
+inline unsigned int atomicCAS(unsigned int* address, unsigned int compare, unsigned int val) {
+  __atomic_compare_exchange_n(address, &compare, val, /*weak=*/false, __ATOMIC_SEQ_CST,
+                              __ATOMIC_SEQ_CST);
+  return compare;
+}
+inline unsigned long long atomicCAS(unsigned long long* address, unsigned long long compare,
+                                    unsigned long long val) {
+  __atomic_compare_exchange_n(address, &compare, val, /*weak=*/false, __ATOMIC_SEQ_CST,
+                              __ATOMIC_SEQ_CST);
+  return compare;
+}
+
+#define TESSERA_CUDA_ATOMIC_BITWISE_(T)                        \
+  inline T atomicAnd(T* address, T val) {                      \
+    return __atomic_fetch_and(address, val, __ATOMIC_SEQ_CST); \
+  }                                                            \
+  inline T atomicOr(T* address, T val) {                       \
+    return __atomic_fetch_or(address, val, __ATOMIC_SEQ_CST);  \
+  }                                                            \
+  inline T atomicXor(T* address, T val) {                      \
+    return __atomic_fetch_xor(address, val, __ATOMIC_SEQ_CST); \
+  }
+TESSERA_CUDA_ATOMIC_BITWISE_(int)
+TESSERA_CUDA_ATOMIC_BITWISE_(unsigned int)
+TESSERA_CUDA_ATOMIC_BITWISE_(unsigned long long)
+#undef TESSERA_CUDA_ATOMIC_BITWISE_
+
+// ---- Fences, barriers, memory, time -------------------------------------------------------------
+// Every CUDA fence scope (block, device, system) is the whole process here.
+inline void __threadfence() { __atomic_thread_fence(__ATOMIC_SEQ_CST); }
+inline void __threadfence_block() { __atomic_thread_fence(__ATOMIC_SEQ_CST); }
+inline void __threadfence_system() { __atomic_thread_fence(__ATOMIC_SEQ_CST); }
+// OptiX forbids __syncthreads() in programs (its guide: "it will lock up your machine") and a
+// launch index has no thread block to wait for, so it does nothing; it exists so that code
+// sharing helpers with plain CUDA kernels still compiles.
+inline void __syncthreads() {}
+
+// Read-only cache loads are ordinary loads on a CPU.
+template <typename T>
+inline T __ldg(const T* address) {
+  return *address;
+}
+
+// A monotonic counter in nanoseconds. Like CUDA's cycle counter it is only meaningful as a
+// difference between two readings; unlike it, it is comparable across threads.
+inline long long clock64() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+#endif  // TESSERA_CUDA_COMPAT_H_

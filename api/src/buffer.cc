@@ -1,0 +1,178 @@
+#include "buffer.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "absl/strings/str_cat.h"
+#include "buffer_format.h"
+#include "dirty.h"
+#include "hash.h"
+#include "status.h"
+
+namespace tessera::api {
+namespace {
+
+// Larger than any machine Tessera runs on; keeps size arithmetic far from overflow.
+constexpr uint64_t kMaxBufferBytes = uint64_t{1} << 46;
+
+absl::Status MappedError() { return RtError(RT_ERROR_ALREADY_MAPPED, "buffer is mapped"); }
+
+}  // namespace
+
+absl::Status Buffer::CheckDesc(unsigned desc) {
+  constexpr unsigned kTypeBits = RT_BUFFER_INPUT | RT_BUFFER_OUTPUT;
+  constexpr unsigned kFlagBits = RT_BUFFER_GPU_LOCAL | RT_BUFFER_COPY_ON_DIRTY;
+  if ((desc & ~(kTypeBits | kFlagBits)) != 0) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat("buffer description 0x", absl::Hex(desc),
+                                " has unknown bits (expected RTbuffertype | RTbufferflag)"));
+  }
+  if ((desc & kTypeBits) == 0) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   "buffer description needs RT_BUFFER_INPUT, RT_BUFFER_OUTPUT or "
+                   "RT_BUFFER_INPUT_OUTPUT");
+  }
+  if ((desc & RT_BUFFER_GPU_LOCAL) != 0 && (desc & kTypeBits) != RT_BUFFER_INPUT_OUTPUT) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   "RT_BUFFER_GPU_LOCAL can only be combined with RT_BUFFER_INPUT_OUTPUT");
+  }
+  return absl::OkStatus();
+}
+
+Buffer::Buffer(Context* context, uint64_t id, unsigned desc)
+    : Object(Kind::kBuffer, context, id), desc_(desc) {
+  Touch();
+}
+
+size_t Buffer::element_size() const {
+  return format_ == RT_FORMAT_USER ? user_element_size_ : FormatElementSize(format_);
+}
+
+absl::Status Buffer::SetFormat(RTformat format) {
+  if (!IsValidFormat(format) || format == RT_FORMAT_UNKNOWN) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat("0x", absl::Hex(static_cast<int>(format)), " is not a format"));
+  }
+  if (mapped_) return MappedError();
+  format_ = format;
+  Reallocate();
+  return absl::OkStatus();
+}
+
+absl::Status Buffer::SetElementSize(size_t size) {
+  if (format_ != RT_FORMAT_USER) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat("element size can only be set for RT_FORMAT_USER, format is ",
+                                FormatName(format_)));
+  }
+  if (size == 0) return RtError(RT_ERROR_INVALID_VALUE, "element size must not be 0");
+  if (mapped_) return MappedError();
+  user_element_size_ = size;
+  Reallocate();
+  return absl::OkStatus();
+}
+
+size_t Buffer::dim(unsigned axis) const {
+  if (axis < dims_.size()) return dims_[axis];
+  return dims_.empty() && axis == 0 ? 0 : 1;
+}
+
+absl::Status Buffer::SetSize(const std::vector<size_t>& dims) {
+  if (dims.empty() || dims.size() > 3) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat("dimensionality ", dims.size(), " is not 1, 2 or 3"));
+  }
+  uint64_t count = 1;
+  for (size_t d : dims) {
+    if (d > kMaxBufferBytes || (d != 0 && count > kMaxBufferBytes / d)) {
+      return RtError(RT_ERROR_INVALID_VALUE, "buffer size is too large");
+    }
+    count *= d;
+  }
+  if (count * std::max<size_t>(element_size(), 1) > kMaxBufferBytes) {
+    return RtError(RT_ERROR_INVALID_VALUE, "buffer size is too large");
+  }
+  if (mapped_) return MappedError();
+  dims_ = dims;
+  Reallocate();
+  return absl::OkStatus();
+}
+
+void Buffer::Reallocate() {
+  uint64_t count = 1;
+  for (size_t d : dims_) count *= d;
+  if (dims_.empty()) count = 0;
+  uint64_t bytes = count * element_size();
+  // Contents are zero-initialised on every resize, as documented in COMPATIBILITY.md.
+  std::vector<unsigned char>(bytes, 0).swap(data_);
+  chunk_hashes_.clear();
+  changed_.Clear();
+  changed_.Add(0, bytes);
+  ++host_write_epoch_;
+  Touch();
+  NotifyStructureChanged(this);
+}
+
+absl::StatusOr<void*> Buffer::Map() {
+  if (mapped_) return RtError(RT_ERROR_ALREADY_MAPPED, "buffer is already mapped");
+  if (format_ == RT_FORMAT_UNKNOWN) {
+    return RtError(RT_ERROR_INVALID_VALUE, "buffer has no format; call rtBufferSetFormat first");
+  }
+  if (element_size() == 0) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   "RT_FORMAT_USER buffer has no element size; call rtBufferSetElementSize");
+  }
+  mapped_ = true;
+  // Only INPUT data travels to devices, so only then does a map count as a host write.
+  if (is_input()) HostWrote(0, data_.size());
+  static unsigned char empty_buffer_storage[16];
+  return data_.empty() ? static_cast<void*>(empty_buffer_storage) : data_.data();
+}
+
+absl::Status Buffer::Unmap() {
+  if (!mapped_) return RtError(RT_ERROR_INVALID_VALUE, "buffer is not mapped");
+  mapped_ = false;
+  return absl::OkStatus();
+}
+
+void Buffer::MarkDirty() { HostWrote(0, data_.size()); }
+
+void Buffer::HostWrote(uint64_t begin, uint64_t end) {
+  changed_.Add(begin, end);
+  ++host_write_epoch_;
+  NotifyStructureChanged(this);
+}
+
+absl::Status Buffer::WriteRegion(uint64_t offset, absl::string_view bytes) {
+  if (offset > data_.size() || bytes.size() > data_.size() - offset) {
+    return RtError(RT_ERROR_LAUNCH_FAILED,
+                   absl::StrCat("device wrote bytes [", offset, ", ", offset + bytes.size(),
+                                ") outside the buffer's ", data_.size(), " bytes"));
+  }
+  if (bytes.empty()) return absl::OkStatus();
+  std::memcpy(data_.data() + offset, bytes.data(), bytes.size());
+  // Device writes change what other devices must receive, not what the host wrote.
+  changed_.Add(offset, offset + bytes.size());
+  return absl::OkStatus();
+}
+
+const std::vector<uint64_t>& Buffer::ChunkHashes() {
+  uint64_t size = data_.size();
+  size_t chunks = static_cast<size_t>((size + kChunkBytes - 1) / kChunkBytes);
+  if (chunk_hashes_.size() != chunks) {
+    chunk_hashes_.assign(chunks, 0);
+    changed_.Add(0, size);
+  }
+  if (changed_.empty()) return chunk_hashes_;
+  for (size_t i = 0; i < chunks; ++i) {
+    uint64_t begin = i * kChunkBytes;
+    uint64_t end = std::min(size, begin + kChunkBytes);
+    if (chunk_hashes_[i] == 0 || changed_.Overlaps(begin, end)) {
+      chunk_hashes_[i] = ChunkHash(data_.data() + begin, end - begin);
+    }
+  }
+  changed_.Clear();
+  return chunk_hashes_;
+}
+
+}  // namespace tessera::api

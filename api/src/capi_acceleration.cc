@@ -1,0 +1,115 @@
+// rtAcceleration*.
+#include "acceleration.h"
+#include "boundary.h"
+#include "scope_api.h"
+#include "validate.h"
+
+using namespace tessera::api;  // NOLINT: C entry points only
+
+extern "C" {
+
+RTresult rtAccelerationCreate(RTcontext context, RTacceleration* acceleration) {
+  return CreateCall(__func__, context, acceleration,
+                    [](Context& c) { return c.Make<Acceleration>(); });
+}
+RTresult rtAccelerationDestroy(RTacceleration acceleration) {
+  return DestroyCall<Acceleration>(__func__, acceleration);
+}
+RTresult rtAccelerationValidate(RTacceleration acceleration) {
+  return Call<Acceleration>(__func__, acceleration,
+                            [](Acceleration& a) { return ValidateObject(a); });
+}
+RTresult rtAccelerationGetContext(RTacceleration acceleration, RTcontext* context) {
+  return GetContextCall<Acceleration>(__func__, acceleration, context);
+}
+
+RTresult rtAccelerationSetBuilder(RTacceleration acceleration, const char* builder) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(builder, "builder name"));
+    return a.SetBuilder(builder);
+  });
+}
+
+RTresult rtAccelerationGetBuilder(RTacceleration acceleration, const char** return_string) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(return_string, "string pointer"));
+    *return_string = a.builder().c_str();
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtAccelerationSetTraverser(RTacceleration acceleration, const char* traverser) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(traverser, "traverser name"));
+    return a.SetTraverser(traverser);
+  });
+}
+
+RTresult rtAccelerationGetTraverser(RTacceleration acceleration, const char** return_string) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(return_string, "string pointer"));
+    *return_string = a.traverser().c_str();
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtAccelerationSetProperty(RTacceleration acceleration, const char* name,
+                                   const char* value) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(name, "property name"));
+    TS_RETURN_IF_ERROR(NotNull(value, "property value"));
+    a.SetProperty(name, value);
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtAccelerationGetProperty(RTacceleration acceleration, const char* name,
+                                   const char** return_string) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(name, "property name"));
+    TS_RETURN_IF_ERROR(NotNull(return_string, "string pointer"));
+    *return_string = a.Property(name).c_str();
+    return absl::OkStatus();
+  });
+}
+
+// Acceleration data caching: devices build their own structures, so there is nothing to hand
+// out. GetDataSize reports 0 and SetData is accepted and ignored (the structure stays dirty and
+// is rebuilt), as documented in COMPATIBILITY.md.
+RTresult rtAccelerationGetDataSize(RTacceleration acceleration, RTsize* size) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration&) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(size, "size pointer"));
+    *size = 0;
+    return absl::OkStatus();
+  });
+}
+
+// The data size is 0, so `data` may be what malloc(0) returned, null included.
+RTresult rtAccelerationGetData(RTacceleration acceleration, void* data) {
+  return Call<Acceleration>(__func__, acceleration,
+                            [&](Acceleration&) -> absl::Status { return absl::OkStatus(); });
+}
+
+RTresult rtAccelerationSetData(RTacceleration acceleration, const void* data, RTsize size) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration&) -> absl::Status {
+    if (size > 0) TS_RETURN_IF_ERROR(NotNull(data, "data pointer"));
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtAccelerationMarkDirty(RTacceleration acceleration) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    a.MarkDirty();
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtAccelerationIsDirty(RTacceleration acceleration, int* dirty) {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(dirty, "dirty pointer"));
+    *dirty = a.dirty() ? 1 : 0;
+    return absl::OkStatus();
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,64 @@
+// rtProgram*: programs from modules or C++ source.
+#include "boundary.h"
+#include "program.h"
+#include "program_loader.h"
+#include "scope_api.h"
+#include "validate.h"
+
+using namespace tessera::api;  // NOLINT: C entry points only
+
+extern "C" {
+
+RTresult rtProgramCreateFromPTXFile(RTcontext context, const char* filename,
+                                    const char* program_name, RTprogram* program) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(filename, "file name"));
+    TS_RETURN_IF_ERROR(NotNull(program_name, "program name"));
+    TS_RETURN_IF_ERROR(NotNull(program, "program pointer"));
+    TS_ASSIGN_OR_RETURN(ModuleRef module, LoadProgramFile(filename, program_name));
+    *program = ToHandle<RTprogram>(
+        c.Make<Program>(std::move(module.path), std::move(module.hash), program_name));
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtProgramCreateFromPTXString(RTcontext context, const char* ptx, const char* program_name,
+                                      RTprogram* program) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(ptx, "source string"));
+    TS_RETURN_IF_ERROR(NotNull(program_name, "program name"));
+    TS_RETURN_IF_ERROR(NotNull(program, "program pointer"));
+    TS_ASSIGN_OR_RETURN(ModuleRef module, LoadProgramSource(ptx, program_name));
+    *program = ToHandle<RTprogram>(
+        c.Make<Program>(std::move(module.path), std::move(module.hash), program_name));
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtProgramDestroy(RTprogram program) { return DestroyCall<Program>(__func__, program); }
+
+RTresult rtProgramValidate(RTprogram program) {
+  return Call<Program>(__func__, program, [&](Program& p) { return ValidateObject(p); });
+}
+
+RTresult rtProgramGetContext(RTprogram program, RTcontext* context) {
+  return GetContextCall<Program>(__func__, program, context);
+}
+
+RTresult rtProgramDeclareVariable(RTprogram program, const char* name, RTvariable* v) {
+  return ScopeDeclare<Program>(__func__, program, name, v);
+}
+RTresult rtProgramQueryVariable(RTprogram program, const char* name, RTvariable* v) {
+  return ScopeQuery<Program>(__func__, program, name, v);
+}
+RTresult rtProgramRemoveVariable(RTprogram program, RTvariable v) {
+  return ScopeRemove<Program>(__func__, program, v);
+}
+RTresult rtProgramGetVariableCount(RTprogram program, unsigned int* count) {
+  return ScopeCount<Program>(__func__, program, count);
+}
+RTresult rtProgramGetVariable(RTprogram program, unsigned int index, RTvariable* v) {
+  return ScopeGet<Program>(__func__, program, index, v);
+}
+
+}  // extern "C"

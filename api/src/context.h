@@ -1,0 +1,166 @@
+// The context: global state (entry points, ray types, programs per entry point and ray type,
+// stack size, printing, exceptions, attributes), the table of objects it owns, the devices it
+// launches on, and the last error message rtContextGetErrorString returns.
+#ifndef TESSERA_API_SRC_CONTEXT_H_
+#define TESSERA_API_SRC_CONTEXT_H_
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "absl/base/thread_annotations.h"
+#include "absl/container/flat_hash_map.h"
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "device_sync.h"
+#include "handle_registry.h"
+#include "object.h"
+#include "tessera/v1/launch.pb.h"
+#include "variable_scope.h"
+
+namespace tessera::api {
+
+class Program;
+
+class Context : public Object {
+ public:
+  static constexpr Kind kKind = Kind::kContext;
+
+  // Uses the devices TESSERA_DEVICES names (default "inproc"); fails with RT_ERROR_NOT_SUPPORTED
+  // for worker devices this release cannot create.
+  static absl::StatusOr<Context*> Create();
+  // rtContextDestroy: destroys every object, then the context.
+  void DestroyAll();
+
+  uint64_t NextVersion() { return ++version_clock_; }
+
+  // Creates an object owned by this context and registers its handle.
+  template <typename T, typename... Args>
+  T* Make(Args&&... args) {
+    T* object = new T(this, ++last_id_, std::forward<Args>(args)...);
+    objects_[object->id()] = object;
+    HandleRegistry::Get().Add(object);
+    return object;
+  }
+  void DestroyObject(Object* object);
+  // A live object of this context, or null.
+  Object* FindById(uint64_t id) const;
+  const absl::flat_hash_map<uint64_t, Object*>& objects() const { return objects_; }
+
+  // ---- Entry points, ray types and their programs.
+  unsigned entry_point_count() const { return static_cast<unsigned>(ray_generation_.size()); }
+  void SetEntryPointCount(unsigned count);
+  unsigned ray_type_count() const { return static_cast<unsigned>(miss_.size()); }
+  void SetRayTypeCount(unsigned count);
+  // Indices are checked by the caller.
+  Object* ray_generation(unsigned entry) const { return ray_generation_.Get(entry); }
+  Object* exception_program(unsigned entry) const { return exception_.Get(entry); }
+  Object* miss(unsigned ray_type) const { return miss_.Get(ray_type); }
+  void SetRayGeneration(unsigned entry, Program* program);
+  void SetExceptionProgram(unsigned entry, Program* program);
+  void SetMiss(unsigned ray_type, Program* program);
+
+  // ---- Global settings.
+  uint64_t stack_size() const { return stack_size_; }
+  void SetStackSize(uint64_t bytes);
+  bool print_enabled() const { return print_enabled_; }
+  void SetPrintEnabled(bool enabled);
+  uint64_t print_buffer_size() const { return print_buffer_size_; }
+  void SetPrintBufferSize(uint64_t bytes);
+  const std::array<int, 3>& print_launch_index() const { return print_launch_index_; }
+  void SetPrintLaunchIndex(int x, int y, int z);
+  absl::Status SetExceptionEnabled(int exception, bool enabled);
+  absl::StatusOr<bool> ExceptionEnabled(int exception) const;
+  // Bit i: exception code 0x3EE + i (ContextState.exception_mask).
+  uint32_t exception_mask() const { return exception_mask_; }
+  bool user_exceptions() const { return user_exceptions_; }
+  int num_threads() const { return num_threads_; }
+
+  absl::Status SetAttribute(RTcontextattribute attribute, RTsize size, const void* value);
+  absl::Status GetAttribute(RTcontextattribute attribute, RTsize size, void* value) const;
+
+  void SetTimeoutCallback(RTtimeoutcallback callback, double min_polling_seconds);
+  RTtimeoutcallback timeout_callback() const { return timeout_callback_; }
+  double timeout_polling_seconds() const { return timeout_polling_seconds_; }
+  bool running() const { return running_.load(); }
+
+  // ---- Devices. Ordinals index the context's device list (TESSERA_DEVICES unless
+  // tesseraContextSetDeviceSpec replaced it).
+  const std::vector<DeviceDesc>& device_list() const { return device_list_; }
+  const std::vector<int>& selected_devices() const { return selected_; }
+  absl::Status SetDevices(const std::vector<int>& ordinals);
+  absl::Status SetDeviceSpec(const std::string& spec);
+  // Lowering and launch state per selected device.
+  std::vector<DeviceSlot>& device_slots() { return slots_; }
+  // Replaces the devices with the given ones (tests drive the launch path with fakes).
+  void UseDevicesForTesting(std::vector<std::unique_ptr<Device>> devices);
+  // Creates the selected devices that do not exist yet.
+  absl::Status EnsureDevices();
+
+  // ---- Launch (launch.cc).
+  absl::Status Launch(unsigned entry_point, const std::vector<uint64_t>& dims);
+  uint64_t NextLaunchId() { return ++last_launch_id_; }
+  void set_running(bool running) { running_.store(running); }
+  // The exception reports of the last launch.
+  const std::vector<v1::ExceptionReport>& last_exceptions() const { return last_exceptions_; }
+  void set_last_exceptions(std::vector<v1::ExceptionReport> reports) {
+    last_exceptions_ = std::move(reports);
+  }
+
+  // ---- Errors.
+  // `sequence` orders errors across contexts and threads (see ErrorSequence in boundary.h).
+  void RecordError(RTresult code, std::string message, uint64_t sequence);
+  // The last message, if it was recorded with `code` (else null), and its sequence number.
+  const char* LastErrorFor(RTresult code, uint64_t* sequence) const;
+
+  VariableScope* scope() override { return &variables_; }
+  const VariableScope& variables() const { return variables_; }
+  void VisitEdges(EdgeVisitor visit) const override;
+
+ private:
+  Context();
+  void DropLinks() override;
+  void ResetDeviceSlots();
+
+  uint64_t version_clock_ = 0;
+  uint64_t last_id_ = 0;
+  uint64_t last_launch_id_ = 0;
+  absl::flat_hash_map<uint64_t, Object*> objects_;  // each holds the creation reference
+
+  VariableScope variables_;
+  Links ray_generation_;  // per entry point
+  Links exception_;       // per entry point
+  Links miss_;            // per ray type
+
+  uint64_t stack_size_ = 1024;
+  bool print_enabled_ = false;
+  uint64_t print_buffer_size_ = 65536;
+  std::array<int, 3> print_launch_index_ = {-1, -1, -1};
+  uint32_t exception_mask_;
+  bool user_exceptions_ = false;
+  int num_threads_;
+
+  RTtimeoutcallback timeout_callback_ = nullptr;
+  double timeout_polling_seconds_ = 0.0;
+  std::atomic<bool> running_{false};
+
+  std::vector<DeviceDesc> device_list_;
+  std::vector<int> selected_;
+  std::vector<DeviceSlot> slots_;
+  bool injected_devices_ = false;
+  uint64_t session_id_;
+  std::vector<v1::ExceptionReport> last_exceptions_;
+
+  mutable std::mutex error_mu_;
+  RTresult last_error_code_ ABSL_GUARDED_BY(error_mu_) = RT_SUCCESS;
+  uint64_t last_error_sequence_ ABSL_GUARDED_BY(error_mu_) = 0;
+  std::string last_error_ ABSL_GUARDED_BY(error_mu_);
+};
+
+}  // namespace tessera::api
+
+#endif  // TESSERA_API_SRC_CONTEXT_H_

@@ -1,0 +1,43 @@
+// What the host knows one device holds: object versions and buffer chunk hashes as of the last
+// successful Apply, so the next delta carries only differences.
+#ifndef TESSERA_API_SRC_DEVICE_SYNC_H_
+#define TESSERA_API_SRC_DEVICE_SYNC_H_
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/container/flat_hash_map.h"
+#include "device_table.h"
+#include "tessera/scheduler/device.h"
+
+namespace tessera::api {
+
+struct BufferSyncState {
+  uint64_t byte_size = 0;
+  uint64_t host_write_epoch = 0;  // GPU_LOCAL: the host writes the device has received
+  std::vector<uint64_t> hashes;   // per chunk; 0 = unknown
+};
+
+struct DeviceSync {
+  uint64_t session_id = 0;
+  uint64_t next_sequence = 1;
+  uint64_t context_version = 0;
+  absl::flat_hash_map<uint64_t, uint64_t> versions;  // object id → version the device has
+  absl::flat_hash_map<uint64_t, BufferSyncState> buffers;
+  // With several devices: the last contents this device reported for each OUTPUT buffer, so
+  // that the next final copy can be reduced to what the device wrote in that launch.
+  absl::flat_hash_map<uint64_t, std::string> output_copies;
+};
+
+// A device a context uses, created at its first launch.
+struct DeviceSlot {
+  DeviceDesc desc;
+  std::unique_ptr<Device> device;
+  DeviceSync sync;
+};
+
+}  // namespace tessera::api
+
+#endif  // TESSERA_API_SRC_DEVICE_SYNC_H_

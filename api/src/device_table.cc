@@ -1,0 +1,132 @@
+#include "device_table.h"
+
+#include <atomic>
+#include <cstring>
+
+#include "absl/strings/str_cat.h"
+#include "status.h"
+#include "system_info.h"
+
+namespace tessera::api {
+namespace {
+
+std::atomic<InprocDeviceFactory> g_inproc_factory{nullptr};
+
+absl::Status SizeError(const char* attribute, RTsize size, size_t expected) {
+  return RtError(RT_ERROR_INVALID_VALUE,
+                 absl::StrCat(attribute, " needs size ", expected, ", got ", size));
+}
+
+template <typename T>
+absl::Status Write(const char* attribute, RTsize size, void* out, T value) {
+  if (size != sizeof(T)) return SizeError(attribute, size, sizeof(T));
+  std::memcpy(out, &value, sizeof(T));
+  return absl::OkStatus();
+}
+
+bool OnThisMachine(const DeviceDesc& device) {
+  return device.type == DeviceSpecEntry::Type::kInproc ||
+         device.type == DeviceSpecEntry::Type::kLocal;
+}
+
+}  // namespace
+
+std::vector<DeviceDesc> ExpandDevices(const std::vector<DeviceSpecEntry>& entries) {
+  std::vector<DeviceDesc> devices;
+  for (const DeviceSpecEntry& e : entries) {
+    switch (e.type) {
+      case DeviceSpecEntry::Type::kInproc:
+        devices.push_back({e.type, "Tessera inproc (CPU)", "inproc"});
+        break;
+      case DeviceSpecEntry::Type::kLocal:
+        for (int i = 0; i < e.count; ++i) {
+          devices.push_back({e.type, absl::StrCat("Tessera local worker ", i),
+                             absl::StrCat(e.ToString(), "/", i)});
+        }
+        break;
+      case DeviceSpecEntry::Type::kTcp:
+      case DeviceSpecEntry::Type::kUnix:
+        devices.push_back({e.type, absl::StrCat("Tessera worker ", e.ToString()), e.ToString()});
+        break;
+    }
+  }
+  return devices;
+}
+
+absl::StatusOr<std::vector<DeviceDesc>> DevicesFromEnvironment() {
+  std::string spec = DeviceSpecFromEnvironment();
+  auto entries = ParseDeviceSpec(spec);
+  if (!entries.ok()) {
+    return RtError(ToRtResult(entries.status()),
+                   absl::StrCat("TESSERA_DEVICES: ", entries.status().message()));
+  }
+  return ExpandDevices(*entries);
+}
+
+absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attribute, RTsize size,
+                                void* out) {
+  const bool local = OnThisMachine(device);
+  switch (attribute) {
+    case RT_DEVICE_ATTRIBUTE_NAME: {
+      // OptiX copies at most `size` bytes, always NUL-terminated.
+      if (size == 0)
+        return RtError(RT_ERROR_INVALID_VALUE, "RT_DEVICE_ATTRIBUTE_NAME needs size > 0");
+      size_t n = std::min<size_t>(device.name.size(), size - 1);
+      std::memcpy(out, device.name.data(), n);
+      static_cast<char*>(out)[n] = '\0';
+      return absl::OkStatus();
+    }
+    case RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT:
+      // Worker processes on other machines report their threads once connected (issue 3).
+      return Write<int>("RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT", size, out,
+                        local ? HardwareThreads() : 0);
+    case RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY:
+      return Write<RTsize>("RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY", size, out,
+                           local ? static_cast<RTsize>(TotalSystemMemory()) : 0);
+    case RT_DEVICE_ATTRIBUTE_CLOCK_RATE:
+      return Write<int>("RT_DEVICE_ATTRIBUTE_CLOCK_RATE", size, out, local ? CpuClockKHz() : 0);
+    case RT_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY: {
+      const int cc[2] = {0, 0};
+      if (size != sizeof(cc)) {
+        return SizeError("RT_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY", size, sizeof(cc));
+      }
+      std::memcpy(out, cc, sizeof(cc));
+      return absl::OkStatus();
+    }
+    case RT_DEVICE_ATTRIBUTE_CUDA_DEVICE_ORDINAL:
+      return Write<int>("RT_DEVICE_ATTRIBUTE_CUDA_DEVICE_ORDINAL", size, out, -1);
+    case RT_DEVICE_ATTRIBUTE_MAX_THREADS_PER_BLOCK:
+    case RT_DEVICE_ATTRIBUTE_EXECUTION_TIMEOUT_ENABLED:
+    case RT_DEVICE_ATTRIBUTE_MAX_HARDWARE_TEXTURE_COUNT:
+    case RT_DEVICE_ATTRIBUTE_TCC_DRIVER:
+      return Write<int>("device attribute", size, out, 0);
+  }
+  return RtError(RT_ERROR_INVALID_VALUE,
+                 absl::StrCat("unknown device attribute ", static_cast<int>(attribute)));
+}
+
+absl::Status CheckInstantiable(const DeviceDesc& device) {
+  if (device.type == DeviceSpecEntry::Type::kInproc) return absl::OkStatus();
+  return RtError(RT_ERROR_NOT_SUPPORTED,
+                 absl::StrCat("device '", device.address,
+                              "' is a worker process; worker processes arrive with issue 3 "
+                              "(use TESSERA_DEVICES=inproc)"));
+}
+
+void SetInprocDeviceFactory(InprocDeviceFactory factory) { g_inproc_factory.store(factory); }
+
+absl::StatusOr<std::unique_ptr<Device>> CreateDevice(const DeviceDesc& device, int num_threads) {
+  TS_RETURN_IF_ERROR(CheckInstantiable(device));
+  InprocDeviceFactory factory = g_inproc_factory.load();
+  if (factory == nullptr) {
+    return RtError(RT_ERROR_NO_DEVICE,
+                   "this build of Tessera has no in-process device (worker/core was not built)");
+  }
+  std::unique_ptr<Device> created = factory(num_threads);
+  if (created == nullptr) {
+    return RtError(RT_ERROR_NO_DEVICE, "the in-process device could not be created");
+  }
+  return created;
+}
+
+}  // namespace tessera::api

@@ -1,0 +1,47 @@
+// The devices a device spec names (one per in-process device, worker process or worker address),
+// what rtDeviceGetAttribute reports for them, and how they are instantiated. Only `inproc`
+// devices can be created in this release; the others parse and are described, but a context
+// cannot use them yet.
+#ifndef TESSERA_API_SRC_DEVICE_TABLE_H_
+#define TESSERA_API_SRC_DEVICE_TABLE_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "device_spec.h"
+#include "tessera/rt.h"
+#include "tessera/scheduler/device.h"
+
+namespace tessera::api {
+
+struct DeviceDesc {
+  DeviceSpecEntry::Type type = DeviceSpecEntry::Type::kInproc;
+  std::string name;     // "Tessera inproc (CPU)"
+  std::string address;  // "inproc", "local:2/0", "10.0.0.2:5000", "unix:/tmp/w.sock"
+};
+
+// One device per entry; local:N gives N devices.
+std::vector<DeviceDesc> ExpandDevices(const std::vector<DeviceSpecEntry>& entries);
+
+// Parses TESSERA_DEVICES (or the default) and expands it.
+absl::StatusOr<std::vector<DeviceDesc>> DevicesFromEnvironment();
+
+// rtDeviceGetAttribute for one device; `size` must match the attribute's type.
+absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attribute, RTsize size,
+                                void* out);
+
+// RT_ERROR_NOT_SUPPORTED for devices this release cannot create.
+absl::Status CheckInstantiable(const DeviceDesc& device);
+
+// Creates an in-process device. libtessera installs the real one (worker/core) at load time;
+// without it, creating a device fails with RT_ERROR_NO_DEVICE.
+using InprocDeviceFactory = std::unique_ptr<Device> (*)(int num_threads);
+void SetInprocDeviceFactory(InprocDeviceFactory factory);
+absl::StatusOr<std::unique_ptr<Device>> CreateDevice(const DeviceDesc& device, int num_threads);
+
+}  // namespace tessera::api
+
+#endif  // TESSERA_API_SRC_DEVICE_TABLE_H_

@@ -1,0 +1,23 @@
+// Installs worker/core's in-process device into libtessera when worker/core is part of the
+// build (TESSERA_HAVE_WORKER_CORE, set by api/CMakeLists.txt). Kept out of tessera::api_core so
+// the core can be tested with fake devices alone.
+#include "device_table.h"
+
+#ifdef TESSERA_HAVE_WORKER_CORE
+#include "tessera/worker/inproc_device.h"
+
+namespace tessera::api {
+namespace {
+
+std::unique_ptr<Device> MakeInprocDevice(int num_threads) {
+  return CreateInprocDevice(num_threads);
+}
+
+[[maybe_unused]] const bool kInstalled = [] {
+  SetInprocDeviceFactory(&MakeInprocDevice);
+  return true;
+}();
+
+}  // namespace
+}  // namespace tessera::api
+#endif

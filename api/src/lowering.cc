@@ -1,0 +1,256 @@
+#include "lowering.h"
+
+#include <algorithm>
+
+#include "absl/container/flat_hash_set.h"
+#include "acceleration.h"
+#include "buffer.h"
+#include "context.h"
+#include "geometry.h"
+#include "nodes.h"
+#include "program.h"
+#include "validate.h"
+
+namespace tessera::api {
+namespace {
+
+uint64_t IdOf(const Object* o) { return o == nullptr ? 0 : o->id(); }
+
+void LowerVariables(const VariableScope& scope,
+                    google::protobuf::RepeatedPtrField<v1::Variable>* out) {
+  for (const Variable* v : scope.variables()) {
+    // Declared but never set: nothing for a program to read; its static initializer applies.
+    if (!v->has_value()) continue;
+    v1::Variable* pv = out->Add();
+    pv->set_name(v->name());
+    pv->set_type(static_cast<uint32_t>(v->type()));
+    if (v->holds_object()) {
+      pv->set_object_id(IdOf(v->object()));
+    } else {
+      pv->set_data(v->data().data(), v->data().size());
+    }
+  }
+}
+
+void LowerNodeRef(const Object* node, v1::NodeRef* out) {
+  out->set_id(IdOf(node));
+  out->set_type(node == nullptr ? RT_OBJECTTYPE_UNKNOWN : ObjectTypeOf(node->kind()));
+}
+
+void LowerContext(const Context& c, v1::ContextState* out) {
+  out->set_version(c.version());
+  out->set_entry_point_count(c.entry_point_count());
+  out->set_ray_type_count(c.ray_type_count());
+  for (unsigned i = 0; i < c.entry_point_count(); ++i) {
+    out->add_ray_generation(IdOf(c.ray_generation(i)));
+    out->add_exception(IdOf(c.exception_program(i)));
+  }
+  for (unsigned i = 0; i < c.ray_type_count(); ++i) out->add_miss(IdOf(c.miss(i)));
+  out->set_stack_size(c.stack_size());
+  out->set_print_enabled(c.print_enabled());
+  out->set_print_buffer_size(c.print_buffer_size());
+  for (int v : c.print_launch_index()) out->add_print_launch_index(v);
+  out->set_exception_mask(c.exception_mask());
+  out->set_user_exceptions(c.user_exceptions());
+  LowerVariables(c.variables(), out->mutable_variables());
+  out->set_num_threads(static_cast<uint32_t>(c.num_threads()));
+}
+
+void LowerObject(const Context& c, Object& o, v1::Object* out) {
+  switch (o.kind()) {
+    case Kind::kProgram: {
+      auto& p = static_cast<Program&>(o);
+      v1::Program* m = out->mutable_program();
+      m->set_id(p.id());
+      m->set_version(p.version());
+      m->set_module_path(p.module_path());
+      m->set_module_hash(p.module_hash());
+      m->set_function(p.function());
+      LowerVariables(p.variables(), m->mutable_variables());
+      break;
+    }
+    case Kind::kBuffer: {
+      auto& b = static_cast<Buffer&>(o);
+      v1::Buffer* m = out->mutable_buffer();
+      m->set_id(b.id());
+      m->set_version(b.version());
+      m->set_desc(b.desc());
+      m->set_format(static_cast<uint32_t>(b.format()));
+      m->set_element_size(b.element_size());
+      for (size_t d : b.dims()) m->add_dims(d);
+      break;
+    }
+    case Kind::kGeometry: {
+      auto& g = static_cast<Geometry&>(o);
+      v1::Geometry* m = out->mutable_geometry();
+      m->set_id(g.id());
+      m->set_version(g.version());
+      m->set_primitive_count(g.primitive_count());
+      m->set_intersection_program(IdOf(g.intersection_program()));
+      m->set_bounding_box_program(IdOf(g.bounding_box_program()));
+      LowerVariables(g.variables(), m->mutable_variables());
+      break;
+    }
+    case Kind::kMaterial: {
+      auto& mat = static_cast<Material&>(o);
+      v1::Material* m = out->mutable_material();
+      m->set_id(mat.id());
+      m->set_version(mat.version());
+      for (unsigned r = 0; r < c.ray_type_count(); ++r) {
+        m->add_closest_hit(IdOf(mat.closest_hit(r)));
+        m->add_any_hit(IdOf(mat.any_hit(r)));
+      }
+      LowerVariables(mat.variables(), m->mutable_variables());
+      break;
+    }
+    case Kind::kGeometryInstance: {
+      auto& gi = static_cast<GeometryInstance&>(o);
+      v1::GeometryInstance* m = out->mutable_geometry_instance();
+      m->set_id(gi.id());
+      m->set_version(gi.version());
+      m->set_geometry(IdOf(gi.geometry()));
+      for (unsigned i = 0; i < gi.material_count(); ++i) m->add_materials(IdOf(gi.material(i)));
+      LowerVariables(gi.variables(), m->mutable_variables());
+      break;
+    }
+    case Kind::kGeometryGroup: {
+      auto& gg = static_cast<GeometryGroup&>(o);
+      v1::GeometryGroup* m = out->mutable_geometry_group();
+      m->set_id(gg.id());
+      m->set_version(gg.version());
+      m->set_acceleration(IdOf(gg.acceleration()));
+      for (unsigned i = 0; i < gg.child_count(); ++i) m->add_children(IdOf(gg.child(i)));
+      break;
+    }
+    case Kind::kGroup: {
+      auto& g = static_cast<Group&>(o);
+      v1::Group* m = out->mutable_group();
+      m->set_id(g.id());
+      m->set_version(g.version());
+      m->set_acceleration(IdOf(g.acceleration()));
+      for (unsigned i = 0; i < g.child_count(); ++i) LowerNodeRef(g.child(i), m->add_children());
+      break;
+    }
+    case Kind::kSelector: {
+      auto& s = static_cast<Selector&>(o);
+      v1::Selector* m = out->mutable_selector();
+      m->set_id(s.id());
+      m->set_version(s.version());
+      m->set_visit_program(IdOf(s.visit_program()));
+      for (unsigned i = 0; i < s.child_count(); ++i) LowerNodeRef(s.child(i), m->add_children());
+      LowerVariables(s.variables(), m->mutable_variables());
+      break;
+    }
+    case Kind::kTransform: {
+      auto& t = static_cast<Transform&>(o);
+      v1::Transform* m = out->mutable_transform();
+      m->set_id(t.id());
+      m->set_version(t.version());
+      for (float f : t.matrix()) m->add_matrix(f);
+      for (float f : t.inverse()) m->add_inverse(f);
+      LowerNodeRef(t.child(), m->mutable_child());
+      break;
+    }
+    case Kind::kAcceleration: {
+      auto& a = static_cast<Acceleration&>(o);
+      v1::Acceleration* m = out->mutable_acceleration();
+      m->set_id(a.id());
+      m->set_version(a.version());
+      m->set_builder(a.builder());
+      m->set_traverser(a.traverser());
+      for (const auto& [k, v] : a.properties()) (*m->mutable_properties())[k] = v;
+      m->set_build_epoch(a.build_epoch());
+      break;
+    }
+    case Kind::kContext:
+    case Kind::kVariable:
+      break;
+  }
+}
+
+// Adds the chunks of `b` the device lacks; returns what it holds afterwards.
+BufferSyncState LowerChunks(Buffer& b, const BufferSyncState* known, v1::StateDelta* delta) {
+  BufferSyncState next;
+  next.byte_size = b.byte_size();
+  next.host_write_epoch = b.host_write_epoch();
+  const std::vector<uint64_t>& hashes = b.ChunkHashes();
+  next.hashes = hashes;
+  const bool same_shape = known != nullptr && known->byte_size == b.byte_size() &&
+                          known->hashes.size() == hashes.size();
+  // GPU_LOCAL copies diverge on each device, so equal hashes prove nothing there: every host
+  // write is broadcast in full.
+  const bool force =
+      b.gpu_local() && (known == nullptr || known->host_write_epoch != b.host_write_epoch());
+  for (size_t i = 0; i < hashes.size(); ++i) {
+    const bool ship = b.gpu_local() ? force : (!same_shape || known->hashes[i] != hashes[i]);
+    if (!ship) continue;
+    uint64_t begin = i * kChunkBytes;
+    uint64_t end = std::min<uint64_t>(b.byte_size(), begin + kChunkBytes);
+    v1::BufferChunk* chunk = delta->add_chunks();
+    chunk->set_buffer_id(b.id());
+    chunk->set_offset(begin);
+    chunk->set_data(b.bytes() + begin, end - begin);
+    chunk->set_hash(hashes[i]);
+  }
+  return next;
+}
+
+}  // namespace
+
+PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
+  PreparedDelta out;
+  v1::StateDelta& delta = out.delta;
+  delta.set_session_id(sync.session_id);
+  delta.set_sequence(sync.next_sequence);
+  LowerContext(context, delta.mutable_context());
+
+  std::vector<Object*> objects = CollectReachable(context);
+  absl::flat_hash_set<Object*> included(objects.begin(), objects.end());
+  for (const auto& [id, object] : context.objects()) {
+    if (object->kind() == Kind::kBuffer && !included.contains(object)) objects.push_back(object);
+  }
+  // Creation order: programs and buffers usually come before what refers to them.
+  std::sort(objects.begin(), objects.end(),
+            [](const Object* a, const Object* b) { return a->id() < b->id(); });
+
+  for (Object* o : objects) {
+    auto known = sync.versions.find(o->id());
+    if (known == sync.versions.end() || known->second != o->version()) {
+      LowerObject(context, *o, delta.add_objects());
+      out.versions.emplace_back(o->id(), o->version());
+    }
+    if (o->kind() == Kind::kBuffer) {
+      auto& b = static_cast<Buffer&>(*o);
+      if (!b.ships_content()) continue;
+      auto it = sync.buffers.find(b.id());
+      const BufferSyncState* state = it == sync.buffers.end() ? nullptr : &it->second;
+      out.buffers.emplace_back(b.id(), LowerChunks(b, state, &delta));
+    }
+  }
+
+  std::vector<uint64_t> removed;
+  for (const auto& [id, version] : sync.versions) {
+    if (context.FindById(id) == nullptr) removed.push_back(id);
+  }
+  std::sort(removed.begin(), removed.end());
+  for (uint64_t id : removed) delta.add_removed(id);
+  return out;
+}
+
+void CommitDelta(PreparedDelta&& prepared, DeviceSync* sync) {
+  sync->next_sequence = prepared.delta.sequence() + 1;
+  sync->context_version = prepared.delta.context().version();
+  for (uint64_t id : prepared.delta.removed()) {
+    sync->versions.erase(id);
+    sync->buffers.erase(id);
+    sync->output_copies.erase(id);
+  }
+  for (auto& [id, version] : prepared.versions) {
+    sync->versions[id] = version;
+    // A buffer whose description changed is reallocated (zeroed) on the device.
+    sync->output_copies.erase(id);
+  }
+  for (auto& [id, state] : prepared.buffers) sync->buffers[id] = std::move(state);
+}
+
+}  // namespace tessera::api

@@ -1,0 +1,34 @@
+// Lowering: the host object graph becomes a v1::StateDelta for one device, carrying only what
+// changed since that device's last successful Apply (DESIGN.md "Data flow").
+#ifndef TESSERA_API_SRC_LOWERING_H_
+#define TESSERA_API_SRC_LOWERING_H_
+
+#include <utility>
+#include <vector>
+
+#include "device_sync.h"
+#include "tessera/v1/state.pb.h"
+
+namespace tessera::api {
+
+class Context;
+
+// A delta plus the sync records it establishes once the device accepts it.
+struct PreparedDelta {
+  v1::StateDelta delta;
+  std::vector<std::pair<uint64_t, uint64_t>> versions;        // id → version shipped
+  std::vector<std::pair<uint64_t, BufferSyncState>> buffers;  // id → what it will hold
+};
+
+// Everything that changed for the device `sync` describes: the full ContextState; every object
+// whose version differs (reachable from the context, plus every buffer, since programs can reach
+// buffers by id); ids of destroyed objects the device holds; and buffer chunks whose content
+// hash the device lacks. OUTPUT-only buffers never ship contents. The context must be valid.
+PreparedDelta BuildDelta(Context& context, const DeviceSync& sync);
+
+// The device applied the delta.
+void CommitDelta(PreparedDelta&& prepared, DeviceSync* sync);
+
+}  // namespace tessera::api
+
+#endif  // TESSERA_API_SRC_LOWERING_H_

@@ -1,0 +1,29 @@
+// Compiles C++ program sources into program modules with the system compiler, cached by content:
+// the key hashes the source, the compiler command and the program-side headers, so editing
+// tessera/device.h recompiles. Headers next to the source are not part of the key.
+#ifndef TESSERA_API_SRC_MODULE_COMPILER_H_
+#define TESSERA_API_SRC_MODULE_COMPILER_H_
+
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+
+namespace tessera::api {
+
+// $TESSERA_CACHE_DIR, else $XDG_CACHE_HOME/tessera/modules, else ~/.cache/tessera/modules.
+std::string ModuleCacheDir();
+
+// $TESSERA_INCLUDE_DIR (colon-separated) if set, else the api/include directory of this build.
+std::vector<std::string> ProgramIncludeDirs();
+
+// Compiles `source` (the contents of `source_path`, or text to be written to a temporary file
+// when `source_path` is empty) and returns the cached module's path. Compiler errors are
+// RT_ERROR_INVALID_SOURCE with the compiler's first lines.
+absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
+                                                 const std::string& source_path);
+
+}  // namespace tessera::api
+
+#endif  // TESSERA_API_SRC_MODULE_COMPILER_H_

@@ -1,0 +1,114 @@
+#include "nodes.h"
+
+#include "acceleration.h"
+#include "dirty.h"
+#include "program.h"
+#include "status.h"
+
+namespace tessera::api {
+
+AcceleratedNode::AcceleratedNode(Kind kind, Context* context, uint64_t id)
+    : Object(kind, context, id), acceleration_(this, 1), children_(this) {
+  Touch();
+}
+
+void AcceleratedNode::SetAcceleration(Acceleration* acceleration) {
+  acceleration_.Set(0, acceleration);
+  Touch();
+  NotifyStructureChanged(this);
+}
+
+void AcceleratedNode::SetChildCount(unsigned count) {
+  children_.Resize(count);
+  Touch();
+  NotifyStructureChanged(this);
+}
+
+void AcceleratedNode::SetChild(unsigned index, Object* child) {
+  children_.Set(index, child);
+  Touch();
+  NotifyStructureChanged(this);
+}
+
+void AcceleratedNode::VisitEdges(EdgeVisitor visit) const {
+  if (Object* a = acceleration_.Get(0)) visit(a, EdgeRole{"acceleration"});
+  for (size_t i = 0; i < children_.size(); ++i) {
+    if (Object* c = children_.Get(i)) visit(c, EdgeRole{"child", static_cast<int64_t>(i)});
+  }
+}
+
+void AcceleratedNode::DropLinks() {
+  acceleration_.Resize(0);
+  children_.Resize(0);
+}
+
+Selector::Selector(Context* context, uint64_t id)
+    : Object(Kind::kSelector, context, id), visit_(this, 1), children_(this), variables_(this) {
+  Touch();
+}
+
+void Selector::SetVisitProgram(Program* program) {
+  visit_.Set(0, program);
+  Touch();
+}
+
+void Selector::SetChildCount(unsigned count) {
+  children_.Resize(count);
+  Touch();
+  NotifyStructureChanged(this);
+}
+
+void Selector::SetChild(unsigned index, Object* child) {
+  children_.Set(index, child);
+  Touch();
+  NotifyStructureChanged(this);
+}
+
+void Selector::VisitEdges(EdgeVisitor visit) const {
+  if (Object* p = visit_.Get(0)) visit(p, EdgeRole{"visit program"});
+  for (size_t i = 0; i < children_.size(); ++i) {
+    if (Object* c = children_.Get(i)) visit(c, EdgeRole{"child", static_cast<int64_t>(i)});
+  }
+  variables_.VisitEdges(visit);
+}
+
+void Selector::DropLinks() {
+  visit_.Resize(0);
+  children_.Resize(0);
+  variables_.Clear();
+}
+
+Transform::Transform(Context* context, uint64_t id)
+    : Object(Kind::kTransform, context, id),
+      matrix_(IdentityMatrix4()),
+      inverse_(IdentityMatrix4()),
+      child_(this, 1) {
+  Touch();
+}
+
+absl::Status Transform::SetMatrix(const Matrix4& matrix, const Matrix4* inverse) {
+  Matrix4 computed;
+  if (inverse == nullptr) {
+    if (!Invert(matrix, &computed)) {
+      return RtError(RT_ERROR_INVALID_VALUE, "matrix is singular and no inverse was given");
+    }
+    inverse = &computed;
+  }
+  matrix_ = matrix;
+  inverse_ = *inverse;
+  Touch();
+  NotifyStructureChanged(this);
+  return absl::OkStatus();
+}
+
+void Transform::SetChild(Object* child) {
+  child_.Set(0, child);
+  Touch();
+  NotifyStructureChanged(this);
+}
+
+void Transform::VisitEdges(EdgeVisitor visit) const {
+  if (Object* c = child_.Get(0)) visit(c, EdgeRole{"child"});
+}
+
+}  // namespace tessera::api

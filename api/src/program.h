@@ -1,0 +1,46 @@
+// A program: one function in a program module (a shared library built from C++, the PTX
+// analogue), plus the variables declared on the program object.
+#ifndef TESSERA_API_SRC_PROGRAM_H_
+#define TESSERA_API_SRC_PROGRAM_H_
+
+#include <string>
+
+#include "object.h"
+#include "variable_scope.h"
+
+namespace tessera::api {
+
+class Program : public Object {
+ public:
+  static constexpr Kind kKind = Kind::kProgram;
+
+  Program(Context* context, uint64_t id, std::string module_path, std::string module_hash,
+          std::string function)
+      : Object(Kind::kProgram, context, id),
+        module_path_(std::move(module_path)),
+        module_hash_(std::move(module_hash)),
+        function_(std::move(function)),
+        variables_(this) {
+    Touch();
+  }
+
+  const std::string& module_path() const { return module_path_; }
+  const std::string& module_hash() const { return module_hash_; }
+  const std::string& function() const { return function_; }
+
+  VariableScope* scope() override { return &variables_; }
+  const VariableScope& variables() const { return variables_; }
+  void VisitEdges(EdgeVisitor visit) const override { variables_.VisitEdges(visit); }
+
+ private:
+  void DropLinks() override { variables_.Clear(); }
+
+  const std::string module_path_;
+  const std::string module_hash_;
+  const std::string function_;
+  VariableScope variables_;
+};
+
+}  // namespace tessera::api
+
+#endif  // TESSERA_API_SRC_PROGRAM_H_

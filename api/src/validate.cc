@@ -1,0 +1,230 @@
+#include "validate.h"
+
+#include <vector>
+
+#include "absl/container/flat_hash_map.h"
+#include "absl/container/flat_hash_set.h"
+#include "absl/strings/str_cat.h"
+#include "acceleration.h"
+#include "buffer.h"
+#include "buffer_format.h"
+#include "context.h"
+#include "geometry.h"
+#include "nodes.h"
+#include "status.h"
+
+namespace tessera::api {
+namespace {
+
+// A problem with `object`: the message names it; the code is decided by the caller.
+struct Problem {
+  bool mapped = false;
+  std::string message;
+};
+
+std::string Missing(const Object& o, const std::string& what) {
+  return absl::StrCat(o.Describe(), ": ", what);
+}
+
+// Checks `o` alone (its edges are walked separately).
+bool CheckSelf(Object& o, Problem* problem) {
+  auto fail = [&](std::string what) {
+    problem->message = Missing(o, what);
+    return false;
+  };
+  switch (o.kind()) {
+    case Kind::kContext: {
+      auto& c = static_cast<Context&>(o);
+      for (unsigned i = 0; i < c.entry_point_count(); ++i) {
+        if (c.ray_generation(i) == nullptr) {
+          return fail(absl::StrCat("entry point ", i, " has no ray generation program"));
+        }
+      }
+      return true;
+    }
+    case Kind::kBuffer: {
+      auto& b = static_cast<Buffer&>(o);
+      if (b.format() == RT_FORMAT_UNKNOWN) return fail("format is not set");
+      if (b.element_size() == 0) return fail("RT_FORMAT_USER buffer has no element size");
+      if (!b.sized()) return fail("size is not set");
+      if (b.mapped()) {
+        problem->mapped = true;
+        return fail("buffer is still mapped (unmap it before validating or launching)");
+      }
+      return true;
+    }
+    case Kind::kGeometry: {
+      auto& g = static_cast<Geometry&>(o);
+      if (g.intersection_program() == nullptr) return fail("intersection program is not set");
+      if (g.bounding_box_program() == nullptr) return fail("bounding box program is not set");
+      if (!g.primitive_count_set()) return fail("primitive count is not set");
+      return true;
+    }
+    case Kind::kGeometryInstance: {
+      auto& gi = static_cast<GeometryInstance&>(o);
+      if (gi.geometry() == nullptr) return fail("geometry is not set");
+      if (gi.material_count() == 0) return fail("material count is 0");
+      for (unsigned i = 0; i < gi.material_count(); ++i) {
+        if (gi.material(i) == nullptr) return fail(absl::StrCat("material ", i, " is not set"));
+      }
+      return true;
+    }
+    case Kind::kGeometryGroup:
+    case Kind::kGroup: {
+      auto& n = static_cast<AcceleratedNode&>(o);
+      if (n.acceleration() == nullptr) return fail("acceleration is not set");
+      for (unsigned i = 0; i < n.child_count(); ++i) {
+        if (n.child(i) == nullptr) return fail(absl::StrCat("child ", i, " is not set"));
+      }
+      return true;
+    }
+    case Kind::kSelector: {
+      auto& s = static_cast<Selector&>(o);
+      if (s.visit_program() == nullptr) return fail("visit program is not set");
+      for (unsigned i = 0; i < s.child_count(); ++i) {
+        if (s.child(i) == nullptr) return fail(absl::StrCat("child ", i, " is not set"));
+      }
+      return true;
+    }
+    case Kind::kTransform: {
+      auto& t = static_cast<Transform&>(o);
+      if (t.child() == nullptr) return fail("child is not set");
+      Matrix4 unused;
+      if (!Invert(t.matrix(), &unused)) return fail("matrix is not invertible");
+      return true;
+    }
+    case Kind::kAcceleration: {
+      absl::Status s = static_cast<Acceleration&>(o).CheckComplete();
+      if (!s.ok()) return fail(std::string(s.message()));
+      return true;
+    }
+    default:
+      return true;
+  }
+}
+
+// Node children that traversal follows (cycles among them would never terminate).
+std::vector<Object*> TraversalChildren(Object& o) {
+  std::vector<Object*> out;
+  switch (o.kind()) {
+    case Kind::kGroup: {
+      auto& g = static_cast<Group&>(o);
+      for (unsigned i = 0; i < g.child_count(); ++i) out.push_back(g.child(i));
+      break;
+    }
+    case Kind::kSelector: {
+      auto& s = static_cast<Selector&>(o);
+      for (unsigned i = 0; i < s.child_count(); ++i) out.push_back(s.child(i));
+      break;
+    }
+    case Kind::kTransform:
+      out.push_back(static_cast<Transform&>(o).child());
+      break;
+    default:
+      break;
+  }
+  return out;
+}
+
+class Walker {
+ public:
+  // Visits everything reachable from `root`; stops at the first problem.
+  bool Walk(Object& root) {
+    std::vector<Object*> stack{&root};
+    seen_.insert(&root);
+    while (!stack.empty()) {
+      Object* o = stack.back();
+      stack.pop_back();
+      order_.push_back(o);
+      bool ok = true;
+      o->VisitEdges([&](Object* target, const EdgeRole& role) {
+        if (!ok) return;
+        if (!target->alive()) {
+          problem_.message = absl::StrCat(o->Describe(), ": ", role.Format(),
+                                          " refers to destroyed ", target->Describe());
+          ok = false;
+          return;
+        }
+        if (seen_.insert(target).second) stack.push_back(target);
+      });
+      if (!ok || !CheckSelf(*o, &problem_)) return false;
+    }
+    return CheckCycles();
+  }
+
+  const Problem& problem() const { return problem_; }
+  const std::vector<Object*>& order() const { return order_; }
+
+ private:
+  bool CheckCycles() {
+    enum Color { kWhite, kGray, kBlack };
+    absl::flat_hash_map<Object*, Color> color;
+    for (Object* start : order_) {
+      if (!IsNodeKind(start->kind()) || color[start] != kWhite) continue;
+      // Iterative DFS: (node, next child index).
+      std::vector<std::pair<Object*, size_t>> stack{{start, 0}};
+      color[start] = kGray;
+      while (!stack.empty()) {
+        auto& [node, next] = stack.back();
+        std::vector<Object*> children = TraversalChildren(*node);
+        if (next >= children.size()) {
+          color[node] = kBlack;
+          stack.pop_back();
+          continue;
+        }
+        Object* child = children[next++];
+        if (child == nullptr) continue;
+        Color& c = color[child];
+        if (c == kGray) {
+          problem_.message = absl::StrCat(node->Describe(), ": child ", child->Describe(),
+                                          " is also its ancestor (the node graph has a cycle)");
+          return false;
+        }
+        if (c == kWhite) {
+          c = kGray;
+          stack.push_back({child, 0});
+        }
+      }
+    }
+    return true;
+  }
+
+  absl::flat_hash_set<Object*> seen_;
+  std::vector<Object*> order_;
+  Problem problem_;
+};
+
+absl::Status ToStatus(const Problem& p, RTresult code) {
+  return RtError(p.mapped ? RT_ERROR_ALREADY_MAPPED : code, p.message);
+}
+
+}  // namespace
+
+absl::Status ValidateContext(Context& context) {
+  Walker walker;
+  if (!walker.Walk(context)) return ToStatus(walker.problem(), RT_ERROR_INVALID_CONTEXT);
+  return absl::OkStatus();
+}
+
+absl::Status ValidateObject(Object& object) {
+  Walker walker;
+  if (!walker.Walk(object)) return ToStatus(walker.problem(), RT_ERROR_INVALID_VALUE);
+  return absl::OkStatus();
+}
+
+std::vector<Object*> CollectReachable(Context& context) {
+  std::vector<Object*> out;
+  absl::flat_hash_set<Object*> seen{&context};
+  std::vector<Object*> stack{&context};
+  while (!stack.empty()) {
+    Object* o = stack.back();
+    stack.pop_back();
+    if (o != &context) out.push_back(o);
+    o->VisitEdges([&](Object* target, const EdgeRole&) {
+      if (target->alive() && seen.insert(target).second) stack.push_back(target);
+    });
+  }
+  return out;
+}
+
+}  // namespace tessera::api

@@ -1,0 +1,53 @@
+#include "tutorial/cli.h"
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <string>
+
+#include "tutorial/image_io.h"
+#include "tutorial/render.h"
+#include "tutorial/rt_check.h"
+#include "tutorial/steps.h"
+
+namespace tessera::tutorial {
+
+int RunTutorialMain(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+  CLI::App app{"Renders a step of the OptiX SDK tutorial (Whitted-style ray tracing) with Tessera.",
+               "tessera-tutorial"};
+  RenderOptions options;
+  std::string out_path;
+  std::string modules;
+  app.add_option("--step", options.step, "tutorial step (0-10)")->required();
+  app.add_option("--width", options.width, "image width in pixels")->capture_default_str();
+  app.add_option("--height", options.height, "image height in pixels")->capture_default_str();
+  app.add_option("--out", out_path, "output image (.png: 8-bit RGBA, .exr: float RGBA)")
+      ->required();
+  app.add_option("--modules", modules,
+                 "directory of the tutorial_*.so program modules (default: $TESSERA_MODULE_DIR, "
+                 "else the build's modules directory)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e, out, err);
+  }
+
+  try {
+    // Check what needs no rendering first, so mistakes fail fast.
+    const StepConfig& step = GetStep(options.step);
+    FormatForPath(out_path);
+    options.module_dir = ResolveModuleDir(modules);
+    if (step.step == 5) {
+      out << "note: step 5 draws a sky gradient instead of an environment map; environment maps "
+             "need textures (later issue)\n";
+    }
+    const Image image = RenderStep(options);
+    WriteImage(out_path, image);
+  } catch (const std::exception& e) {
+    err << "tessera-tutorial: error: " << e.what() << "\n";
+    return 1;
+  }
+  out << out_path << "\n";
+  return 0;
+}
+
+}  // namespace tessera::tutorial

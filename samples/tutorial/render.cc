@@ -1,0 +1,151 @@
+#include "tutorial/render.h"
+
+#include <cstdlib>
+#include <cstring>
+
+#include "tessera/rt.h"
+#include "tutorial/camera.h"
+#include "tutorial/programs.h"
+#include "tutorial/programs/common_structs.h"
+#include "tutorial/rt_check.h"
+#include "tutorial/scene.h"
+#include "tutorial/steps.h"
+#include "tutorial/variables.h"
+
+#ifndef TESSERA_TUTORIAL_MODULE_DIR
+#error "TESSERA_TUTORIAL_MODULE_DIR must name the build's program module directory"
+#endif
+
+namespace tessera::tutorial {
+namespace {
+
+constexpr unsigned int kRadianceRayType = 0;
+constexpr unsigned int kShadowRayType = 1;
+constexpr int kMaxDepth = 10;
+// Deep enough for kMaxDepth nested reflection/refraction rays.
+constexpr RTsize kStackSize = 4096 + 512 * kMaxDepth;
+
+// Owns the context; destroying it destroys every object created in it.
+class ContextHolder {
+ public:
+  ContextHolder() { RT_CHECK(nullptr, rtContextCreate(&context_)); }
+  ~ContextHolder() { rtContextDestroy(context_); }
+  ContextHolder(const ContextHolder&) = delete;
+  ContextHolder& operator=(const ContextHolder&) = delete;
+  RTcontext get() const { return context_; }
+
+ private:
+  RTcontext context_ = nullptr;
+};
+
+RTbuffer CreateOutputBuffer(RTcontext context, int width, int height) {
+  RTbuffer buffer = nullptr;
+  RT_CHECK(context, rtBufferCreate(context, RT_BUFFER_OUTPUT, &buffer));
+  RT_CHECK(context, rtBufferSetFormat(buffer, RT_FORMAT_FLOAT4));
+  RT_CHECK(context,
+           rtBufferSetSize2D(buffer, static_cast<RTsize>(width), static_cast<RTsize>(height)));
+  return buffer;
+}
+
+RTbuffer CreateLights(RTcontext context) {
+  const BasicLight lights[] = {
+      {kLightPos, make_float3(1.0f, 1.0f, 1.0f), 1, 0},
+  };
+  RTbuffer buffer = nullptr;
+  RT_CHECK(context, rtBufferCreate(context, RT_BUFFER_INPUT, &buffer));
+  RT_CHECK(context, rtBufferSetFormat(buffer, RT_FORMAT_USER));
+  RT_CHECK(context, rtBufferSetElementSize(buffer, sizeof(BasicLight)));
+  RT_CHECK(context, rtBufferSetSize1D(buffer, sizeof(lights) / sizeof(lights[0])));
+  void* mapped = nullptr;
+  RT_CHECK(context, rtBufferMap(buffer, &mapped));
+  std::memcpy(mapped, lights, sizeof(lights));
+  RT_CHECK(context, rtBufferUnmap(buffer));
+  return buffer;
+}
+
+void SetUpContext(RTcontext context, const StepConfig& step, const RenderOptions& options,
+                  ProgramLoader& programs, RTbuffer output) {
+  RT_CHECK(context, rtContextSetRayTypeCount(context, 2));
+  RT_CHECK(context, rtContextSetEntryPointCount(context, 1));
+  RT_CHECK(context, rtContextSetStackSize(context, kStackSize));
+  // Exceptions go to the exception program (magenta pixels plus a printed report).
+  RT_CHECK(context, rtContextSetExceptionEnabled(context, RT_EXCEPTION_ALL, 1));
+  RT_CHECK(context, rtContextSetPrintEnabled(context, 1));
+
+  Variables vars(context, context, rtContextDeclareVariable, "context");
+  vars.Object("output_buffer", output);
+  vars.Object("lights", CreateLights(context));
+  vars.Int("max_depth", kMaxDepth);
+  vars.Uint("radiance_ray_type", kRadianceRayType);
+  vars.Uint("shadow_ray_type", kShadowRayType);
+  vars.Float("scene_epsilon", 1.e-3f);
+  vars.Float("importance_cutoff", 0.01f);
+  vars.Float3("ambient_light_color", 0.31f, 0.33f, 0.28f);
+  vars.Float3("bg_color", kBackgroundColor[0], kBackgroundColor[1], kBackgroundColor[2]);
+  vars.Float3("horizon_color", 0.85f, 0.88f, 0.92f);
+  vars.Float3("ground_color", 0.3f, 0.3f, 0.3f);
+  vars.Float3("bad_color", kBadColor[0], kBadColor[1], kBadColor[2]);
+
+  const CameraFrame frame = ComputeFrame(
+      TutorialCamera(), static_cast<float>(options.width) / static_cast<float>(options.height));
+  vars.Float3("eye", frame.eye);
+  vars.Float3("U", frame.U);
+  vars.Float3("V", frame.V);
+  vars.Float3("W", frame.W);
+
+  RT_CHECK(context, rtContextSetRayGenerationProgram(
+                        context, 0, programs.Get({"tutorial_camera", "pinhole_camera"})));
+  RT_CHECK(context, rtContextSetExceptionProgram(context, 0,
+                                                 programs.Get({"tutorial_camera", "exception"})));
+  RT_CHECK(context, rtContextSetMissProgram(context, kRadianceRayType, programs.Get(step.miss)));
+}
+
+// Copies the float4 output buffer into an Image, flipping rows: launch row 0 is the bottom.
+Image ReadOutput(RTcontext context, RTbuffer output, int width, int height) {
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.rgba.resize(4 * static_cast<size_t>(width) * static_cast<size_t>(height));
+  void* mapped = nullptr;
+  RT_CHECK(context, rtBufferMap(output, &mapped));
+  const size_t row_floats = 4 * static_cast<size_t>(width);
+  const float* src = static_cast<const float*>(mapped);
+  for (int y = 0; y < height; ++y) {
+    std::memcpy(&image.rgba[static_cast<size_t>(height - 1 - y) * row_floats],
+                src + static_cast<size_t>(y) * row_floats, row_floats * sizeof(float));
+  }
+  RT_CHECK(context, rtBufferUnmap(output));
+  return image;
+}
+
+}  // namespace
+
+std::string ResolveModuleDir(const std::string& flag) {
+  if (!flag.empty()) return flag;
+  const char* env = std::getenv("TESSERA_MODULE_DIR");
+  if (env != nullptr && env[0] != '\0') return env;
+  return TESSERA_TUTORIAL_MODULE_DIR;
+}
+
+Image RenderStep(const RenderOptions& options) {
+  const StepConfig& step = GetStep(options.step);
+  if (options.width <= 0 || options.height <= 0) {
+    throw TutorialError("image size must be positive, got " + std::to_string(options.width) + "x" +
+                        std::to_string(options.height));
+  }
+  ContextHolder holder;
+  RTcontext context = holder.get();
+  ProgramLoader programs(context, options.module_dir);
+  RTbuffer output = CreateOutputBuffer(context, options.width, options.height);
+
+  SetUpContext(context, step, options, programs, output);
+  BuildScene(context, step, programs);
+
+  RT_CHECK(context, rtContextValidate(context));
+  RT_CHECK(context, rtContextCompile(context));
+  RT_CHECK(context, rtContextLaunch2D(context, 0, static_cast<RTsize>(options.width),
+                                      static_cast<RTsize>(options.height)));
+  return ReadOutput(context, output, options.width, options.height);
+}
+
+}  // namespace tessera::tutorial

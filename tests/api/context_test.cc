@@ -1,0 +1,273 @@
+// Context state through the C API: entry points and ray types, settings, exceptions,
+// attributes, devices, and destruction with live objects.
+#include <cstring>
+#include <thread>
+
+#include "api_test_util.h"
+#include "gtest/gtest.h"
+#include "tessera/rt.h"
+
+namespace tessera::test {
+namespace {
+
+class HostContextTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_EQ(rtContextCreate(&ctx), RT_SUCCESS); }
+  void TearDown() override {
+    if (ctx != nullptr) {
+      EXPECT_EQ(rtContextDestroy(ctx), RT_SUCCESS);
+    }
+  }
+
+  RTprogram Program(const char* function) {
+    RTprogram p = nullptr;
+    EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, kTestModule, function, &p), RT_SUCCESS);
+    return p;
+  }
+
+  RTcontext ctx = nullptr;
+};
+
+TEST_F(HostContextTest, EntryPointsAndRayTypesResizeTheirProgramArrays) {
+  unsigned n = 99;
+  ASSERT_EQ(rtContextGetEntryPointCount(ctx, &n), RT_SUCCESS);
+  EXPECT_EQ(n, 0u);
+  ASSERT_EQ(rtContextSetEntryPointCount(ctx, 2), RT_SUCCESS);
+  RTprogram rg = Program("ray_gen"), ex = Program("exception"), miss = Program("miss");
+  ASSERT_EQ(rtContextSetRayGenerationProgram(ctx, 1, rg), RT_SUCCESS);
+  ASSERT_EQ(rtContextSetExceptionProgram(ctx, 1, ex), RT_SUCCESS);
+  RTprogram got;
+  ASSERT_EQ(rtContextGetRayGenerationProgram(ctx, 1, &got), RT_SUCCESS);
+  EXPECT_EQ(got, rg);
+  ASSERT_EQ(rtContextGetRayGenerationProgram(ctx, 0, &got), RT_SUCCESS);
+  EXPECT_EQ(got, nullptr);
+  ASSERT_EQ(rtContextGetExceptionProgram(ctx, 1, &got), RT_SUCCESS);
+  EXPECT_EQ(got, ex);
+  ASSERT_EQ(rtContextSetEntryPointCount(ctx, 1), RT_SUCCESS);  // drops entry point 1
+  ASSERT_EQ(rtContextSetEntryPointCount(ctx, 2), RT_SUCCESS);
+  ASSERT_EQ(rtContextGetRayGenerationProgram(ctx, 1, &got), RT_SUCCESS);
+  EXPECT_EQ(got, nullptr);
+
+  ASSERT_EQ(rtContextSetRayTypeCount(ctx, 3), RT_SUCCESS);
+  ASSERT_EQ(rtContextGetRayTypeCount(ctx, &n), RT_SUCCESS);
+  EXPECT_EQ(n, 3u);
+  ASSERT_EQ(rtContextSetMissProgram(ctx, 2, miss), RT_SUCCESS);
+  ASSERT_EQ(rtContextGetMissProgram(ctx, 2, &got), RT_SUCCESS);
+  EXPECT_EQ(got, miss);
+  EXPECT_EQ(rtContextSetMissProgram(ctx, 3, miss), RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("ray type 3 is out of range (3"),
+            std::string::npos);
+}
+
+TEST_F(HostContextTest, GlobalSettingsHaveOptixDefaults) {
+  RTsize stack = 0;
+  ASSERT_EQ(rtContextGetStackSize(ctx, &stack), RT_SUCCESS);
+  EXPECT_EQ(stack, 1024u);
+  ASSERT_EQ(rtContextSetStackSize(ctx, 4096), RT_SUCCESS);
+  ASSERT_EQ(rtContextGetStackSize(ctx, &stack), RT_SUCCESS);
+  EXPECT_EQ(stack, 4096u);
+
+  int enabled = 1;
+  ASSERT_EQ(rtContextGetPrintEnabled(ctx, &enabled), RT_SUCCESS);
+  EXPECT_EQ(enabled, 0);
+  ASSERT_EQ(rtContextSetPrintEnabled(ctx, 1), RT_SUCCESS);
+  ASSERT_EQ(rtContextGetPrintEnabled(ctx, &enabled), RT_SUCCESS);
+  EXPECT_EQ(enabled, 1);
+  ASSERT_EQ(rtContextSetPrintBufferSize(ctx, 4096), RT_SUCCESS);
+  RTsize size = 0;
+  ASSERT_EQ(rtContextGetPrintBufferSize(ctx, &size), RT_SUCCESS);
+  EXPECT_EQ(size, 4096u);
+  int x = 0, y = 0, z = 0;
+  ASSERT_EQ(rtContextGetPrintLaunchIndex(ctx, &x, &y, &z), RT_SUCCESS);
+  EXPECT_EQ(x, -1);
+  EXPECT_EQ(z, -1);
+  ASSERT_EQ(rtContextSetPrintLaunchIndex(ctx, 3, -1, 0), RT_SUCCESS);
+  ASSERT_EQ(rtContextGetPrintLaunchIndex(ctx, &x, nullptr, nullptr), RT_SUCCESS);
+  EXPECT_EQ(x, 3);
+  EXPECT_EQ(rtContextSetPrintLaunchIndex(ctx, -2, 0, 0), RT_ERROR_INVALID_VALUE);
+
+  int running = 1;
+  ASSERT_EQ(rtContextGetRunningState(ctx, &running), RT_SUCCESS);
+  EXPECT_EQ(running, 0);
+  EXPECT_EQ(rtContextSetTimeoutCallback(ctx, nullptr, -1.0), RT_ERROR_INVALID_VALUE);
+  unsigned version = 0;
+  ASSERT_EQ(rtGetVersion(&version), RT_SUCCESS);
+  EXPECT_EQ(version, static_cast<unsigned>(OPTIX_VERSION));
+}
+
+TEST_F(HostContextTest, ExceptionEnables) {
+  auto enabled = [&](RTexception e) {
+    int on = -1;
+    EXPECT_EQ(rtContextGetExceptionEnabled(ctx, e, &on), RT_SUCCESS);
+    return on;
+  };
+  // OptiX default: only stack overflow.
+  EXPECT_EQ(enabled(RT_EXCEPTION_STACK_OVERFLOW), 1);
+  EXPECT_EQ(enabled(RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS), 0);
+  EXPECT_EQ(enabled(RT_EXCEPTION_USER), 0);
+  EXPECT_EQ(enabled(RT_EXCEPTION_ALL), 0);
+  ASSERT_EQ(rtContextSetExceptionEnabled(ctx, RT_EXCEPTION_ALL, 1), RT_SUCCESS);
+  for (RTexception e : {RT_EXCEPTION_PROGRAM_ID_INVALID, RT_EXCEPTION_TEXTURE_ID_INVALID,
+                        RT_EXCEPTION_BUFFER_ID_INVALID, RT_EXCEPTION_INDEX_OUT_OF_BOUNDS,
+                        RT_EXCEPTION_STACK_OVERFLOW, RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS,
+                        RT_EXCEPTION_INVALID_RAY, RT_EXCEPTION_INTERNAL_ERROR, RT_EXCEPTION_USER,
+                        RT_EXCEPTION_ALL}) {
+    EXPECT_EQ(enabled(e), 1) << e;
+  }
+  ASSERT_EQ(rtContextSetExceptionEnabled(ctx, RT_EXCEPTION_INVALID_RAY, 0), RT_SUCCESS);
+  EXPECT_EQ(enabled(RT_EXCEPTION_INVALID_RAY), 0);
+  EXPECT_EQ(enabled(RT_EXCEPTION_ALL), 0);
+  ASSERT_EQ(rtContextSetExceptionEnabled(ctx, RT_EXCEPTION_ALL, 0), RT_SUCCESS);
+  EXPECT_EQ(enabled(RT_EXCEPTION_STACK_OVERFLOW), 0);
+  EXPECT_EQ(rtContextSetExceptionEnabled(ctx, static_cast<RTexception>(0x3F0), 1),
+            RT_ERROR_INVALID_VALUE);
+  int on;
+  EXPECT_EQ(rtContextGetExceptionEnabled(ctx, static_cast<RTexception>(5), &on),
+            RT_ERROR_INVALID_VALUE);
+}
+
+TEST_F(HostContextTest, Attributes) {
+  int threads = 0;
+  ASSERT_EQ(rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, sizeof(int), &threads),
+            RT_SUCCESS);
+  EXPECT_EQ(threads, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  int three = 3;
+  ASSERT_EQ(rtContextSetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, sizeof(int), &three),
+            RT_SUCCESS);
+  ASSERT_EQ(rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, sizeof(int), &threads),
+            RT_SUCCESS);
+  EXPECT_EQ(threads, 3);
+  int zero = 0;
+  EXPECT_EQ(rtContextSetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, sizeof(int), &zero),
+            RT_ERROR_INVALID_VALUE);
+  // Wrong sizes.
+  EXPECT_EQ(rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, 8, &threads),
+            RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("needs size 4"), std::string::npos);
+  RTsize bytes = 0;
+  EXPECT_EQ(rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_USED_HOST_MEMORY, 4, &bytes),
+            RT_ERROR_INVALID_VALUE);
+  ASSERT_EQ(
+      rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_USED_HOST_MEMORY, sizeof(RTsize), &bytes),
+      RT_SUCCESS);
+  EXPECT_EQ(bytes, 0u);
+  int textures = -1;
+  ASSERT_EQ(
+      rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_MAX_TEXTURE_COUNT, sizeof(int), &textures),
+      RT_SUCCESS);
+  EXPECT_GE(textures, 0);
+  RTsize available = 0;
+  ASSERT_EQ(rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_AVAILABLE_DEVICE_MEMORY, sizeof(RTsize),
+                                  &available),
+            RT_SUCCESS);
+  EXPECT_GT(available, 0u);
+  int paging = -1;
+  ASSERT_EQ(
+      rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_GPU_PAGING_ACTIVE, sizeof(int), &paging),
+      RT_SUCCESS);
+  EXPECT_EQ(paging, 0);
+  ASSERT_EQ(
+      rtContextGetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_GPU_PAGING_FORCED_OFF, sizeof(int), &paging),
+      RT_SUCCESS);
+  int one = 1;
+  EXPECT_EQ(
+      rtContextSetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_GPU_PAGING_FORCED_OFF, sizeof(int), &one),
+      RT_ERROR_NOT_SUPPORTED);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_NOT_SUPPORTED).find("paging"), std::string::npos);
+  EXPECT_EQ(
+      rtContextSetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_USED_HOST_MEMORY, sizeof(RTsize), &bytes),
+      RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(rtContextGetAttribute(ctx, static_cast<RTcontextattribute>(77), sizeof(int), &one),
+            RT_ERROR_INVALID_VALUE);
+}
+
+TEST_F(HostContextTest, DevicesDescribeTheHost) {
+  ScopedEnv env("TESSERA_DEVICES", "inproc");
+  unsigned count = 0;
+  ASSERT_EQ(rtDeviceGetDeviceCount(&count), RT_SUCCESS);
+  ASSERT_EQ(count, 1u);
+  char name[8];
+  ASSERT_EQ(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_NAME, sizeof(name), name), RT_SUCCESS);
+  EXPECT_EQ(std::strlen(name), 7u);  // truncated to the buffer, NUL-terminated
+  int mp = 0;
+  ASSERT_EQ(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT, sizeof(int), &mp),
+            RT_SUCCESS);
+  EXPECT_EQ(mp, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  RTsize memory = 0;
+  ASSERT_EQ(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY, sizeof(RTsize), &memory),
+            RT_SUCCESS);
+  EXPECT_GT(memory, 0u);
+  int cc[2] = {7, 7};
+  ASSERT_EQ(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY, sizeof(cc), cc),
+            RT_SUCCESS);
+  EXPECT_EQ(cc[0], 0);
+  EXPECT_EQ(cc[1], 0);
+  int ordinal = 0;
+  ASSERT_EQ(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_CUDA_DEVICE_ORDINAL, sizeof(int), &ordinal),
+            RT_SUCCESS);
+  EXPECT_EQ(ordinal, -1);
+  int clock = -1;
+  ASSERT_EQ(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_CLOCK_RATE, sizeof(int), &clock),
+            RT_SUCCESS);
+  EXPECT_GE(clock, 0);
+  int other = -1;
+  ASSERT_EQ(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_TCC_DRIVER, sizeof(int), &other),
+            RT_SUCCESS);
+  EXPECT_EQ(other, 0);
+  EXPECT_EQ(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY, sizeof(int), cc),
+            RT_ERROR_INVALID_VALUE);
+
+  ASSERT_EQ(rtContextGetDeviceCount(ctx, &count), RT_SUCCESS);
+  EXPECT_EQ(count, 1u);
+  int devices[1] = {-1};
+  ASSERT_EQ(rtContextGetDevices(ctx, devices), RT_SUCCESS);
+  EXPECT_EQ(devices[0], 0);
+  ASSERT_EQ(rtContextSetDevices(ctx, 1, devices), RT_SUCCESS);
+}
+
+TEST_F(HostContextTest, DestroyingAContextDestroysEverythingInIt) {
+  RTbuffer b;
+  ASSERT_EQ(rtBufferCreate(ctx, RT_BUFFER_INPUT, &b), RT_SUCCESS);
+  RTgroup g;
+  ASSERT_EQ(rtGroupCreate(ctx, &g), RT_SUCCESS);
+  RTvariable v;
+  ASSERT_EQ(rtContextDeclareVariable(ctx, "top", &v), RT_SUCCESS);
+  ASSERT_EQ(rtVariableSetObject(v, g), RT_SUCCESS);
+  ASSERT_EQ(rtGroupSetChildCount(g, 1), RT_SUCCESS);
+  RTtransform t;
+  ASSERT_EQ(rtTransformCreate(ctx, &t), RT_SUCCESS);
+  ASSERT_EQ(rtGroupSetChild(g, 0, t), RT_SUCCESS);
+  ASSERT_EQ(rtTransformSetChild(t, g), RT_SUCCESS);  // a cycle of links is freed too
+  ASSERT_EQ(rtContextDestroy(ctx), RT_SUCCESS);
+  RTcontext dead = ctx;
+  ctx = nullptr;
+  EXPECT_EQ(rtBufferSetFormat(b, RT_FORMAT_FLOAT), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(rtGroupSetChildCount(g, 2), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(rtVariableSet1f(v, 1), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(rtContextDestroy(dead), RT_ERROR_INVALID_CONTEXT);
+  EXPECT_NE(ErrorString(nullptr, RT_ERROR_INVALID_CONTEXT).find("destroyed context"),
+            std::string::npos);
+}
+
+TEST_F(HostContextTest, ContextsAreIndependent) {
+  RTcontext other;
+  ASSERT_EQ(rtContextCreate(&other), RT_SUCCESS);
+  RTbuffer mine, theirs;
+  ASSERT_EQ(rtBufferCreate(ctx, RT_BUFFER_INPUT, &mine), RT_SUCCESS);
+  ASSERT_EQ(rtBufferCreate(other, RT_BUFFER_INPUT, &theirs), RT_SUCCESS);
+  int a = 0, b = 0;
+  ASSERT_EQ(rtBufferGetId(mine, &a), RT_SUCCESS);
+  ASSERT_EQ(rtBufferGetId(theirs, &b), RT_SUCCESS);
+  EXPECT_EQ(a, b);  // ids are per context
+  EXPECT_EQ(rtBufferSetFormat(theirs, static_cast<RTformat>(1)), RT_ERROR_INVALID_VALUE);
+  // The failure is recorded on the context it belongs to.
+  EXPECT_NE(ErrorString(other, RT_ERROR_INVALID_VALUE).find("rtBufferSetFormat"),
+            std::string::npos);
+  RTvariable v;
+  ASSERT_EQ(rtContextDeclareVariable(ctx, "b", &v), RT_SUCCESS);
+  EXPECT_EQ(rtVariableSetObject(v, theirs), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(rtContextDestroy(other), RT_SUCCESS);
+}
+
+}  // namespace
+}  // namespace tessera::test

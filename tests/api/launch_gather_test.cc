@@ -1,0 +1,298 @@
+// What comes back from devices: output regions, prints, exceptions, errors, cancellation.
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+#include "gtest/gtest.h"
+#include "launch_fixture.h"
+#include "tessera/rt_ext.h"
+
+namespace tessera::test {
+namespace {
+
+float Pixel(uint64_t x, uint64_t y) { return static_cast<float>(y * 100 + x); }
+
+// Writes Pixel(x, y) into the 2D float buffer `buffer_id` (row width `width`) for every launch
+// index of every tile, one region per tile row.
+FakeDevice::Answer WritePixels(uint64_t buffer_id, uint64_t width) {
+  return [=](const v1::LaunchRequest& r, const std::atomic<bool>&,
+             const std::function<void(v1::TileResult &&)>& on_result) {
+    for (const v1::Tile& t : r.tiles()) {
+      v1::TileResult result;
+      result.set_launch_id(r.launch_id());
+      result.set_tile_index(t.index());
+      for (uint64_t y = t.origin(1); y < t.origin(1) + t.size(1); ++y) {
+        std::vector<float> row;
+        for (uint64_t x = t.origin(0); x < t.origin(0) + t.size(0); ++x) row.push_back(Pixel(x, y));
+        v1::BufferRegion* region = result.add_regions();
+        region->set_buffer_id(buffer_id);
+        region->set_offset((y * width + t.origin(0)) * sizeof(float));
+        region->set_data(row.data(), row.size() * sizeof(float));
+      }
+      on_result(std::move(result));
+    }
+    return absl::OkStatus();
+  };
+}
+
+std::vector<float> ReadFloats(RTbuffer buffer, size_t count) {
+  void* p = nullptr;
+  EXPECT_EQ(rtBufferMap(buffer, &p), RT_SUCCESS);
+  std::vector<float> out(static_cast<float*>(p), static_cast<float*>(p) + count);
+  EXPECT_EQ(rtBufferUnmap(buffer), RT_SUCCESS);
+  return out;
+}
+
+TEST_F(LaunchTest, OutputRegionsLandInHostBuffers) {
+  records[0]->answer = WritePixels(Id(output), kWidth);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  std::vector<float> pixels = ReadFloats(output, kWidth * kHeight);
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x)
+      EXPECT_EQ(pixels[y * kWidth + x], Pixel(x, y)) << x << "," << y;
+  }
+}
+
+TEST_F(LaunchTest, RegionsOutsideTheBufferFailTheLaunch) {
+  records[0]->answer = [&](const v1::LaunchRequest& r, const std::atomic<bool>&,
+                           const std::function<void(v1::TileResult &&)>& on_result) {
+    v1::TileResult result;
+    v1::BufferRegion* region = result.add_regions();
+    region->set_buffer_id(Id(output));
+    region->set_offset(kWidth * kHeight * sizeof(float) - 2);
+    region->set_data("12345678");
+    on_result(std::move(result));
+    return absl::OkStatus();
+  };
+  EXPECT_EQ(Launch(), RT_ERROR_LAUNCH_FAILED);
+  std::string message = ErrorString(ctx, RT_ERROR_LAUNCH_FAILED);
+  EXPECT_NE(message.find("fake0"), std::string::npos) << message;
+  EXPECT_NE(message.find("outside buffer #"), std::string::npos) << message;
+}
+
+TEST_F(LaunchTest, PrintsComeOutInLaunchIndexOrder) {
+  records[0]->answer = [](const v1::LaunchRequest& r, const std::atomic<bool>&,
+                          const std::function<void(v1::TileResult &&)>& on_result) {
+    // Two results, each out of order: (x,y) = (1,1) (0,1) then (1,0) (0,0) with two prints.
+    auto print = [](v1::TileResult* t, uint64_t x, uint64_t y, uint64_t seq, const char* text) {
+      v1::PrintRecord* p = t->add_prints();
+      p->add_launch_index(x);
+      p->add_launch_index(y);
+      p->add_launch_index(0);
+      p->set_sequence(seq);
+      p->set_text(text);
+    };
+    v1::TileResult a;
+    print(&a, 1, 1, 0, "d ");
+    print(&a, 0, 1, 0, "c ");
+    on_result(std::move(a));
+    v1::TileResult b;
+    print(&b, 0, 0, 1, "a2 ");
+    print(&b, 1, 0, 0, "b ");
+    print(&b, 0, 0, 0, "a1 ");
+    on_result(std::move(b));
+    return absl::OkStatus();
+  };
+  ::testing::internal::CaptureStdout();
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), "a1 a2 b c d ");
+}
+
+TEST_F(LaunchTest, TileErrorsFailTheLaunchWithTheirCode) {
+  records[0]->answer = [](const v1::LaunchRequest& r, const std::atomic<bool>&,
+                          const std::function<void(v1::TileResult &&)>& on_result) {
+    v1::TileResult result;
+    result.set_tile_index(0);
+    result.set_error("program 'ray_gen' of program #1 crashed");
+    on_result(std::move(result));
+    return absl::OkStatus();
+  };
+  EXPECT_EQ(Launch(), RT_ERROR_LAUNCH_FAILED);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_LAUNCH_FAILED).find("crashed"), std::string::npos);
+
+  records[0]->answer = [](const v1::LaunchRequest& r, const std::atomic<bool>&,
+                          const std::function<void(v1::TileResult &&)>& on_result) {
+    v1::TileResult result;
+    result.set_error("module not found");
+    result.set_error_code(RT_ERROR_INVALID_SOURCE);
+    on_result(std::move(result));
+    return absl::OkStatus();
+  };
+  EXPECT_EQ(Launch(), RT_ERROR_INVALID_SOURCE);
+}
+
+TEST_F(LaunchTest, DeviceLaunchFailureNamesTheDevice) {
+  records[0]->answer = [](const v1::LaunchRequest&, const std::atomic<bool>&,
+                          const std::function<void(v1::TileResult &&)>&) {
+    return absl::InternalError("worker fell over");
+  };
+  EXPECT_EQ(Launch(), RT_ERROR_LAUNCH_FAILED);
+  std::string message = ErrorString(ctx, RT_ERROR_LAUNCH_FAILED);
+  EXPECT_NE(message.find("fake0"), std::string::npos) << message;
+  EXPECT_NE(message.find("worker fell over"), std::string::npos) << message;
+}
+
+TEST_F(LaunchTest, RejectedDeltaIsResentWhole) {
+  records[0]->apply_status = absl::InvalidArgumentError("program #9 unknown");
+  EXPECT_EQ(Launch(), RT_ERROR_LAUNCH_FAILED);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_LAUNCH_FAILED).find("program #9 unknown"), std::string::npos);
+  EXPECT_TRUE(records[0]->launches.empty());
+  records[0]->apply_status = absl::OkStatus();
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  ASSERT_EQ(records[0]->deltas.size(), 2u);
+  EXPECT_EQ(LastDelta().sequence(), 1u);  // the failed delta did not count
+  EXPECT_EQ(LastDelta().objects_size(), records[0]->deltas.front().objects_size());
+  EXPECT_EQ(LastDelta().chunks_size(), 1);
+}
+
+int g_timeout_calls = 0;
+int g_running_during_callback = -1;
+RTcontext g_callback_context = nullptr;
+
+int StopAfterFirstCall() {
+  ++g_timeout_calls;
+  rtContextGetRunningState(g_callback_context, &g_running_during_callback);
+  return 1;
+}
+
+TEST_F(LaunchTest, TimeoutCallbackCancelsTheLaunch) {
+  g_timeout_calls = 0;
+  g_callback_context = ctx;
+  std::atomic<bool> saw_cancel{false};
+  records[0]->answer = [&](const v1::LaunchRequest&, const std::atomic<bool>& cancel,
+                           const std::function<void(v1::TileResult &&)>&) {
+    auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!cancel.load() && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    saw_cancel = cancel.load();
+    return absl::OkStatus();
+  };
+  ASSERT_EQ(rtContextSetTimeoutCallback(ctx, &StopAfterFirstCall, 0.01), RT_SUCCESS);
+  EXPECT_EQ(Launch(), RT_TIMEOUT_CALLBACK);
+  EXPECT_TRUE(saw_cancel.load());
+  EXPECT_EQ(g_timeout_calls, 1);
+  EXPECT_EQ(g_running_during_callback, 1);
+  int running = -1;
+  ASSERT_EQ(rtContextGetRunningState(ctx, &running), RT_SUCCESS);
+  EXPECT_EQ(running, 0);
+  EXPECT_NE(ErrorString(ctx, RT_TIMEOUT_CALLBACK).find("timeout callback"), std::string::npos);
+  // Without a callback the same device finishes normally.
+  ASSERT_EQ(rtContextSetTimeoutCallback(ctx, nullptr, 0), RT_SUCCESS);
+  records[0]->answer = nullptr;
+  EXPECT_EQ(Launch(), RT_SUCCESS);
+}
+
+RTbuffer g_shrink_output = nullptr;
+RTresult g_set_devices_result = RT_SUCCESS;
+int g_meddling_calls = 0;
+
+// A callback that meddles: shrinks the buffer devices are writing and tries to swap devices.
+int MeddleThenStop() {
+  if (++g_meddling_calls == 1) {
+    rtBufferSetSize2D(g_shrink_output, 1, 1);
+    const int device = 0;
+    g_set_devices_result = rtContextSetDevices(g_callback_context, 1, &device);
+    return 0;
+  }
+  return 1;
+}
+
+TEST_F(LaunchTest, TimeoutCallbackCannotPullTheRugFromDevices) {
+  g_callback_context = ctx;
+  g_shrink_output = output;
+  g_meddling_calls = 0;
+  const uint64_t id = Id(output);
+  records[0]->answer = [id](const v1::LaunchRequest& r, const std::atomic<bool>& cancel,
+                            const std::function<void(v1::TileResult &&)>& on_result) {
+    while (!cancel.load()) {
+      v1::TileResult result;
+      v1::BufferRegion* region = result.add_regions();
+      region->set_buffer_id(id);
+      region->set_offset(64);
+      region->set_data(std::string(64, 'z'));
+      on_result(std::move(result));
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return absl::OkStatus();
+  };
+  ASSERT_EQ(rtContextSetTimeoutCallback(ctx, &MeddleThenStop, 0.005), RT_SUCCESS);
+  EXPECT_EQ(Launch(), RT_TIMEOUT_CALLBACK);
+  EXPECT_EQ(g_set_devices_result, RT_ERROR_INVALID_CONTEXT);
+  EXPECT_GE(g_meddling_calls, 2);
+  RTsize w = 0, h = 0;
+  ASSERT_EQ(rtBufferGetSize2D(output, &w, &h), RT_SUCCESS);
+  EXPECT_EQ(w * h, 1u);
+}
+
+TEST_F(LaunchTest, ExceptionReportsAreCounted) {
+  records[0]->answer = [](const v1::LaunchRequest&, const std::atomic<bool>&,
+                          const std::function<void(v1::TileResult &&)>& on_result) {
+    v1::TileResult result;
+    for (int i = 0; i < 3; ++i) {
+      v1::ExceptionReport* e = result.add_exceptions();
+      e->set_code(RT_EXCEPTION_STACK_OVERFLOW);
+    }
+    on_result(std::move(result));
+    return absl::OkStatus();
+  };
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  RTsize count = 0;
+  ASSERT_EQ(tesseraContextGetExceptionReportCount(ctx, &count), RT_SUCCESS);
+  EXPECT_EQ(count, 3u);
+}
+
+TEST_F(LaunchTest, TwoDevicesSplitTilesAndMergeOutputs) {
+  UseFakes(2);
+  const RTsize width = 128;
+  const RTsize height = 64;
+  ASSERT_EQ(rtBufferSetSize2D(output, width, height), RT_SUCCESS);
+  auto launch = std::make_shared<std::atomic<int>>(0);
+  for (int d = 0; d < 2; ++d) {
+    uint64_t id = Id(output);
+    // Like a real device, each fake keeps its own copy of the output buffer across launches and
+    // reports all of it after its tiles: stale outside its own tiles, so the host must take
+    // only what the device changed in this launch.
+    auto copy = std::make_shared<std::vector<float>>(width * height, 0.0f);
+    records[d]->answer = [=](const v1::LaunchRequest& r, const std::atomic<bool>&,
+                             const std::function<void(v1::TileResult &&)>& on_result) {
+      for (const v1::Tile& t : r.tiles()) {
+        for (uint64_t y = t.origin(1); y < t.origin(1) + t.size(1); ++y) {
+          for (uint64_t x = t.origin(0); x < t.origin(0) + t.size(0); ++x) {
+            (*copy)[y * width + x] = Pixel(x, y) + 1000.0f * launch->load();
+          }
+        }
+      }
+      v1::TileResult final_result;
+      final_result.set_tile_index(kFinalTileIndex);
+      v1::BufferRegion* region = final_result.add_regions();
+      region->set_buffer_id(id);
+      region->set_data(copy->data(), copy->size() * sizeof(float));
+      on_result(std::move(final_result));
+      return absl::OkStatus();
+    };
+  }
+  for (int l = 0; l < 3; ++l) {
+    launch->store(l);
+    ASSERT_EQ(Launch(width, height), RT_SUCCESS);
+    ASSERT_EQ(LastLaunch(0).tiles_size(), 1);
+    ASSERT_EQ(LastLaunch(1).tiles_size(), 1);
+    EXPECT_EQ(LastLaunch(0).tiles(0).index(), 0u);
+    EXPECT_EQ(LastLaunch(1).tiles(0).index(), 1u);
+    EXPECT_EQ(LastLaunch(1).tiles(0).origin(0), 64u);
+    std::vector<float> pixels = ReadFloats(output, width * height);
+    int wrong = 0;
+    for (RTsize y = 0; y < height; ++y) {
+      for (RTsize x = 0; x < width; ++x) {
+        wrong += pixels[y * width + x] != Pixel(x, y) + 1000.0f * l;
+      }
+    }
+    EXPECT_EQ(wrong, 0) << "launch " << l;
+  }
+  // Both devices received the full state, each in its own session.
+  EXPECT_EQ(records[0]->deltas.front().objects_size(), records[1]->deltas.front().objects_size());
+  EXPECT_NE(LastDelta(0).session_id(), LastDelta(1).session_id());
+}
+
+}  // namespace
+}  // namespace tessera::test

@@ -1,0 +1,140 @@
+// Graph nodes: shared children, transforms over several levels, groups of groups, and when
+// accelerations are rebuilt.
+#include <cmath>
+
+#include "rt_fixture.h"
+
+namespace tessera::testing {
+namespace {
+
+constexpr char kModule[] = "semantics_programs";
+
+class GraphTest : public RtFixture {
+ protected:
+  static constexpr size_t kW = 16;
+  void SetUp() override {
+    RtFixture::SetUp();
+    Ok(rtContextSetEntryPointCount(ctx_, 1));
+    Ok(rtContextSetRayTypeCount(ctx_, 1));
+    result_ = Float4Buffer("result", RT_BUFFER_OUTPUT, kW, 1);
+    Float4Buffer("is_log", RT_BUFFER_OUTPUT, kW, 1);
+    Float4Buffer("ah_log", RT_BUFFER_OUTPUT, kW, 1);
+    // Rays start at (x, 0, -10), x = 0..15, and go toward +z.
+    Ok(rtVariableSet3f(ContextVar("ray_origin"), 0.f, 0.f, -10.f));
+    Ok(rtVariableSet3f(ContextVar("ray_dir"), 0.f, 0.f, 1.f));
+    Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "trace_camera")));
+    Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "miss_ray")));
+  }
+  // A sphere of radius 0.4 at the object-space origin; closest hit reports the world hit origin.
+  Instance SmallSphere(const char* bounds = "sphere_bounds") {
+    Instance i = MakeInstance(Program(kModule, "sphere_intersect"), Program(kModule, bounds), 1,
+                              Program(kModule, "closest_hit_ray"));
+    RTvariable s = nullptr;
+    EXPECT_EQ(rtGeometryDeclareVariable(i.geometry, "sphere", &s), RT_SUCCESS);
+    EXPECT_EQ(rtVariableSet4f(s, 0.f, 0.f, 0.f, 0.4f), RT_SUCCESS);
+    return i;
+  }
+  RTtransform Translate(RTobject child, float x) {
+    RTtransform t = nullptr;
+    EXPECT_EQ(rtTransformCreate(ctx_, &t), RT_SUCCESS);
+    const float m[16] = {1, 0, 0, x, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    EXPECT_EQ(rtTransformSetMatrix(t, 0, m, nullptr), RT_SUCCESS);
+    EXPECT_EQ(rtTransformSetChild(t, child), RT_SUCCESS);
+    return t;
+  }
+  RTgroup Group(std::vector<RTobject> children) {
+    RTgroup g = nullptr;
+    EXPECT_EQ(rtGroupCreate(ctx_, &g), RT_SUCCESS);
+    EXPECT_EQ(rtGroupSetAcceleration(g, Accel()), RT_SUCCESS);
+    EXPECT_EQ(rtGroupSetChildCount(g, static_cast<unsigned>(children.size())), RT_SUCCESS);
+    for (unsigned i = 0; i < children.size(); ++i) {
+      EXPECT_EQ(rtGroupSetChild(g, i, children[i]), RT_SUCCESS);
+    }
+    return g;
+  }
+  // Which of the kW rays hit something (closest_hit_ray writes t < 1e26 in w).
+  std::vector<bool> Hits(RTobject top) {
+    EXPECT_EQ(rtVariableSetObject(ContextVar("top_object"), top), RT_SUCCESS);
+    RTresult r = rtContextLaunch2D(ctx_, 0, kW, 1);
+    EXPECT_EQ(r, RT_SUCCESS) << Error(r);
+    std::vector<bool> hits;
+    for (const Float4& p : Read(result_)) hits.push_back(p[3] < 1e26f);
+    return hits;
+  }
+  static std::vector<bool> Only(std::initializer_list<int> xs) {
+    std::vector<bool> v(kW, false);
+    for (int x : xs) v[x] = true;
+    return v;
+  }
+  RTbuffer result_ = nullptr;
+};
+
+TEST_F(GraphTest, GeometryGroupAlone) {
+  Instance s = SmallSphere();
+  EXPECT_EQ(Hits(s.group), Only({0}));
+}
+
+TEST_F(GraphTest, SharedChildUnderTwoTransforms) {
+  Instance s = SmallSphere();
+  RTgroup top = Group({Translate(s.group, 3.f), Translate(s.group, 7.f)});
+  EXPECT_EQ(Hits(top), Only({3, 7}));
+}
+
+TEST_F(GraphTest, TransformsComposeOverSeveralLevels) {
+  Instance s = SmallSphere();
+  // Group → T(+1) → Group → T(+2) → T(+4) → GeometryGroup: the sphere lands at x = 7.
+  RTtransform inner = Translate(Translate(s.group, 4.f), 2.f);
+  RTgroup top = Group({Translate(Group({inner}), 1.f)});
+  EXPECT_EQ(Hits(top), Only({7}));
+  // The closest hit sees the world-space ray (origin x = 7), not the object-space one.
+  EXPECT_EQ(Read(result_)[7][0], 7.f);
+}
+
+TEST_F(GraphTest, TransformAtTheTopAndGroupsOfGroups) {
+  Instance s = SmallSphere();
+  EXPECT_EQ(Hits(Translate(s.group, 5.f)), Only({5}));
+  RTgroup top = Group({Group({s.group}), Group({Translate(s.group, 9.f)})});
+  EXPECT_EQ(Hits(top), Only({0, 9}));
+}
+
+TEST_F(GraphTest, ChangingATransformMovesTheChild) {
+  Instance s = SmallSphere();
+  RTtransform t = Translate(s.group, 2.f);
+  RTgroup top = Group({t});
+  EXPECT_EQ(Hits(top), Only({2}));
+  const float m[16] = {1, 0, 0, 11, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  Ok(rtTransformSetMatrix(t, 0, m, nullptr));
+  RTacceleration a = nullptr;
+  Ok(rtGroupGetAcceleration(top, &a));
+  Ok(rtAccelerationMarkDirty(a));
+  EXPECT_EQ(Hits(top), Only({11}));
+}
+
+TEST_F(GraphTest, AccelerationsRebuildOnlyWhenDirty) {
+  RTbuffer calls = nullptr;
+  Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT_OUTPUT, &calls));
+  Ok(rtBufferSetFormat(calls, RT_FORMAT_UNSIGNED_INT));
+  Ok(rtBufferSetSize1D(calls, 1));
+  Ok(rtVariableSetObject(ContextVar("bounds_calls"), calls));
+  Instance s = SmallSphere("counted_sphere_bounds");
+  auto count = [&] {
+    void* p = nullptr;
+    EXPECT_EQ(rtBufferMap(calls, &p), RT_SUCCESS);
+    unsigned n = *static_cast<unsigned*>(p);
+    EXPECT_EQ(rtBufferUnmap(calls), RT_SUCCESS);
+    return n;
+  };
+  Ok(rtVariableSetObject(ContextVar("top_object"), s.group));
+  Ok(rtContextLaunch2D(ctx_, 0, 0, 0));  // builds accelerations only
+  EXPECT_EQ(count(), 1u);
+  EXPECT_EQ(Hits(s.group), Only({0}));
+  EXPECT_EQ(count(), 1u);  // unchanged scene: no rebuild
+  RTacceleration a = nullptr;
+  Ok(rtGeometryGroupGetAcceleration(s.group, &a));
+  Ok(rtAccelerationMarkDirty(a));
+  EXPECT_EQ(Hits(s.group), Only({0}));
+  EXPECT_EQ(count(), 2u);
+}
+
+}  // namespace
+}  // namespace tessera::testing

@@ -1,0 +1,115 @@
+// A small harness over the OptiX 3 C API for semantics tests: checked calls, program modules,
+// float4 output buffers, and a sphere or slab scene.
+#ifndef TESSERA_TESTS_SEMANTICS_RT_FIXTURE_H_
+#define TESSERA_TESTS_SEMANTICS_RT_FIXTURE_H_
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "tessera/rt.h"
+
+namespace tessera::testing {
+
+using Float4 = std::array<float, 4>;
+
+class RtFixture : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_EQ(rtContextCreate(&ctx_), RT_SUCCESS); }
+  void TearDown() override { rtContextDestroy(ctx_); }
+
+  std::string Error(RTresult code) const {
+    const char* s = nullptr;
+    rtContextGetErrorString(ctx_, code, &s);
+    return s ? s : "";
+  }
+  // Asserts success with the context's message on failure.
+  void Ok(RTresult code) { ASSERT_EQ(code, RT_SUCCESS) << Error(code); }
+
+  RTprogram Program(const std::string& module, const std::string& function) {
+    RTprogram p = nullptr;
+    std::string path = std::string(TESSERA_TEST_MODULE_DIR) + "/" + module + ".so";
+    EXPECT_EQ(rtProgramCreateFromPTXFile(ctx_, path.c_str(), function.c_str(), &p), RT_SUCCESS)
+        << Error(RT_ERROR_UNKNOWN) << " " << function;
+    return p;
+  }
+
+  RTvariable ContextVar(const std::string& name) {
+    RTvariable v = nullptr;
+    if (rtContextQueryVariable(ctx_, name.c_str(), &v) != RT_SUCCESS || v == nullptr) {
+      EXPECT_EQ(rtContextDeclareVariable(ctx_, name.c_str(), &v), RT_SUCCESS);
+    }
+    return v;
+  }
+
+  // A float4 2D buffer bound to context variable `name`.
+  RTbuffer Float4Buffer(const std::string& name, unsigned type, size_t w, size_t h) {
+    RTbuffer b = nullptr;
+    EXPECT_EQ(rtBufferCreate(ctx_, type, &b), RT_SUCCESS);
+    EXPECT_EQ(rtBufferSetFormat(b, RT_FORMAT_FLOAT4), RT_SUCCESS);
+    EXPECT_EQ(rtBufferSetSize2D(b, w, h), RT_SUCCESS);
+    EXPECT_EQ(rtVariableSetObject(ContextVar(name), b), RT_SUCCESS);
+    return b;
+  }
+
+  std::vector<Float4> Read(RTbuffer b) {
+    RTsize w = 0, h = 0;
+    rtBufferGetSize2D(b, &w, &h);
+    void* p = nullptr;
+    std::vector<Float4> out(w * h);
+    if (rtBufferMap(b, &p) != RT_SUCCESS) return out;
+    std::memcpy(out.data(), p, out.size() * sizeof(Float4));
+    rtBufferUnmap(b);
+    return out;
+  }
+
+  RTacceleration Accel(const char* builder = "Bvh") {
+    RTacceleration a = nullptr;
+    EXPECT_EQ(rtAccelerationCreate(ctx_, &a), RT_SUCCESS);
+    EXPECT_EQ(rtAccelerationSetBuilder(a, builder), RT_SUCCESS);
+    EXPECT_EQ(rtAccelerationSetTraverser(a, "Bvh"), RT_SUCCESS);
+    return a;
+  }
+
+  struct Instance {
+    RTgeometry geometry = nullptr;
+    RTmaterial material = nullptr;
+    RTgeometryinstance instance = nullptr;
+    RTgeometrygroup group = nullptr;
+  };
+
+  // One GeometryGroup holding one instance of `primitives` primitives.
+  Instance MakeInstance(RTprogram intersect, RTprogram bounds, unsigned primitives,
+                        RTprogram closest_hit, RTprogram any_hit = nullptr, unsigned ray_type = 0) {
+    Instance i;
+    EXPECT_EQ(rtGeometryCreate(ctx_, &i.geometry), RT_SUCCESS);
+    EXPECT_EQ(rtGeometrySetPrimitiveCount(i.geometry, primitives), RT_SUCCESS);
+    EXPECT_EQ(rtGeometrySetIntersectionProgram(i.geometry, intersect), RT_SUCCESS);
+    EXPECT_EQ(rtGeometrySetBoundingBoxProgram(i.geometry, bounds), RT_SUCCESS);
+    EXPECT_EQ(rtMaterialCreate(ctx_, &i.material), RT_SUCCESS);
+    if (closest_hit) {
+      EXPECT_EQ(rtMaterialSetClosestHitProgram(i.material, ray_type, closest_hit), RT_SUCCESS);
+    }
+    if (any_hit) {
+      EXPECT_EQ(rtMaterialSetAnyHitProgram(i.material, ray_type, any_hit), RT_SUCCESS);
+    }
+    EXPECT_EQ(rtGeometryInstanceCreate(ctx_, &i.instance), RT_SUCCESS);
+    EXPECT_EQ(rtGeometryInstanceSetGeometry(i.instance, i.geometry), RT_SUCCESS);
+    EXPECT_EQ(rtGeometryInstanceSetMaterialCount(i.instance, 1), RT_SUCCESS);
+    EXPECT_EQ(rtGeometryInstanceSetMaterial(i.instance, 0, i.material), RT_SUCCESS);
+    EXPECT_EQ(rtGeometryGroupCreate(ctx_, &i.group), RT_SUCCESS);
+    EXPECT_EQ(rtGeometryGroupSetAcceleration(i.group, Accel()), RT_SUCCESS);
+    EXPECT_EQ(rtGeometryGroupSetChildCount(i.group, 1), RT_SUCCESS);
+    EXPECT_EQ(rtGeometryGroupSetChild(i.group, 0, i.instance), RT_SUCCESS);
+    return i;
+  }
+
+  RTcontext ctx_ = nullptr;
+};
+
+}  // namespace tessera::testing
+
+#endif  // TESSERA_TESTS_SEMANTICS_RT_FIXTURE_H_

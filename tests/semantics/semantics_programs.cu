@@ -1,0 +1,129 @@
+// Programs for the semantics tests: each records what it sees into buffers indexed by launch
+// index, so a test can check the OptiX guide's Tables 4, 5 and 6 row by row.
+#include <optix_world.h>
+
+using namespace optix;
+
+struct Payload {
+  float4 value;
+  int hits;
+};
+
+rtDeclareVariable(uint2, launch_index, rtLaunchIndex, );
+rtDeclareVariable(uint2, launch_dim, rtLaunchDim, );
+rtDeclareVariable(optix::Ray, ray, rtCurrentRay, );
+rtDeclareVariable(Payload, payload, rtPayload, );
+rtDeclareVariable(float, t_hit, rtIntersectionDistance, );
+rtDeclareVariable(float3, hit_origin, attribute hit_origin, );
+rtDeclareVariable(float, hit_id, attribute hit_id, );
+rtDeclareVariable(rtObject, top_object, , );
+rtDeclareVariable(float, value, , ) = -1.f;
+rtDeclareVariable(float4, sphere, , );
+rtDeclareVariable(float3, ray_origin, , );
+rtDeclareVariable(float3, ray_dir, , );
+
+// Per launch index: [0] result, [1] what the intersection program saw, [2] any hit, [3] misc.
+rtBuffer<float4, 2> result;
+rtBuffer<float4, 2> is_log;
+rtBuffer<float4, 2> ah_log;
+
+RT_PROGRAM void trace_camera() {
+  Payload p;
+  p.value = make_float4(0.f);
+  p.hits = 0;
+  float3 o = ray_origin + make_float3(float(launch_index.x), float(launch_index.y), 0.f);
+  Ray r = make_Ray(o, ray_dir, 0, 0.01f, RT_DEFAULT_MAX);
+  rtTrace(top_object, r, p);
+  result[launch_index] = p.value;
+}
+
+// Ray generation that reads the variable `value` through its scopes (Program, Context).
+RT_PROGRAM void raygen_value() { result[launch_index] = make_float4(value, 0.f, 0.f, 0.f); }
+RT_PROGRAM void raygen_launch_semantics() {
+  result[launch_index] =
+      make_float4(float(launch_index.x), float(launch_index.y), float(launch_dim.x),
+                  float(launch_dim.y));
+}
+
+RT_PROGRAM void miss_value() { payload.value = make_float4(value, 1.f, 0.f, 0.f); }
+RT_PROGRAM void miss_ray() { payload.value = make_float4(ray.origin, ray.tmax); }
+
+RT_PROGRAM void closest_hit_value() { payload.value = make_float4(value, 2.f, 0.f, 0.f); }
+RT_PROGRAM void closest_hit_ray() { payload.value = make_float4(ray.origin, t_hit); }
+RT_PROGRAM void closest_hit_attributes() {
+  payload.value = make_float4(hit_origin, hit_id);
+}
+RT_PROGRAM void closest_hit_count() {
+  payload.value = make_float4(float(payload.hits), t_hit, hit_id, 0.f);
+}
+
+// Any-hit programs.
+RT_PROGRAM void any_hit_ray() { ah_log[launch_index] = make_float4(ray.origin, t_hit); }
+RT_PROGRAM void any_hit_count() { payload.hits += 1; }
+RT_PROGRAM void any_hit_ignore() {
+  payload.hits += 1;
+  rtIgnoreIntersection();
+}
+RT_PROGRAM void any_hit_terminate() {
+  payload.hits += 1;
+  rtTerminateRay();
+}
+// Ignores hits on the primitive whose hit_id attribute is 0.
+RT_PROGRAM void any_hit_ignore_first() {
+  if (hit_id == 0.f) rtIgnoreIntersection();
+}
+
+// A sphere (center sphere.xyz, radius sphere.w) reporting its entry point in object space.
+RT_PROGRAM void sphere_bounds(int, float result_box[6]) {
+  result_box[0] = sphere.x - sphere.w;
+  result_box[1] = sphere.y - sphere.w;
+  result_box[2] = sphere.z - sphere.w;
+  result_box[3] = sphere.x + sphere.w;
+  result_box[4] = sphere.y + sphere.w;
+  result_box[5] = sphere.z + sphere.w;
+}
+
+RT_PROGRAM void sphere_intersect(int prim) {
+  float3 c = make_float3(sphere);
+  float3 o = ray.origin - c;
+  float a = dot(ray.direction, ray.direction);
+  float b = dot(o, ray.direction);
+  float disc = b * b - a * (dot(o, o) - sphere.w * sphere.w);
+  is_log[launch_index] = make_float4(ray.origin, value);
+  if (disc <= 0.f) return;
+  float t = (-b - sqrtf(disc)) / a;
+  if (rtPotentialIntersection(t)) {
+    hit_origin = ray.origin;
+    hit_id = float(prim);
+    rtReportIntersection(0);
+  }
+}
+
+// Two stacked slabs (primitives 0 and 1) perpendicular to z at z = 1 and z = 2, for any-hit tests.
+RT_PROGRAM void slabs_bounds(int prim, float result_box[6]) {
+  float z = 1.f + float(prim);
+  result_box[0] = -1000.f;
+  result_box[1] = -1000.f;
+  result_box[2] = z - 0.01f;
+  result_box[3] = 1000.f;
+  result_box[4] = 1000.f;
+  result_box[5] = z + 0.01f;
+}
+
+RT_PROGRAM void slabs_intersect(int prim) {
+  float z = 1.f + float(prim);
+  if (ray.direction.z == 0.f) return;
+  float t = (z - ray.origin.z) / ray.direction.z;
+  if (rtPotentialIntersection(t)) {
+    hit_origin = ray.origin;
+    hit_id = float(prim);
+    rtReportIntersection(0);
+  }
+}
+
+// Counts bounding-box program runs (one per primitive per acceleration build).
+rtBuffer<unsigned int, 1> bounds_calls;
+RT_PROGRAM void counted_sphere_bounds(int prim, float result_box[6]) {
+  atomicAdd(&bounds_calls[0], 1u);
+  sphere_bounds(prim, result_box);
+}

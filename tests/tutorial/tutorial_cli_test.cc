@@ -1,0 +1,144 @@
+// tessera-tutorial's command line, run in-process through RunTutorialMain.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tutorial/cli.h"
+#include "tutorial/render.h"
+#include "tutorial_test_util.h"
+
+namespace tessera::tutorial::testing {
+namespace {
+
+struct Result {
+  int status;
+  std::string out;
+  std::string err;
+};
+
+Result RunCli(std::vector<std::string> args) {
+  args.insert(args.begin(), "tessera-tutorial");
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  std::ostringstream out;
+  std::ostringstream err;
+  const int status = RunTutorialMain(static_cast<int>(argv.size()), argv.data(), out, err);
+  return {status, out.str(), err.str()};
+}
+
+// A path in the test temp directory, unique per process (other builds may run this test at the
+// same time), removed at the end of the test.
+struct TempFile {
+  explicit TempFile(const std::string& name)
+      : path((std::filesystem::path(::testing::TempDir()) /
+              ("tessera_tutorial_" + std::to_string(getpid()) + "_" + name))
+                 .string()) {}
+  ~TempFile() {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+  }
+  const std::string path;
+};
+
+TEST(TutorialCli, Step11NeedsTextures) {
+  const TempFile file("step11.png");
+  const std::string& path = file.path;
+  const Result r = RunCli({"--step", "11", "--out", path});
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("needs textures (later issue)"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(TutorialCli, UnknownStepFails) {
+  const TempFile file("step12.png");
+  const Result r = RunCli({"--step", "12", "--out", file.path});
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("unknown step 12"), std::string::npos) << r.err;
+}
+
+TEST(TutorialCli, UnknownExtensionFails) {
+  const TempFile file("image.bmp");
+  const std::string& path = file.path;
+  const Result r = RunCli({"--step", "0", "--out", path});
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("unsupported extension '.bmp'"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(TutorialCli, MissingOutFails) {
+  const Result r = RunCli({"--step", "0"});
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
+}
+
+TEST(TutorialCli, MissingModulesNamed) {
+  const TempFile file("nomodules.png");
+  const Result r = RunCli({"--step", "0", "--width", "16", "--height", "12", "--out", file.path,
+                           "--modules", "/nonexistent/no-such-dir"});
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("no-such-dir"), std::string::npos) << r.err;
+}
+
+// Reads an image back as float RGBA.
+std::vector<float> ReadBack(const std::string& path, OIIO::ImageSpec* spec) {
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+  EXPECT_TRUE(in != nullptr) << OIIO::geterror();
+  if (!in) return {};
+  *spec = in->spec();
+  std::vector<float> pixels(static_cast<size_t>(spec->width) * spec->height * spec->nchannels);
+  EXPECT_TRUE(in->read_image(0, 0, 0, spec->nchannels, OIIO::TypeDesc::FLOAT, pixels.data()));
+  return pixels;
+}
+
+TEST(TutorialCli, WritesExrWithTheRenderedFloats) {
+  const TempFile file("step1.exr");
+  const std::string& path = file.path;
+  const Result r = RunCli({"--step", "1", "--width", std::to_string(kWidth), "--height",
+                           std::to_string(kHeight), "--out", path});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find(path), std::string::npos) << "prints the output path: " << r.out;
+  OIIO::ImageSpec spec;
+  const std::vector<float> pixels = ReadBack(path, &spec);
+  ASSERT_EQ(spec.width, kWidth);
+  ASSERT_EQ(spec.height, kHeight);
+  ASSERT_EQ(spec.nchannels, 4);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
+  EXPECT_EQ(pixels, Rendered(1).rgba) << "the EXR holds exactly what was rendered";
+}
+
+TEST(TutorialCli, WritesEightBitPng) {
+  const TempFile file("step0.png");
+  const std::string& path = file.path;
+  const Result r = RunCli({"--step", "0", "--width", std::to_string(kWidth), "--height",
+                           std::to_string(kHeight), "--out", path});
+  ASSERT_EQ(r.status, 0) << r.err;
+  OIIO::ImageSpec spec;
+  const std::vector<float> pixels = ReadBack(path, &spec);
+  ASSERT_EQ(spec.width, kWidth);
+  ASSERT_EQ(spec.height, kHeight);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::UINT8);
+  // The same image within 8-bit quantization.
+  const Image& rendered = Rendered(0);
+  ASSERT_EQ(pixels.size(), rendered.rgba.size());
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const float expected = std::fmin(1.0f, std::fmax(0.0f, rendered.rgba[i]));
+    ASSERT_NEAR(pixels[i], expected, 0.5f / 255.0f + 1e-6f) << "component " << i;
+  }
+}
+
+TEST(TutorialCli, Step5PrintsNote) {
+  const TempFile file("step5.png");
+  const Result r = RunCli({"--step", "5", "--width", "16", "--height", "12", "--out", file.path});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("environment maps need textures"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace tessera::tutorial::testing
