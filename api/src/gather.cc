@@ -20,6 +20,36 @@ uint64_t IndexAt(const v1::PrintRecord& r, int i) {
 
 }  // namespace
 
+// Exceptions that reached no exception program: with printing enabled each one is printed in
+// launch-index order, as rtPrintExceptionDetails would; otherwise one line on stderr says how many
+// there were, so they are never silent.
+void LaunchGather::ReportExceptions() {
+  if (exceptions_.empty()) return;
+  std::stable_sort(exceptions_.begin(), exceptions_.end(),
+                   [](const v1::ExceptionReport& a, const v1::ExceptionReport& b) {
+                     auto key = [](const v1::ExceptionReport& e) {
+                       auto at = [&](int i) {
+                         return i < e.launch_index_size() ? e.launch_index(i) : uint64_t{0};
+                       };
+                       return std::make_tuple(at(2), at(1), at(0));
+                     };
+                     return key(a) < key(b);
+                   });
+  if (context_.print_enabled()) {
+    for (const auto& e : exceptions_)
+      std::fwrite(e.details().data(), 1, e.details().size(), stdout);
+    std::fflush(stdout);
+    return;
+  }
+  std::fprintf(stderr,
+               "tessera: %zu launch index(es) raised an exception and the entry point has no "
+               "exception program; first: %s",
+               exceptions_.size(), exceptions_.front().details().c_str());
+  if (exceptions_.front().details().empty() || exceptions_.front().details().back() != '\n') {
+    std::fputc('\n', stderr);
+  }
+}
+
 LaunchGather::LaunchGather(Context& context, std::vector<DeviceSlot>& slots)
     : context_(context),
       slots_(slots),
@@ -193,6 +223,7 @@ absl::Status LaunchGather::Finish() {
   for (const v1::PrintRecord& p : prints_) std::fwrite(p.text().data(), 1, p.text().size(), stdout);
   std::fflush(stdout);
   prints_.clear();
+  ReportExceptions();
   context_.set_last_exceptions(std::move(exceptions_));
   exceptions_.clear();
   return first_error_;

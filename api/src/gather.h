@@ -70,6 +70,7 @@ class LaunchGather {
   std::vector<absl::flat_hash_map<uint64_t, Written>> written_;  // per device, per buffer
   std::vector<v1::PrintRecord> prints_;
   std::vector<v1::ExceptionReport> exceptions_;
+  void ReportExceptions();
   absl::Status first_error_;
 };
 
