@@ -127,3 +127,47 @@ RT_PROGRAM void counted_sphere_bounds(int prim, float result_box[6]) {
   atomicAdd(&bounds_calls[0], 1u);
   sphere_bounds(prim, result_box);
 }
+
+// ---- Exceptions ------------------------------------------------------------------------------
+rtDeclareVariable(int, mode, , );
+
+// Records the exception code and the launch index it ran at.
+RT_PROGRAM void exception_record() {
+  result[launch_index] =
+      make_float4(float(rtGetExceptionCode()), float(launch_index.x), float(launch_index.y), 0.f);
+}
+
+// mode 0: NaN origin, 1: infinite direction, 2: tmin > tmax, 3: negative tmin.
+RT_PROGRAM void raygen_invalid_ray() {
+  Payload p;
+  p.value = make_float4(0.f);
+  p.hits = 0;
+  float nan = __int_as_float(0x7fc00000);
+  float inf = __int_as_float(0x7f800000);
+  Ray r = make_Ray(make_float3(0.f, 0.f, -10.f), make_float3(0.f, 0.f, 1.f), 0, 0.01f, 100.f);
+  if (mode == 0) r.origin.x = nan;
+  if (mode == 1) r.direction.y = inf;
+  if (mode == 2) r.tmin = 200.f;
+  if (mode == 3) r.tmin = -1.f;
+  rtTrace(top_object, r, p);
+  result[launch_index] = make_float4(1.f, 0.f, 0.f, 0.f);  // reached only if not raised
+}
+
+RT_PROGRAM void raygen_throw() {
+  if (launch_index.x == 1) rtThrow(RT_EXCEPTION_USER + 7);
+  result[launch_index] = make_float4(1.f, 0.f, 0.f, 0.f);
+}
+
+RT_PROGRAM void raygen_out_of_bounds() {
+  result[make_uint2(launch_dim.x + 5, 0)] = make_float4(9.f);
+  result[launch_index] = make_float4(1.f, 0.f, 0.f, 0.f);
+}
+
+// Closest hit that traces the same ray again: recursion until the stack runs out.
+RT_PROGRAM void closest_hit_recurse() {
+  Payload p = payload;
+  rtTrace(top_object, make_Ray(ray.origin, ray.direction, 0, ray.tmin, ray.tmax), p);
+  payload.value = make_float4(1.f, 0.f, 0.f, 0.f);
+}
+
+RT_PROGRAM void print_hello() { rtPrintf("hello from %u\n", launch_index.x); }

@@ -1,0 +1,121 @@
+// Each exception of OptiX 3 (stack overflow, buffer index out of bounds, invalid ray, user codes),
+// on and off per rtContextSetExceptionEnabled, with the exception program at its launch index.
+#include <string>
+
+#include "rt_fixture.h"
+
+namespace tessera::testing {
+namespace {
+
+constexpr char kModule[] = "semantics_programs";
+
+class ExceptionsTest : public RtFixture {
+ protected:
+  static constexpr size_t kW = 3;
+  void SetUp() override {
+    RtFixture::SetUp();
+    Ok(rtContextSetEntryPointCount(ctx_, 1));
+    Ok(rtContextSetRayTypeCount(ctx_, 1));
+    result_ = Float4Buffer("result", RT_BUFFER_OUTPUT, kW, 1);
+    Float4Buffer("is_log", RT_BUFFER_OUTPUT, kW, 1);
+    Float4Buffer("ah_log", RT_BUFFER_OUTPUT, kW, 1);
+    Ok(rtContextSetExceptionProgram(ctx_, 0, Program(kModule, "exception_record")));
+    Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "miss_ray")));
+    Instance s =
+        MakeInstance(Program(kModule, "sphere_intersect"), Program(kModule, "sphere_bounds"), 1,
+                     Program(kModule, "closest_hit_recurse"));
+    RTvariable v = nullptr;
+    Ok(rtGeometryDeclareVariable(s.geometry, "sphere", &v));
+    Ok(rtVariableSet4f(v, 0.f, 0.f, 0.f, 5.f));  // every ray hits it
+    Ok(rtVariableSetObject(ContextVar("top_object"), s.group));
+    Ok(rtVariableSet3f(ContextVar("ray_origin"), 0.f, 0.f, -10.f));
+    Ok(rtVariableSet3f(ContextVar("ray_dir"), 0.f, 0.f, 1.f));
+  }
+  std::vector<Float4> Run(const char* raygen, RTexception e, bool enabled) {
+    Ok(rtContextSetExceptionEnabled(ctx_, e, enabled ? 1 : 0));
+    Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, raygen)));
+    RTresult r = rtContextLaunch2D(ctx_, 0, kW, 1);
+    EXPECT_EQ(r, RT_SUCCESS) << Error(r);
+    return Read(result_);
+  }
+  RTbuffer result_ = nullptr;
+};
+
+TEST_F(ExceptionsTest, StackOverflowIsOnByDefault) {
+  int enabled = 0;
+  Ok(rtContextGetExceptionEnabled(ctx_, RT_EXCEPTION_STACK_OVERFLOW, &enabled));
+  EXPECT_EQ(enabled, 1);
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "trace_camera")));
+  Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
+  std::vector<Float4> r = Read(result_);
+  for (size_t x = 0; x < kW; ++x) {
+    EXPECT_EQ(r[x][0], float(RT_EXCEPTION_STACK_OVERFLOW));
+    EXPECT_EQ(r[x][1], float(x));  // the exception program runs at the failing launch index
+  }
+}
+
+TEST_F(ExceptionsTest, StackOverflowOffSkipsTheTooDeepTrace) {
+  std::vector<Float4> r = Run("trace_camera", RT_EXCEPTION_STACK_OVERFLOW, false);
+  EXPECT_EQ(r[0][0], 1.f);  // closest_hit_recurse's own write, after the skipped trace
+}
+
+TEST_F(ExceptionsTest, UserExceptionOnlyWhenEnabled) {
+  std::vector<Float4> off = Run("raygen_throw", RT_EXCEPTION_USER, false);
+  EXPECT_EQ(off[1][0], 1.f);
+  std::vector<Float4> on = Run("raygen_throw", RT_EXCEPTION_USER, true);
+  EXPECT_EQ(on[0][0], 1.f);
+  EXPECT_EQ(on[1][0], float(RT_EXCEPTION_USER + 7));
+  EXPECT_EQ(on[2][0], 1.f);
+}
+
+TEST_F(ExceptionsTest, BufferIndexOutOfBoundsOnlyWhenEnabled) {
+  std::vector<Float4> off =
+      Run("raygen_out_of_bounds", RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS, false);
+  EXPECT_EQ(off[0][0], 1.f);
+  std::vector<Float4> on =
+      Run("raygen_out_of_bounds", RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS, true);
+  EXPECT_EQ(on[0][0], float(RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS));
+}
+
+TEST_F(ExceptionsTest, InvalidRaysOnlyWhenEnabled) {
+  for (int mode = 0; mode < 4; ++mode) {
+    Ok(rtVariableSet1i(ContextVar("mode"), mode));
+    std::vector<Float4> off = Run("raygen_invalid_ray", RT_EXCEPTION_INVALID_RAY, false);
+    EXPECT_EQ(off[0][0], 1.f) << "mode " << mode;
+    std::vector<Float4> on = Run("raygen_invalid_ray", RT_EXCEPTION_INVALID_RAY, true);
+    EXPECT_EQ(on[0][0], float(RT_EXCEPTION_INVALID_RAY)) << "mode " << mode;
+  }
+}
+
+TEST_F(ExceptionsTest, AllTogglesEveryCode) {
+  Ok(rtContextSetExceptionEnabled(ctx_, RT_EXCEPTION_ALL, 1));
+  for (RTexception e : {RT_EXCEPTION_STACK_OVERFLOW, RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS,
+                        RT_EXCEPTION_INVALID_RAY, RT_EXCEPTION_USER}) {
+    int enabled = 0;
+    Ok(rtContextGetExceptionEnabled(ctx_, e, &enabled));
+    EXPECT_EQ(enabled, 1) << e;
+  }
+  Ok(rtContextSetExceptionEnabled(ctx_, RT_EXCEPTION_ALL, 0));
+  std::vector<Float4> r = Run("raygen_throw", RT_EXCEPTION_USER, false);
+  EXPECT_EQ(r[1][0], 1.f);
+}
+
+TEST_F(ExceptionsTest, PrintReachesStdoutInLaunchIndexOrderBeforeLaunchReturns) {
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "print_hello")));
+  ::testing::internal::CaptureStdout();
+  Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
+  std::string out = ::testing::internal::GetCapturedStdout();
+  EXPECT_EQ(out, "hello from 0\nhello from 1\nhello from 2\n");
+  Ok(rtContextSetPrintLaunchIndex(ctx_, 2, -1, -1));
+  ::testing::internal::CaptureStdout();
+  Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), "hello from 2\n");
+  Ok(rtContextSetPrintEnabled(ctx_, 0));
+  ::testing::internal::CaptureStdout();
+  Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), "");
+}
+
+}  // namespace
+}  // namespace tessera::testing
