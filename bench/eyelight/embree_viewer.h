@@ -1,0 +1,33 @@
+// Runs Embree's own `viewer` (Debian package embree-tools) in benchmark mode on the same model,
+// image size and camera, and reads its Mrays/s.
+#ifndef TESSERA_BENCH_EYELIGHT_EMBREE_VIEWER_H_
+#define TESSERA_BENCH_EYELIGHT_EMBREE_VIEWER_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tessera::bench {
+
+struct ViewerRun {
+  std::string viewer;  // a path, or a name looked up in PATH
+  std::string model;
+  unsigned width = 0, height = 0;
+  int warmup = 5, runs = 20;
+  std::vector<std::string> camera_flags;  // Camera::ViewerFlags()
+};
+
+// The executable `name` resolves to (itself if it holds a '/'), or nullopt if there is none.
+std::optional<std::string> FindExecutable(const std::string& name);
+
+// The number on the line `BENCHMARK_RENDER_MRAYPS_AVG <x>` of viewer's output, if any.
+std::optional<double> ParseMraysAverage(const std::string& output);
+
+// Runs `viewer -i MODEL --size W H --shader eyelight --benchmark WARMUP RUNS <camera flags>` and
+// returns BENCHMARK_RENDER_MRAYPS_AVG. Throws std::runtime_error (with viewer's output) when it
+// fails or prints no such line. `command_out` receives the command line as run.
+double RunEmbreeViewer(const ViewerRun& run, std::string* command_out);
+
+}  // namespace tessera::bench
+
+#endif  // TESSERA_BENCH_EYELIGHT_EMBREE_VIEWER_H_

@@ -1,0 +1,191 @@
+#include "scene.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace tessera::bench {
+namespace {
+
+struct Vec3 {
+  float x, y, z;
+};
+Vec3 Sub(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3 Scale(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+Vec3 Cross(Vec3 a, Vec3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+Vec3 Normalize(Vec3 a) { return Scale(a, 1.f / std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z)); }
+Vec3 FromArray(const float* a) { return {a[0], a[1], a[2]}; }
+
+std::string Num(float f) {
+  std::string s = std::to_string(f);
+  s.erase(s.find_last_not_of('0') + 1);
+  if (s.back() == '.') s.pop_back();
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> Camera::ViewerFlags() const {
+  std::vector<std::string> flags;
+  const std::pair<const char*, const float*> points[] = {{"-vp", from}, {"-vi", to}, {"-vu", up}};
+  for (const auto& [flag, p] : points) {
+    flags.insert(flags.end(), {flag, Num(p[0]), Num(p[1]), Num(p[2])});
+  }
+  flags.insert(flags.end(), {"-fov", Num(fov_degrees)});
+  return flags;
+}
+
+Pinhole MakePinhole(const Camera& camera, unsigned width, unsigned height) {
+  Vec3 eye = FromArray(camera.from);
+  Vec3 w = Sub(FromArray(camera.to), eye);
+  float wlen = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
+  Vec3 u = Normalize(Cross(w, FromArray(camera.up)));
+  Vec3 v = Normalize(Cross(u, w));
+  float vlen = wlen * std::tan(0.5f * camera.fov_degrees * static_cast<float>(M_PI) / 180.f);
+  v = Scale(v, vlen);
+  u = Scale(u, vlen * static_cast<float>(width) / static_cast<float>(height));
+  return Pinhole{{eye.x, eye.y, eye.z}, {u.x, u.y, u.z}, {v.x, v.y, v.z}, {w.x, w.y, w.z}};
+}
+
+void EyelightScene::Check(RTresult result, const char* call) {
+  if (result == RT_SUCCESS) return;
+  const char* message = nullptr;
+  rtContextGetErrorString(context_, result, &message);
+  throw std::runtime_error(std::string(call) + " failed: " + (message ? message : "?"));
+}
+
+RTprogram EyelightScene::Program(const char* function) {
+  RTprogram program = nullptr;
+  Check(rtProgramCreateFromPTXFile(context_, module_path_.c_str(), function, &program),
+        "rtProgramCreateFromPTXFile");
+  return program;
+}
+
+EyelightScene::EyelightScene(const Mesh& mesh, const Camera& camera, unsigned width,
+                             unsigned height, const std::string& module_path)
+    : width_(width), height_(height), module_path_(module_path) {
+  if (RTresult r = rtContextCreate(&context_); r != RT_SUCCESS) {
+    context_ = nullptr;
+    Check(r, "rtContextCreate");
+  }
+  Check(rtContextSetRayTypeCount(context_, 1), "rtContextSetRayTypeCount");
+  Check(rtContextSetEntryPointCount(context_, 1), "rtContextSetEntryPointCount");
+  Check(rtContextSetRayGenerationProgram(context_, 0, Program("pinhole_camera")),
+        "rtContextSetRayGenerationProgram");
+  Check(rtContextSetMissProgram(context_, 0, Program("miss")), "rtContextSetMissProgram");
+
+  RTvariable v;
+  const Pinhole pin = MakePinhole(camera, width, height);
+  const std::pair<const char*, const float*> basis[] = {
+      {"eye", pin.eye}, {"U", pin.u}, {"V", pin.v}, {"W", pin.w}};
+  for (const auto& [name, value] : basis) {
+    Check(rtContextDeclareVariable(context_, name, &v), "rtContextDeclareVariable");
+    Check(rtVariableSet3fv(v, value), "rtVariableSet3fv");
+  }
+
+  Check(rtBufferCreate(context_, RT_BUFFER_OUTPUT, &output_), "rtBufferCreate");
+  Check(rtBufferSetFormat(output_, RT_FORMAT_UNSIGNED_BYTE4), "rtBufferSetFormat");
+  Check(rtBufferSetSize2D(output_, width, height), "rtBufferSetSize2D");
+  Check(rtContextDeclareVariable(context_, "output_buffer", &v), "rtContextDeclareVariable");
+  Check(rtVariableSetObject(v, output_), "rtVariableSetObject");
+
+  // Geometry: the mesh buffers are geometry variables, where the acceleration finds them.
+  RTgeometry geometry;
+  Check(rtGeometryCreate(context_, &geometry), "rtGeometryCreate");
+  Check(rtGeometrySetPrimitiveCount(geometry, static_cast<unsigned>(mesh.TriangleCount())),
+        "rtGeometrySetPrimitiveCount");
+  Check(rtGeometrySetIntersectionProgram(geometry, Program("mesh_intersect")),
+        "rtGeometrySetIntersectionProgram");
+  Check(rtGeometrySetBoundingBoxProgram(geometry, Program("mesh_bounds")),
+        "rtGeometrySetBoundingBoxProgram");
+  struct Upload {
+    const char* name;
+    RTformat format;
+    const void* data;
+    size_t count;
+  };
+  const Upload uploads[] = {
+      {"vertex_buffer", RT_FORMAT_FLOAT3, mesh.positions.data(), mesh.VertexCount()},
+      {"index_buffer", RT_FORMAT_INT3, mesh.indices.data(), mesh.TriangleCount()}};
+  for (const Upload& up : uploads) {
+    RTbuffer buffer;
+    Check(rtBufferCreate(context_, RT_BUFFER_INPUT, &buffer), "rtBufferCreate");
+    Check(rtBufferSetFormat(buffer, up.format), "rtBufferSetFormat");
+    Check(rtBufferSetSize1D(buffer, up.count), "rtBufferSetSize1D");
+    void* dst = nullptr;
+    Check(rtBufferMap(buffer, &dst), "rtBufferMap");
+    std::memcpy(dst, up.data, up.count * 12);
+    Check(rtBufferUnmap(buffer), "rtBufferUnmap");
+    Check(rtGeometryDeclareVariable(geometry, up.name, &v), "rtGeometryDeclareVariable");
+    Check(rtVariableSetObject(v, buffer), "rtVariableSetObject");
+  }
+
+  RTmaterial material;
+  Check(rtMaterialCreate(context_, &material), "rtMaterialCreate");
+  Check(rtMaterialSetClosestHitProgram(material, 0, Program("eyelight")),
+        "rtMaterialSetClosestHitProgram");
+
+  RTgeometryinstance instance;
+  Check(rtGeometryInstanceCreate(context_, &instance), "rtGeometryInstanceCreate");
+  Check(rtGeometryInstanceSetGeometry(instance, geometry), "rtGeometryInstanceSetGeometry");
+  Check(rtGeometryInstanceSetMaterialCount(instance, 1), "rtGeometryInstanceSetMaterialCount");
+  Check(rtGeometryInstanceSetMaterial(instance, 0, material), "rtGeometryInstanceSetMaterial");
+
+  RTacceleration accel;
+  Check(rtAccelerationCreate(context_, &accel), "rtAccelerationCreate");
+  Check(rtAccelerationSetBuilder(accel, "Trbvh"), "rtAccelerationSetBuilder");
+  Check(rtAccelerationSetTraverser(accel, "Bvh"), "rtAccelerationSetTraverser");
+  Check(rtAccelerationSetProperty(accel, "vertex_buffer_name", "vertex_buffer"),
+        "rtAccelerationSetProperty");
+  Check(rtAccelerationSetProperty(accel, "index_buffer_name", "index_buffer"),
+        "rtAccelerationSetProperty");
+
+  RTgeometrygroup group;
+  Check(rtGeometryGroupCreate(context_, &group), "rtGeometryGroupCreate");
+  Check(rtGeometryGroupSetAcceleration(group, accel), "rtGeometryGroupSetAcceleration");
+  Check(rtGeometryGroupSetChildCount(group, 1), "rtGeometryGroupSetChildCount");
+  Check(rtGeometryGroupSetChild(group, 0, instance), "rtGeometryGroupSetChild");
+  Check(rtContextDeclareVariable(context_, "top_object", &v), "rtContextDeclareVariable");
+  Check(rtVariableSetObject(v, group), "rtVariableSetObject");
+
+  Check(rtContextValidate(context_), "rtContextValidate");
+  Check(rtContextCompile(context_), "rtContextCompile");
+}
+
+EyelightScene::~EyelightScene() {
+  if (context_ != nullptr) rtContextDestroy(context_);
+}
+
+void EyelightScene::Launch() {
+  Check(rtContextLaunch2D(context_, 0, width_, height_), "rtContextLaunch2D");
+}
+
+Image EyelightScene::ReadImage() {
+  Image image;
+  image.width = width_;
+  image.height = height_;
+  image.rgba.resize(size_t{width_} * height_ * 4);
+  void* data = nullptr;
+  Check(rtBufferMap(output_, &data), "rtBufferMap");
+  const size_t row = size_t{width_} * 4;
+  for (unsigned y = 0; y < height_; ++y) {
+    // The launch's row 0 is the bottom of the picture (OptiX convention).
+    std::memcpy(image.rgba.data() + y * row,
+                static_cast<const uint8_t*>(data) + (height_ - 1 - y) * row, row);
+  }
+  Check(rtBufferUnmap(output_), "rtBufferUnmap");
+  return image;
+}
+
+int EyelightScene::ThreadCount() {
+  int threads = 0;
+  if (rtContextGetAttribute(context_, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, sizeof(threads),
+                            &threads) != RT_SUCCESS) {
+    return 0;
+  }
+  return threads;
+}
+
+}  // namespace tessera::bench
