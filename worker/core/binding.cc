@@ -68,30 +68,6 @@ absl::StatusOr<size_t> AttributeLayout::Offset(const std::string& name, size_t s
   return offset;
 }
 
-namespace {
-// Per thread and module index: the binding whose values the module's slots hold.
-thread_local std::vector<const BoundProgram*> t_loaded;
-
-const BoundProgram*& Loaded(const Module* m) {
-  if (t_loaded.size() <= static_cast<size_t>(m->index())) t_loaded.resize(m->index() + 1);
-  return t_loaded[m->index()];
-}
-}  // namespace
-
-void ResetLoadedBindings() { t_loaded.clear(); }
-
-void BoundProgram::Load() const {
-  const BoundProgram*& loaded = Loaded(module);
-  if (loaded == this) return;
-  loaded = this;
-  void* const* slots = module->Slots();
-  for (const Copy& c : copies) std::memcpy(slots[c.var], c.src, c.size);
-  if (!views.empty()) {
-    TesseraBufferView* v = module->Views();
-    for (const auto& [slot, view] : views) v[slot] = view;
-  }
-}
-
 absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint64_t program_id,
                                   const std::vector<const Scope*>& outer,
                                   AttributeLayout& attributes) {
@@ -210,36 +186,6 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
     b.views.push_back({slot, view});
   }
   return b;
-}
-
-void SlotSnapshot::Save(const Module* m) {
-  module = m;
-  if (m == nullptr) return;
-  loaded = Loaded(m);
-  void* const* slots = m->Slots();
-  const auto& vars = m->variables();
-  size_t views = m->buffers().size() * sizeof(TesseraBufferView);
-  bytes.resize(m->slot_bytes() + views);
-  unsigned char* at = bytes.data();
-  for (size_t i = 0; i < vars.size(); ++i) {
-    std::memcpy(at, slots[i], vars[i].size);
-    at += vars[i].size;
-  }
-  std::memcpy(at, m->Views(), views);
-}
-
-void SlotSnapshot::Restore() const {
-  if (module == nullptr) return;
-  void* const* slots = module->Slots();
-  const auto& vars = module->variables();
-  size_t at = 0;
-  for (size_t i = 0; i < vars.size(); ++i) {
-    std::memcpy(slots[i], bytes.data() + at, vars[i].size);
-    at += vars[i].size;
-  }
-  std::memcpy(module->Views(), bytes.data() + at,
-              module->buffers().size() * sizeof(TesseraBufferView));
-  Loaded(module) = loaded;
 }
 
 }  // namespace tessera::worker

@@ -36,6 +36,9 @@ class AttributeLayout {
  private:
   std::unordered_map<std::string, std::pair<size_t, size_t>> entries_;  // name -> offset, size
   size_t used_ = 0;
+
+ public:
+  size_t used() const { return used_; }
 };
 
 struct BoundProgram {
@@ -54,35 +57,19 @@ struct BoundProgram {
   std::string name;  // "function in module" for messages
   const Module* module = nullptr;
   void* function = nullptr;
+  // What this binding sets in the module's slots beyond the module's plan-wide invariants.
   std::vector<Copy> copies;
   std::vector<std::pair<unsigned, TesseraBufferView>> views;
   std::vector<Attribute> attributes;
   // Variables declared with each semantic (a module may declare one several times, e.g. a
   // radiance and a shadow payload).
   std::vector<unsigned> launch_index, launch_dim, ray, payload, distance;
-
-  // Copies the bound values into the calling thread's slots of the module, unless this binding
-  // is already what those slots hold.
-  void Load() const;
 };
-
-// Forgets which binding each module's slots hold on the calling thread (a new plan may reuse
-// the addresses of an old plan's bindings).
-void ResetLoadedBindings();
 
 // Binds `program_id` with scopes searched in order (the program's own scope comes first).
 absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint64_t program_id,
                                   const std::vector<const Scope*>& scopes,
                                   AttributeLayout& attributes);
-
-// Saves and restores every slot of a module, around nested rtTrace.
-struct SlotSnapshot {
-  const Module* module = nullptr;
-  const BoundProgram* loaded = nullptr;  // the binding the slots held
-  std::vector<unsigned char> bytes;
-  void Save(const Module* m);
-  void Restore() const;
-};
 
 }  // namespace tessera::worker
 

@@ -128,7 +128,11 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& path) {
     // This thread's slot still holds the static initializer (or zeros): that is the default.
     const auto* initial = static_cast<const unsigned char*>(d.address());
     v.initial.assign(initial, initial + d.size);
-    module->slot_bytes_ += v.size;
+    if (v.semantic == Semantic::kCurrentRay || v.semantic == Semantic::kPayload ||
+        v.semantic == Semantic::kDistance || v.semantic == Semantic::kAttribute) {
+      module->per_call_.push_back(static_cast<unsigned>(module->variables_.size()));
+      module->per_call_bytes_ += v.size;
+    }
     module->variables_.push_back(std::move(v));
   }
   for (unsigned i = 0; i < info->buffer_count; ++i) {

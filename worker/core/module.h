@@ -47,7 +47,10 @@ class Module {
   const std::string& path() const { return path_; }
   const std::vector<ModuleVariable>& variables() const { return variables_; }
   const std::vector<ModuleBuffer>& buffers() const { return buffers_; }
-  size_t slot_bytes() const { return slot_bytes_; }  // sum of the variables' sizes
+  // Variables whose value belongs to one invocation (ray, payload, distance, attributes): what a
+  // suspended program needs back after a nested call, and their total size.
+  const std::vector<unsigned>& per_call() const { return per_call_; }
+  size_t per_call_bytes() const { return per_call_bytes_; }
   // The calling thread's slot addresses, one per variable (cached per thread).
   void* const* Slots() const;
   TesseraBufferView* Views() const { return info_->buffer_views(); }
@@ -62,7 +65,8 @@ class Module {
   const TesseraModuleInfo* info_ = nullptr;
   std::vector<ModuleVariable> variables_;
   std::vector<ModuleBuffer> buffers_;
-  size_t slot_bytes_ = 0;
+  std::vector<unsigned> per_call_;
+  size_t per_call_bytes_ = 0;
 };
 
 // Process-wide: a module is loaded once and never unloaded (programs may still run from it).

@@ -1,6 +1,8 @@
 #include "plan.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cstring>
 
 #include "absl/strings/str_cat.h"
 #include "tessera/rt.h"
@@ -20,6 +22,75 @@ void CollectRoots(const Scope& scope, std::vector<uint64_t>& roots) {
          v.type == RT_OBJECTTYPE_OBJECT)) {
       roots.push_back(v.object_id);
     }
+  }
+}
+
+// Moves the slot values all of a module's bindings share into the module's invariants.
+void SplitInvariants(LaunchPlan& plan) {
+  std::unordered_map<const Module*, std::vector<BoundProgram*>> by_module;
+  for (BoundProgram& b : plan.programs) by_module[b.module].push_back(&b);
+  for (auto& [module, bindings] : by_module) {
+    if (plan.invariants.size() <= static_cast<size_t>(module->index())) {
+      plan.invariants.resize(module->index() + 1);
+    }
+    ModuleInvariants& inv = plan.invariants[module->index()];
+    // Every binding lists every user variable and buffer slot of its module, in order.
+    const BoundProgram& first = *bindings.front();
+    for (size_t i = 0; i < first.copies.size(); ++i) {
+      const BoundProgram::Copy& c = first.copies[i];
+      bool same = true;
+      for (const BoundProgram* b : bindings) {
+        const BoundProgram::Copy& o = b->copies[i];
+        same = same && o.var == c.var && (o.src == c.src || std::memcmp(o.src, c.src, c.size) == 0);
+      }
+      if (same) inv.copies.push_back(c);
+    }
+    for (size_t i = 0; i < first.views.size(); ++i) {
+      const auto& v = first.views[i];
+      bool same = true;
+      for (const BoundProgram* b : bindings) {
+        const auto& o = b->views[i];
+        same = same && o.first == v.first && o.second.data == v.second.data &&
+               o.second.id == v.second.id &&
+               std::memcmp(o.second.size, v.second.size, sizeof(v.second.size)) == 0;
+      }
+      if (same) inv.views.push_back(v);
+    }
+    auto is_invariant_copy = [&](const BoundProgram::Copy& c) {
+      for (const auto& i : inv.copies)
+        if (i.var == c.var) return true;
+      return false;
+    };
+    auto is_invariant_view = [&](const std::pair<unsigned, TesseraBufferView>& v) {
+      for (const auto& i : inv.views)
+        if (i.first == v.first) return true;
+      return false;
+    };
+    for (BoundProgram* b : bindings) {
+      b->copies.erase(std::remove_if(b->copies.begin(), b->copies.end(), is_invariant_copy),
+                      b->copies.end());
+      b->views.erase(std::remove_if(b->views.begin(), b->views.end(), is_invariant_view),
+                     b->views.end());
+    }
+  }
+}
+
+// Resolves every graph node once, so traversal never searches the replica.
+void IndexNodes(LaunchPlan& plan) {
+  const Replica& r = *plan.replica;
+  for (const auto& [id, g] : r.geometry_groups) {
+    plan.nodes[id] =
+        NodeInfo{RT_OBJECTTYPE_GEOMETRY_GROUP, plan.scenes->Find(id), nullptr, nullptr};
+  }
+  for (const auto& [id, g] : r.groups) {
+    plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_GROUP, plan.scenes->Find(id), nullptr, nullptr};
+  }
+  for (const auto& [id, s] : r.selectors) plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_SELECTOR};
+  for (const auto& [id, t] : r.transforms) {
+    plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_TRANSFORM, nullptr, &t, nullptr};
+  }
+  for (auto& [id, n] : plan.nodes) {
+    if (n.transform != nullptr) n.child = plan.Node(n.transform->child.id);
   }
 }
 
@@ -121,7 +192,10 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
     CollectRoots(g->vars, roots);
     plan->instances.emplace(id, std::move(ip));
   }
+  SplitInvariants(*plan);
+  plan->attribute_bytes = plan->attributes.used();
   if (absl::Status s = scenes.Update(*plan, roots); !s.ok()) return s;
+  IndexNodes(*plan);
   return plan;
 }
 

@@ -57,6 +57,21 @@ struct SceneEntry {
 
 class SceneCache;
 
+// Slot values every binding of one module agrees on in a plan (context variables, static
+// initializers, buffers bound at the context): loaded once per thread and plan, not per program.
+struct ModuleInvariants {
+  std::vector<BoundProgram::Copy> copies;
+  std::vector<std::pair<unsigned, TesseraBufferView>> views;
+};
+
+// A graph node as traversal needs it.
+struct NodeInfo {
+  uint32_t type = 0;                        // RTobjecttype
+  const SceneEntry* scene = nullptr;        // Group, GeometryGroup
+  const TransformRec* transform = nullptr;  // Transform
+  const NodeInfo* child = nullptr;          // Transform
+};
+
 struct LaunchPlan {
   uint64_t serial = 0;  // unique per plan in this process
   uint64_t generation = 0;
@@ -65,6 +80,9 @@ struct LaunchPlan {
   std::vector<const BoundProgram*> ray_generation, exception, miss;
   std::unordered_map<uint64_t, InstancePlan> instances;
   AttributeLayout attributes;
+  std::vector<ModuleInvariants> invariants;      // by module index
+  size_t attribute_bytes = 0;                    // attribute bytes a hit carries
+  std::unordered_map<uint64_t, NodeInfo> nodes;  // every graph node (stable addresses)
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;
   uint32_t exception_mask = 0;
@@ -75,6 +93,10 @@ struct LaunchPlan {
   bool ExceptionEnabled(unsigned code) const;
   // RTobjecttype of a graph node id, or 0 if none.
   uint32_t NodeType(uint64_t id) const;
+  const NodeInfo* Node(uint64_t id) const {
+    auto it = nodes.find(id);
+    return it == nodes.end() ? nullptr : &it->second;
+  }
 };
 
 class SceneCache {

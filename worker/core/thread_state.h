@@ -1,0 +1,200 @@
+// Per-thread execution state of the engine and the helpers that move values in and out of a
+// program module's slots. Internal to worker/core (runtime.cc, trace.cc).
+#ifndef TESSERA_WORKER_CORE_THREAD_STATE_H_
+#define TESSERA_WORKER_CORE_THREAD_STATE_H_
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "plan.h"
+#include "runtime.h"
+
+namespace tessera::worker {
+
+// optix::Ray's layout (internal/optix_datatypes.h).
+struct RayData {
+  float origin[3];
+  float direction[3];
+  unsigned ray_type;
+  float tmin;
+  float tmax;
+};
+static_assert(sizeof(RayData) == 36, "optix::Ray layout");
+
+using Mat = std::array<float, 16>;
+inline constexpr Mat kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+// A transform from object to world space and back; identity unless `active`.
+struct Xform {
+  bool active = false;
+  Mat to_world = kIdentity, to_object = kIdentity;
+};
+
+struct Hit {
+  float t = 0;
+  const InstancePlan* instance = nullptr;
+  unsigned material = 0;
+  unsigned primitive = 0;
+  bool deferred = false;  // native triangle: attributes come from the intersection program later
+  RayData object_ray{};
+  Xform xform;
+  alignas(16) unsigned char attributes[AttributeLayout::kMaxBytes];
+};
+
+struct Frame {
+  RayData ray{};  // world space
+  void* payload = nullptr;
+  size_t payload_size = 0;
+  Hit hit;
+  bool terminated = false;
+  Xform xform;  // the traversal's current transform
+};
+
+enum class IntersectMode { kSearch, kFiltered, kDeferred };
+
+struct IntersectState {
+  const InstancePlan* instance = nullptr;
+  unsigned primitive = 0;
+  RayData ray{};
+  IntersectMode mode = IntersectMode::kSearch;
+  float forced_t = 0;
+  float candidate_t = 0;
+  bool candidate_ok = false;
+  bool committed = false;
+};
+
+struct ExceptionSignal {
+  unsigned code;
+  std::string details;
+};
+
+struct ModuleState;
+
+// The slots of a module whose program is suspended (it called rtTrace, or its intersection
+// program is waiting for an any-hit program). They are saved only when another program of the
+// same module is about to overwrite them, and restored when the suspended program resumes.
+struct SuspendedSlots {
+  ModuleState* module = nullptr;
+  SuspendedSlots* outer = nullptr;  // the next suspended state of the same module
+  bool saved = false;
+  const BoundProgram* loaded = nullptr;
+  std::vector<unsigned char> bytes;
+};
+
+// One module as seen by one thread.
+struct ModuleState {
+  const Module* module = nullptr;
+  void* const* slots = nullptr;
+  TesseraBufferView* views = nullptr;
+  const BoundProgram* loaded = nullptr;  // whose copies the slots hold
+  uint64_t invariants_plan = 0;          // serial of the plan whose invariants are loaded
+  uint64_t index_written = 0;            // launch-index serial whose index/dim the slots hold
+  SuspendedSlots* suspended = nullptr;   // innermost suspended state not yet restored
+};
+
+struct ThreadState {
+  const LaunchPlan* plan = nullptr;
+  uint64_t plan_serial = 0;
+  Index3 index{}, dims{};
+  uint64_t index_serial = 0;  // bumps with every launch index this thread runs
+  std::vector<Frame> frames;  // frames[0 .. depth) are live; sized once per plan
+  size_t depth = 0;
+  std::vector<SuspendedSlots> suspended;  // one per depth, reused
+  std::vector<ModuleState> modules;       // by module index
+  ProgramKind kind = ProgramKind::kRayGeneration;
+  const BoundProgram* current = nullptr;
+  ModuleState* current_module = nullptr;
+  IntersectState is;
+  Hit candidate;
+  bool ah_ignore = false, ah_terminate = false;
+  unsigned exception_code = 0;
+  std::string exception_details;
+  std::exception_ptr pending;
+  v1::TileResult* out = nullptr;
+  uint64_t print_sequence = 0;
+  std::vector<unsigned char> scratch;
+  uint64_t last_node_id = 0;
+  const NodeInfo* last_node = nullptr;
+
+  Frame& top() { return frames[depth - 1]; }
+};
+
+// The calling thread's state: a plain pointer in initial-exec TLS (libtessera is loaded at
+// startup), so an access is one load and no wrapper call.
+extern __attribute__((tls_model("initial-exec"))) thread_local ThreadState* t_state;
+ThreadState& CreateThreadState();
+inline ThreadState& TS() {
+  if (__builtin_expect(t_state == nullptr, 0)) return CreateThreadState();
+  return *t_state;
+}
+
+// Binds the calling thread to `plan`.
+void UsePlan(ThreadState& ts, const LaunchPlan& plan);
+
+ModuleState& StateOf(ThreadState& ts, const Module* m);
+
+// Makes `p` the running program: saves a suspended caller's slots if `p` would overwrite them,
+// loads `p`'s bindings and the launch index/dim semantics.
+void Enter(ThreadState& ts, const BoundProgram& p);
+
+// Suspends the running program's module across a nested call; Resume restores it if needed.
+SuspendedSlots& Suspend(ThreadState& ts, size_t level);
+void Resume(ThreadState& ts, SuspendedSlots& s);
+
+// memcpy for the small, mostly fixed sizes of slot values, without a library call.
+inline void CopyBytes(void* dst, const void* src, size_t n) {
+  switch (n) {
+    case 4:
+      std::memcpy(dst, src, 4);
+      return;
+    case 8:
+      std::memcpy(dst, src, 8);
+      return;
+    case 12:
+      std::memcpy(dst, src, 12);
+      return;
+    case 16:
+      std::memcpy(dst, src, 16);
+      return;
+    case 36:
+      std::memcpy(dst, src, 36);
+      return;
+    default:
+      std::memcpy(dst, src, n);
+  }
+}
+
+inline void WriteSlots(const ModuleState& ms, const std::vector<unsigned>& vars, const void* src,
+                       size_t size) {
+  for (unsigned var : vars) {
+    CopyBytes(ms.slots[var], src, std::min(size, ms.module->variables()[var].size));
+  }
+}
+
+// Raises `code` if it is enabled (throws ExceptionSignal); otherwise returns so the caller skips
+// the offending operation.
+void Raise(unsigned code, std::string details);
+
+// Which program kinds may make a call: bit per ProgramKind.
+constexpr unsigned Bit(ProgramKind k) { return 1u << static_cast<unsigned>(k); }
+[[noreturn]] void CallNotAllowed(const ThreadState& ts, const char* call);
+inline void CheckCall(ThreadState& ts, unsigned allowed, const char* call) {
+  if (__builtin_expect(!(allowed & Bit(ts.kind)), 0)) CallNotAllowed(ts, call);
+}
+
+// Traversal entry points (trace.cc).
+void RtTrace(unsigned long long node, const void* ray, void* payload, size_t payload_size);
+int RtPotentialIntersection(float t);
+int RtReportIntersection(unsigned material);
+void RtIgnoreIntersection();
+void RtTerminateRay();
+
+}  // namespace tessera::worker
+
+#endif  // TESSERA_WORKER_CORE_THREAD_STATE_H_

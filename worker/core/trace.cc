@@ -1,0 +1,424 @@
+// rtTrace through Embree and the intersection/any-hit protocol (OptiX 3 guide §4.1.4, §4.8).
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "callbacks.h"
+#include "tessera/rt.h"
+#include "thread_state.h"
+
+namespace tessera::worker {
+namespace {
+
+Mat Mul(const Mat& a, const Mat& b) {
+  Mat c{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) c[i * 4 + j] += a[i * 4 + k] * b[k * 4 + j];
+  return c;
+}
+
+RayData ToObject(const RayData& r, const Mat& inv) {
+  RayData o = r;
+  for (int i = 0; i < 3; ++i) {
+    o.origin[i] = inv[i * 4] * r.origin[0] + inv[i * 4 + 1] * r.origin[1] +
+                  inv[i * 4 + 2] * r.origin[2] + inv[i * 4 + 3];
+    o.direction[i] = inv[i * 4] * r.direction[0] + inv[i * 4 + 1] * r.direction[1] +
+                     inv[i * 4 + 2] * r.direction[2];
+  }
+  return o;
+}
+
+RTCRayHit ToEmbree(const RayData& r) {
+  RTCRayHit rh;
+  rh.ray.org_x = r.origin[0];
+  rh.ray.org_y = r.origin[1];
+  rh.ray.org_z = r.origin[2];
+  rh.ray.dir_x = r.direction[0];
+  rh.ray.dir_y = r.direction[1];
+  rh.ray.dir_z = r.direction[2];
+  rh.ray.tnear = r.tmin;
+  rh.ray.tfar = r.tmax;
+  rh.ray.time = 0.f;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
+RayData FromEmbree(const RTCRay& e, unsigned ray_type) {
+  return RayData{
+      {e.org_x, e.org_y, e.org_z}, {e.dir_x, e.dir_y, e.dir_z}, ray_type, e.tnear, e.tfar};
+}
+
+void RethrowPending(ThreadState& ts) {
+  if (ts.pending) {
+    std::exception_ptr p = ts.pending;
+    ts.pending = nullptr;
+    std::rethrow_exception(p);
+  }
+}
+
+void LoadAttributes(const ModuleState& ms, const BoundProgram& p, const unsigned char* block) {
+  for (const auto& a : p.attributes) CopyBytes(ms.slots[a.var], block + a.offset, a.size);
+}
+
+void StoreAttributes(const ModuleState& ms, const BoundProgram& p, unsigned char* block) {
+  for (const auto& a : p.attributes) CopyBytes(block + a.offset, ms.slots[a.var], a.size);
+}
+
+// Copies the payload back from the program's payload variable. With several payload variables
+// (radiance and shadow, say) the one of the traced payload's size that the program changed wins.
+void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst, size_t size) {
+  const unsigned* chosen = nullptr;
+  for (const unsigned& var : p.payload) {
+    if (ms.module->variables()[var].size != size) continue;
+    if (chosen == nullptr) chosen = &var;
+    if (p.payload.size() == 1) break;
+    if (std::memcmp(ms.slots[var], dst, size) != 0) {
+      chosen = &var;
+      break;
+    }
+  }
+  if (chosen == nullptr && !p.payload.empty()) chosen = &p.payload.front();
+  if (chosen == nullptr) return;
+  std::memcpy(dst, ms.slots[*chosen], std::min(size, ms.module->variables()[*chosen].size));
+}
+
+// Runs a closest-hit or miss program on the current frame's payload.
+void Shade(ThreadState& ts, const BoundProgram& p, Frame& f) {
+  Enter(ts, p);
+  const ModuleState& ms = *ts.current_module;
+  WriteSlots(ms, p.ray, &f.ray, sizeof(RayData));
+  WriteSlots(ms, p.payload, f.payload, f.payload_size);
+  if (p.kind == ProgramKind::kClosestHit) {
+    WriteSlots(ms, p.distance, &f.hit.t, sizeof(float));
+    LoadAttributes(ms, p, f.hit.attributes);
+  }
+  reinterpret_cast<void (*)()>(p.function)();
+  ReadPayload(*ts.current_module, p, f.payload, f.payload_size);
+}
+
+void CopyXform(Xform& to, const Xform& from) {
+  to.active = from.active;
+  if (from.active) {
+    to.to_world = from.to_world;
+    to.to_object = from.to_object;
+  }
+}
+
+void IntersectScene(ThreadState& ts, RTCScene scene, const RayData& ray, bool geometry_group) {
+  Frame& f = ts.top();
+  RTCRayHit rh = ToEmbree(ray);
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  rtcIntersect1(scene, &ctx, &rh);
+  RethrowPending(ts);
+  if (!geometry_group || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || f.terminated) return;
+  auto* info =
+      static_cast<GeometryInfo*>(rtcGetGeometryUserData(rtcGetGeometry(scene, rh.hit.geomID)));
+  if (!info->triangles || info->filter || !(rh.ray.tfar < f.hit.t)) return;
+  // A native triangle is the closest so far: its attributes come after traversal.
+  f.hit.t = rh.ray.tfar;
+  f.hit.instance = info->plan;
+  f.hit.primitive = rh.hit.primID;
+  f.hit.material = 0;
+  f.hit.deferred = true;
+  f.hit.object_ray = ray;
+  CopyXform(f.hit.xform, f.xform);
+}
+
+// Intersects one node; `ray` is in the node's parent space. Hits are committed to the top frame.
+void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, RayData ray) {
+  Frame& f = ts.top();
+  ray.tmax = std::min(ray.tmax, f.hit.t);
+  if (node == nullptr) {
+    throw FatalError{absl::NotFoundError(absl::StrCat("graph node #", id, " is unknown"))};
+  }
+  switch (node->type) {
+    case RT_OBJECTTYPE_GEOMETRY_GROUP:
+    case RT_OBJECTTYPE_GROUP:
+      if (node->scene == nullptr) {
+        throw FatalError{absl::FailedPreconditionError(
+            absl::StrCat("node #", id, " has no acceleration structure on the device"))};
+      }
+      IntersectScene(ts, node->scene->scene, ray, node->type == RT_OBJECTTYPE_GEOMETRY_GROUP);
+      return;
+    case RT_OBJECTTYPE_TRANSFORM: {
+      const TransformRec& t = *node->transform;
+      Xform saved = f.xform;
+      f.xform.to_world = saved.active ? Mul(saved.to_world, t.matrix) : t.matrix;
+      f.xform.to_object = saved.active ? Mul(t.inverse, saved.to_object) : t.inverse;
+      f.xform.active = true;
+      TraverseNode(ts, t.child.id, node->child, ToObject(ray, t.inverse));
+      f.xform = saved;
+      return;
+    }
+    default:
+      throw FatalError{absl::UnimplementedError(absl::StrCat(
+          "node #", id, " is a selector; selectors are not supported yet (visit programs)"))};
+  }
+}
+
+// Runs the intersection program of `instance` for one primitive. Returns whether it committed.
+bool RunIntersection(ThreadState& ts, const InstancePlan* instance, unsigned primitive,
+                     const RayData& ray, IntersectMode mode, float forced_t) {
+  const BoundProgram& p = *instance->intersection;
+  ts.is.instance = instance;
+  ts.is.primitive = primitive;
+  ts.is.ray = ray;
+  ts.is.mode = mode;
+  ts.is.forced_t = forced_t;
+  ts.is.candidate_ok = false;
+  ts.is.committed = false;
+  Enter(ts, p);
+  WriteSlots(*ts.current_module, p.ray, &ray, sizeof(RayData));
+  WriteSlots(*ts.current_module, p.distance, &ts.top().hit.t, sizeof(float));
+  reinterpret_cast<void (*)(int)>(p.function)(static_cast<int>(primitive));
+  return ts.is.committed;
+}
+
+void Commit(ThreadState& ts, Frame& f, const Hit& c, bool terminate) {
+  f.hit.t = c.t;
+  f.hit.instance = c.instance;
+  f.hit.material = c.material;
+  f.hit.primitive = c.primitive;
+  f.hit.deferred = false;
+  std::memcpy(f.hit.attributes, c.attributes, ts.plan->attribute_bytes);
+  CopyXform(f.hit.xform, f.xform);
+  ts.is.committed = true;
+  ts.is.ray.tmax = c.t;
+  if (terminate) f.terminated = true;
+}
+
+template <typename F>
+void Guard(ThreadState& ts, F&& f) {
+  if (ts.pending) return;
+  try {
+    f();
+  } catch (...) {
+    ts.pending = std::current_exception();
+  }
+}
+
+}  // namespace
+
+void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t payload_size) {
+  ThreadState& ts = TS();
+  CheckCall(
+      ts,
+      Bit(ProgramKind::kRayGeneration) | Bit(ProgramKind::kClosestHit) | Bit(ProgramKind::kMiss),
+      "rtTrace");
+  const LaunchPlan& plan = *ts.plan;
+  RayData ray;
+  std::memcpy(&ray, ray_ptr, sizeof(ray));
+  if (ts.depth >= plan.max_depth) {
+    Raise(RT_EXCEPTION_STACK_OVERFLOW,
+          absl::StrCat("rtTrace nested ", ts.depth + 1, " deep exceeds the stack size"));
+    return;
+  }
+  bool finite = true;
+  for (int i = 0; i < 3; ++i) {
+    finite = finite && std::isfinite(ray.origin[i]) && std::isfinite(ray.direction[i]);
+  }
+  if (!finite || std::isnan(ray.tmin) || std::isnan(ray.tmax) || ray.tmin > ray.tmax ||
+      ray.tmin < 0.f) {
+    Raise(RT_EXCEPTION_INVALID_RAY,
+          absl::StrFormat("invalid ray: origin (%g, %g, %g) direction (%g, %g, %g) tmin %g "
+                          "tmax %g",
+                          ray.origin[0], ray.origin[1], ray.origin[2], ray.direction[0],
+                          ray.direction[1], ray.direction[2], ray.tmin, ray.tmax));
+    return;
+  }
+  if (ray.ray_type >= plan.replica->context().ray_type_count) {
+    throw FatalError{absl::InvalidArgumentError(absl::StrCat(
+        "rtTrace with ray type ", ray.ray_type, " but the context has ",
+        plan.replica->context().ray_type_count, " ray types (", ts.current->name, ")"))};
+  }
+  if (node != ts.last_node_id || ts.last_node == nullptr) {
+    ts.last_node = plan.Node(node);
+    ts.last_node_id = node;
+    if (ts.last_node == nullptr) {
+      throw FatalError{absl::InvalidArgumentError(absl::StrCat(
+          "rtTrace on object #", node, " which is not a graph node (", ts.current->name, ")"))};
+    }
+  }
+  const NodeInfo* top = ts.last_node;
+
+  const BoundProgram* caller = ts.current;
+  SuspendedSlots& suspended = Suspend(ts, ts.depth);
+  Frame& f = ts.frames[ts.depth++];
+  f.ray = ray;
+  f.payload = payload;
+  f.payload_size = payload_size;
+  f.hit.t = ray.tmax;
+  f.hit.instance = nullptr;
+  f.terminated = false;
+  f.xform.active = false;
+  TraverseNode(ts, node, top, ray);
+
+  if (f.hit.instance != nullptr) {
+    if (f.hit.deferred) {
+      Hit& h = f.hit;
+      RunIntersection(ts, h.instance, h.primitive, h.object_ray, IntersectMode::kDeferred, h.t);
+    }
+    const auto& groups = f.hit.instance->materials;
+    if (f.hit.material < groups.size()) {
+      if (const BoundProgram* ch = groups[f.hit.material][ray.ray_type].closest_hit) {
+        Shade(ts, *ch, f);
+      }
+    }
+  } else if (ray.ray_type < plan.miss.size() && plan.miss[ray.ray_type] != nullptr) {
+    Shade(ts, *plan.miss[ray.ray_type], f);
+  }
+  --ts.depth;
+  Resume(ts, suspended);
+  ts.current = caller;
+  ts.kind = caller->kind;
+}
+
+int RtPotentialIntersection(float t) {
+  ThreadState& ts = TS();
+  CheckCall(ts, Bit(ProgramKind::kIntersection), "rtPotentialIntersection");
+  IntersectState& is = ts.is;
+  if (is.mode == IntersectMode::kSearch) {
+    is.candidate_ok = t > is.ray.tmin && t < is.ray.tmax && !ts.top().terminated;
+    is.candidate_t = t;
+  } else {
+    // Embree already chose this primitive at forced_t; the program only reports attributes.
+    is.candidate_ok = true;
+    is.candidate_t = is.forced_t;
+  }
+  return is.candidate_ok ? 1 : 0;
+}
+
+int RtReportIntersection(unsigned material) {
+  ThreadState& ts = TS();
+  CheckCall(ts, Bit(ProgramKind::kIntersection), "rtReportIntersection");
+  IntersectState& is = ts.is;
+  if (!is.candidate_ok) return 0;
+  is.candidate_ok = false;
+  const InstancePlan* inst = is.instance;
+  if (material >= inst->materials.size()) {
+    throw FatalError{absl::OutOfRangeError(absl::StrCat(
+        "rtReportIntersection(", material, ") from ", ts.current->name, ": geometry instance #",
+        inst->id, " has ", inst->materials.size(), " materials"))};
+  }
+  Frame& f = ts.top();
+  const BoundProgram& isp = *ts.current;
+  ModuleState& is_module = *ts.current_module;
+  if (is.mode == IntersectMode::kDeferred) {
+    // The closest hit is known; record what the program reports for it.
+    f.hit.material = material;
+    StoreAttributes(is_module, isp, f.hit.attributes);
+    is.committed = true;
+    return 1;
+  }
+  Hit& c = ts.candidate;
+  c.t = is.candidate_t;
+  c.instance = inst;
+  c.material = material;
+  c.primitive = is.primitive;
+  StoreAttributes(is_module, isp, c.attributes);
+
+  const BoundProgram* ah = inst->materials[material][f.ray.ray_type].any_hit;
+  if (ah == nullptr) {
+    Commit(ts, f, c, false);
+    return 1;
+  }
+  // The intersection program resumes after this call: keep its slots if the any-hit program
+  // lives in the same module.
+  SuspendedSlots& suspended = Suspend(ts, ts.depth);
+  Enter(ts, *ah);
+  const ModuleState& ms = *ts.current_module;
+  RayData object_ray = is.ray;
+  WriteSlots(ms, ah->ray, &object_ray, sizeof(RayData));
+  WriteSlots(ms, ah->distance, &c.t, sizeof(float));
+  WriteSlots(ms, ah->payload, f.payload, f.payload_size);
+  LoadAttributes(ms, *ah, c.attributes);
+  ts.ah_ignore = ts.ah_terminate = false;
+  reinterpret_cast<void (*)()>(ah->function)();
+  ReadPayload(ms, *ah, f.payload, f.payload_size);
+  bool accepted = !ts.ah_ignore;
+  bool terminate = ts.ah_terminate;
+  Resume(ts, suspended);
+  ts.kind = isp.kind;
+  ts.current = &isp;
+  ts.current_module = &is_module;
+  if (!accepted) return 0;
+  Commit(ts, f, c, terminate);
+  return 1;
+}
+
+void RtIgnoreIntersection() {
+  CheckCall(TS(), Bit(ProgramKind::kAnyHit), "rtIgnoreIntersection");
+  TS().ah_ignore = true;
+}
+
+void RtTerminateRay() {
+  CheckCall(TS(), Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss), "rtTerminateRay");
+  ThreadState& ts = TS();
+  if (ts.kind == ProgramKind::kAnyHit) ts.ah_terminate = true;
+}
+
+void IntersectUserGeometry(const RTCIntersectFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  ThreadState& ts = TS();
+  Guard(ts, [&] {
+    Frame& f = ts.top();
+    if (f.terminated) return;
+    auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
+    auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    RayData ray = FromEmbree(rh->ray, f.ray.ray_type);
+    ray.tmax = std::min(ray.tmax, f.hit.t);
+    if (RunIntersection(ts, info->plan, args->primID, ray, IntersectMode::kSearch, 0.f)) {
+      rh->ray.tfar = f.hit.t;
+      rh->hit.geomID = args->geomID;
+      rh->hit.primID = args->primID;
+    }
+  });
+}
+
+void IntersectChild(const RTCIntersectFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  ThreadState& ts = TS();
+  Guard(ts, [&] {
+    Frame& f = ts.top();
+    if (f.terminated) return;
+    auto* info = static_cast<const ChildInfo*>(args->geometryUserPtr);
+    auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    float before = f.hit.t;
+    TraverseNode(ts, info->child.id, ts.plan->Node(info->child.id),
+                 FromEmbree(rh->ray, f.ray.ray_type));
+    if (f.hit.t < before) {
+      rh->ray.tfar = f.hit.t;
+      rh->hit.geomID = args->geomID;
+      rh->hit.primID = 0;
+    }
+  });
+}
+
+void FilterTriangles(const RTCFilterFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  ThreadState& ts = TS();
+  bool accepted = false;
+  Guard(ts, [&] {
+    Frame& f = ts.top();
+    if (f.terminated) return;
+    auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
+    auto* ray = reinterpret_cast<RTCRay*>(args->ray);
+    auto* hit = reinterpret_cast<RTCHit*>(args->hit);
+    RayData r = FromEmbree(*ray, f.ray.ray_type);
+    float t = ray->tfar;
+    r.tmax = f.hit.t;
+    accepted = RunIntersection(ts, info->plan, hit->primID, r, IntersectMode::kFiltered, t);
+  });
+  if (!accepted) args->valid[0] = 0;
+}
+
+}  // namespace tessera::worker
