@@ -4,6 +4,9 @@
 
 #include "tessera/rt.h"
 #include "tessera/rt_ext.h"
+/* optix.h from C gives the host API only (the program-side API is C++). */
+#include "optix.h"
+#include "optix_world.h"
 
 int main(void) {
   unsigned int version = 0;

@@ -171,3 +171,17 @@ RT_PROGRAM void closest_hit_recurse() {
 }
 
 RT_PROGRAM void print_hello() { rtPrintf("hello from %u\n", launch_index.x); }
+
+// Traces `iterations` rays per launch index: a launch long enough to cancel.
+rtDeclareVariable(int, iterations, , );
+RT_PROGRAM void raygen_slow() {
+  float sum = 0.f;
+  for (int i = 0; i < iterations; ++i) {
+    Payload p;
+    p.value = make_float4(0.f);
+    p.hits = 0;
+    rtTrace(top_object, make_Ray(ray_origin, ray_dir, 0, 0.01f, RT_DEFAULT_MAX), p);
+    sum += p.value.w;
+  }
+  result[launch_index] = make_float4(sum, 0.f, 0.f, 0.f);
+}

@@ -79,10 +79,11 @@ class InprocDevice : public Device {
       try {
         for (uint32_t z = origin[2]; z < origin[2] + size[2] && z < dims[2]; ++z) {
           for (uint32_t y = origin[1]; y < origin[1] + size[1] && y < dims[1]; ++y) {
-            if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
-              return;
-            }
             for (uint32_t x = origin[0]; x < origin[0] + size[0] && x < dims[0]; ++x) {
+              // Checked per launch index so a cancel stops even long-running programs promptly.
+              if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
+                return;
+              }
               worker::RunLaunchIndex(*plan_, request.entry_point(), {x, y, z}, dims, result);
             }
           }
