@@ -130,6 +130,7 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
       case v1::Object::kBuffer: {
         const auto& b = o.buffer();
         BufferRec& r = buffers[b.id()];
+        BufferRec before = BufferRec{r.desc, r.format, r.element_size, r.dims, r.ndims, {}};
         r.desc = b.desc();
         r.format = b.format();
         r.element_size = b.element_size();
@@ -137,7 +138,11 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
         r.dims = {0, 1, 1};
         for (int i = 0; i < b.dims_size(); ++i) r.dims[i] = b.dims(i);
         if (r.ndims == 0) r.dims[0] = 0;
-        r.data.resize(r.Bytes());
+        if (r.format != before.format || r.element_size != before.element_size ||
+            r.dims != before.dims) {
+          // A new shape starts zeroed, like a new buffer; the host resends INPUT contents.
+          r.data.assign(r.Bytes(), 0);
+        }
         break;
       }
       case v1::Object::kGeometry: {
