@@ -79,6 +79,9 @@ class Context : public Object {
   uint32_t exception_mask() const { return exception_mask_; }
   bool user_exceptions() const { return user_exceptions_; }
   int num_threads() const { return num_threads_; }
+  // Whether the application set CPU_NUM_THREADS. Only then does the count travel to devices, so
+  // that worker processes otherwise keep the share of the cores they were started with.
+  bool num_threads_set() const { return num_threads_set_; }
 
   absl::Status SetAttribute(RTcontextattribute attribute, RTsize size, const void* value);
   absl::Status GetAttribute(RTcontextattribute attribute, RTsize size, void* value) const;
@@ -143,6 +146,7 @@ class Context : public Object {
   uint32_t exception_mask_;
   bool user_exceptions_ = false;
   int num_threads_;
+  bool num_threads_set_ = false;
 
   RTtimeoutcallback timeout_callback_ = nullptr;
   double timeout_polling_seconds_ = 0.0;

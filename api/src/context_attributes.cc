@@ -88,6 +88,7 @@ absl::Status Context::SetAttribute(RTcontextattribute attribute, RTsize size, co
                        absl::StrCat("CPU thread count must be at least 1, got ", threads));
       }
       num_threads_ = threads;
+      num_threads_set_ = true;
       Touch();
       return absl::OkStatus();
     }

@@ -11,6 +11,7 @@ namespace tessera::api {
 namespace {
 
 std::atomic<InprocDeviceFactory> g_inproc_factory{nullptr};
+std::atomic<WorkerDeviceFactory> g_worker_factory{nullptr};
 
 absl::Status SizeError(const char* attribute, RTsize size, size_t expected) {
   return RtError(RT_ERROR_INVALID_VALUE,
@@ -41,7 +42,7 @@ std::vector<DeviceDesc> ExpandDevices(const std::vector<DeviceSpecEntry>& entrie
       case DeviceSpecEntry::Type::kLocal:
         for (int i = 0; i < e.count; ++i) {
           devices.push_back({e.type, absl::StrCat("Tessera local worker ", i),
-                             absl::StrCat(e.ToString(), "/", i)});
+                             absl::StrCat(e.ToString(), "/", i), i, e.count});
         }
         break;
       case DeviceSpecEntry::Type::kTcp:
@@ -107,16 +108,29 @@ absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attr
 
 absl::Status CheckInstantiable(const DeviceDesc& device) {
   if (device.type == DeviceSpecEntry::Type::kInproc) return absl::OkStatus();
+  if (g_worker_factory.load() != nullptr) return absl::OkStatus();
   return RtError(RT_ERROR_NOT_SUPPORTED,
                  absl::StrCat("device '", device.address,
-                              "' is a worker process; worker processes arrive with issue 3 "
-                              "(use TESSERA_DEVICES=inproc)"));
+                              "' is a worker process, and this build of Tessera has no worker "
+                              "transport (use TESSERA_DEVICES=inproc)"));
 }
 
 void SetInprocDeviceFactory(InprocDeviceFactory factory) { g_inproc_factory.store(factory); }
 
+void SetWorkerDeviceFactory(WorkerDeviceFactory factory) { g_worker_factory.store(factory); }
+
 absl::StatusOr<std::unique_ptr<Device>> CreateDevice(const DeviceDesc& device, int num_threads) {
   TS_RETURN_IF_ERROR(CheckInstantiable(device));
+  if (device.type != DeviceSpecEntry::Type::kInproc) {
+    WorkerDeviceFactory factory = g_worker_factory.load();  // set: CheckInstantiable passed
+    absl::StatusOr<std::unique_ptr<Device>> created = factory(device);
+    if (!created.ok()) return created.status();
+    if (*created == nullptr) {
+      return RtError(RT_ERROR_NO_DEVICE,
+                     absl::StrCat("the worker device '", device.address, "' could not be created"));
+    }
+    return created;
+  }
   InprocDeviceFactory factory = g_inproc_factory.load();
   if (factory == nullptr) {
     return RtError(RT_ERROR_NO_DEVICE,

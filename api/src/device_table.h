@@ -1,7 +1,7 @@
 // The devices a device spec names (one per in-process device, worker process or worker address),
-// what rtDeviceGetAttribute reports for them, and how they are instantiated. Only `inproc`
-// devices can be created in this release; the others parse and are described, but a context
-// cannot use them yet.
+// what rtDeviceGetAttribute reports for them, and how they are instantiated. libtessera installs
+// the factories: worker/core's in-process device, and worker processes over gRPC
+// (scheduler/transport); tessera::api_core alone has neither and is tested with fake devices.
 #ifndef TESSERA_API_SRC_DEVICE_TABLE_H_
 #define TESSERA_API_SRC_DEVICE_TABLE_H_
 
@@ -21,6 +21,8 @@ struct DeviceDesc {
   DeviceSpecEntry::Type type = DeviceSpecEntry::Type::kInproc;
   std::string name;     // "Tessera inproc (CPU)"
   std::string address;  // "inproc", "local:2/0", "10.0.0.2:5000", "unix:/tmp/w.sock"
+  int local_index = 0;  // kLocal: which of the entry's N workers
+  int local_count = 0;  // kLocal: N, which shares the machine's cores among them
 };
 
 // One device per entry; local:N gives N devices.
@@ -33,13 +35,20 @@ absl::StatusOr<std::vector<DeviceDesc>> DevicesFromEnvironment();
 absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attribute, RTsize size,
                                 void* out);
 
-// RT_ERROR_NOT_SUPPORTED for devices this release cannot create.
+// RT_ERROR_NOT_SUPPORTED for worker devices when no worker factory is installed.
 absl::Status CheckInstantiable(const DeviceDesc& device);
 
 // Creates an in-process device. libtessera installs the real one (worker/core) at load time;
 // without it, creating a device fails with RT_ERROR_NO_DEVICE.
 using InprocDeviceFactory = std::unique_ptr<Device> (*)(int num_threads);
 void SetInprocDeviceFactory(InprocDeviceFactory factory);
+
+// Creates a worker device: spawns a worker process for `local:N` entries, connects to HOST:PORT
+// and unix:PATH ones. libtessera installs it at load time (api/src/worker_factory.cc).
+using WorkerDeviceFactory = absl::StatusOr<std::unique_ptr<Device>> (*)(const DeviceDesc& device);
+void SetWorkerDeviceFactory(WorkerDeviceFactory factory);
+
+// `num_threads` sizes in-process devices; a worker sizes its own pool (DeviceDesc::local_count).
 absl::StatusOr<std::unique_ptr<Device>> CreateDevice(const DeviceDesc& device, int num_threads);
 
 }  // namespace tessera::api

@@ -53,7 +53,9 @@ void LowerContext(const Context& c, v1::ContextState* out) {
   out->set_exception_mask(c.exception_mask());
   out->set_user_exceptions(c.user_exceptions());
   LowerVariables(c.variables(), out->mutable_variables());
-  out->set_num_threads(static_cast<uint32_t>(c.num_threads()));
+  // 0 = the device's own thread count (in-process: CPU_NUM_THREADS at creation, which defaults to
+  // the hardware threads; a local worker: its share of the cores).
+  out->set_num_threads(c.num_threads_set() ? static_cast<uint32_t>(c.num_threads()) : 0);
 }
 
 void LowerObject(const Context& c, Object& o, v1::Object* out) {

@@ -156,6 +156,18 @@ TEST_F(LaunchTest, ChangingOneVariableShipsOnlyItsScope) {
   EXPECT_EQ(value, 3.0f);
 }
 
+// Devices keep their own thread count (a local worker's share of the cores) unless the
+// application sets CPU_NUM_THREADS.
+TEST_F(LaunchTest, ThreadCountShipsOnlyWhenSet) {
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  EXPECT_EQ(LastDelta().context().num_threads(), 0u);
+  int three = 3;
+  ASSERT_EQ(rtContextSetAttribute(ctx, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, sizeof(three), &three),
+            RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  EXPECT_EQ(LastDelta().context().num_threads(), 3u);
+}
+
 TEST_F(LaunchTest, DeclaredButUnsetVariablesDoNotShip) {
   RTvariable v;
   ASSERT_EQ(rtContextDeclareVariable(ctx, "later", &v), RT_SUCCESS);

@@ -1,0 +1,42 @@
+// Installs worker devices into libtessera when scheduler/transport is part of the build
+// (TESSERA_HAVE_TRANSPORT, set by api/CMakeLists.txt): `local:N` spawns N `tessera-worker`
+// processes that the device owns and reaps; HOST:PORT and unix:PATH connect to running workers.
+// Kept out of tessera::api_core so the core can be tested with fake devices alone.
+#include "device_table.h"
+
+#ifdef TESSERA_HAVE_TRANSPORT
+#include <algorithm>
+
+#include "system_info.h"
+#include "transport/grpc_device.h"
+#include "transport/worker_process.h"
+
+namespace tessera::api {
+namespace {
+
+absl::StatusOr<std::unique_ptr<Device>> MakeWorkerDevice(const DeviceDesc& device) {
+  if (device.type == DeviceSpecEntry::Type::kLocal) {
+    // The workers share the machine's cores; a context's CPU_NUM_THREADS, when the application
+    // sets it, still overrides this per launch (it travels in ContextState).
+    transport::WorkerProcess::Options options;
+    options.threads = std::max(1, HardwareThreads() / std::max(1, device.local_count));
+    options.index = device.local_index;
+    auto process = transport::WorkerProcess::Spawn(std::move(options));
+    if (!process.ok()) return process.status();
+    auto connected = transport::GrpcDevice::Connect(*std::move(process));
+    if (!connected.ok()) return connected.status();
+    return std::unique_ptr<Device>(*std::move(connected));
+  }
+  auto connected = transport::GrpcDevice::Connect(device.address);
+  if (!connected.ok()) return connected.status();
+  return std::unique_ptr<Device>(*std::move(connected));
+}
+
+[[maybe_unused]] const bool kInstalled = [] {
+  SetWorkerDeviceFactory(&MakeWorkerDevice);
+  return true;
+}();
+
+}  // namespace
+}  // namespace tessera::api
+#endif

@@ -1,0 +1,389 @@
+#include "transport/worker_process.h"
+
+#include <dirent.h>
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <condition_variable>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "absl/time/clock.h"
+
+#ifndef TESSERA_WORKER_BUILD_PATH
+#define TESSERA_WORKER_BUILD_PATH ""
+#endif
+
+namespace tessera::transport {
+namespace {
+
+constexpr char kReadyPrefix[] = "tessera-worker listening on ";
+constexpr char kWorkerName[] = "tessera-worker";
+
+std::string Errno(const char* what) { return absl::StrCat(what, ": ", std::strerror(errno)); }
+
+bool IsExecutable(const std::string& path) {
+  struct stat st;
+  return !path.empty() && stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+         access(path.c_str(), X_OK) == 0;
+}
+
+std::string DirName(const std::string& path) {
+  size_t slash = path.rfind('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// The file holding this code: libtessera.so when linked into it, else the executable.
+std::string ThisBinaryPath() {
+  Dl_info info;
+  if (dladdr(reinterpret_cast<void*>(&ThisBinaryPath), &info) != 0 && info.dli_fname != nullptr &&
+      std::strchr(info.dli_fname, '/') != nullptr) {
+    return info.dli_fname;
+  }
+  char buf[PATH_MAX];
+  ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+  return n > 0 ? std::string(buf, static_cast<size_t>(n)) : std::string();
+}
+
+// PR_SET_PDEATHSIG fires when the *thread* that forked the child exits, not the process. An
+// application may create contexts (and so spawn workers) on short-lived threads; forking from one
+// thread that lives as long as the process ties each worker's life to the host process instead.
+class ForkThread {
+ public:
+  static ForkThread& Get() {
+    static ForkThread* instance = new ForkThread;  // never destroyed: outlives every caller
+    return *instance;
+  }
+
+  // Runs `job` on the fork thread and waits for it.
+  void Run(const std::function<void()>& job) {
+    Job entry{&job};
+    std::unique_lock<std::mutex> lock(mu_);
+    queue_.push_back(&entry);
+    cv_.notify_all();
+    cv_.wait(lock, [&] { return entry.done; });
+  }
+
+ private:
+  struct Job {
+    const std::function<void()>* run;
+    bool done = false;
+  };
+
+  ForkThread() {
+    std::thread([this] { Loop(); }).detach();
+  }
+
+  void Loop() {
+    std::unique_lock<std::mutex> lock(mu_);
+    while (true) {
+      cv_.wait(lock, [&] { return !queue_.empty(); });
+      Job* job = queue_.front();
+      queue_.pop_front();
+      lock.unlock();
+      (*job->run)();
+      lock.lock();
+      job->done = true;
+      cv_.notify_all();
+    }
+  }
+
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::deque<Job*> queue_;
+};
+
+// Worker directories still present; removed at exit for hosts that never destroy their contexts
+// (their workers die with them through PDEATHSIG, but the sockets and logs would stay).
+std::mutex g_directories_mu;
+std::set<std::string>* g_directories = nullptr;
+
+void RemoveDirectory(const std::string& directory) {
+  if (DIR* dir = opendir(directory.c_str())) {
+    while (dirent* entry = readdir(dir)) {
+      std::string name = entry->d_name;
+      if (name != "." && name != "..") unlink(absl::StrCat(directory, "/", name).c_str());
+    }
+    closedir(dir);
+  }
+  rmdir(directory.c_str());
+}
+
+void RemoveDirectoriesAtExit() {
+  std::lock_guard<std::mutex> lock(g_directories_mu);
+  for (const std::string& directory : *g_directories) RemoveDirectory(directory);
+  g_directories->clear();
+}
+
+void TrackDirectory(const std::string& directory, bool add) {
+  std::lock_guard<std::mutex> lock(g_directories_mu);
+  if (g_directories == nullptr) {
+    g_directories = new std::set<std::string>;
+    std::atexit(&RemoveDirectoriesAtExit);
+  }
+  if (add) {
+    g_directories->insert(directory);
+  } else {
+    g_directories->erase(directory);
+  }
+}
+
+absl::StatusOr<std::string> MakeDirectory() {
+  std::string base = "/tmp";
+  // Unix socket paths are limited to 108 bytes; a long TMPDIR falls back to /tmp.
+  if (const char* tmp = std::getenv("TMPDIR");
+      tmp != nullptr && *tmp == '/' && std::strlen(tmp) < 64) {
+    base = tmp;
+  }
+  std::string path = absl::StrCat(base, "/tessera-w-XXXXXX");
+  if (mkdtemp(path.data()) == nullptr) {
+    return absl::UnavailableError(Errno(absl::StrCat("mkdtemp ", path).c_str()));
+  }
+  return path;
+}
+
+// Moves `fd` above stdin/stdout/stderr, so that the child's dup2 calls cannot clobber it even in
+// a host that closed its standard streams.
+int AboveStdio(int fd) {
+  if (fd < 0 || fd > STDERR_FILENO) return fd;
+  int moved = fcntl(fd, F_DUPFD_CLOEXEC, STDERR_FILENO + 1);
+  close(fd);
+  return moved;
+}
+
+// Waits up to `timeout` for `pid`; true once reaped (or no longer our child).
+bool WaitFor(pid_t pid, absl::Duration timeout, int* status) {
+  const absl::Time deadline = absl::Now() + timeout;
+  absl::Duration pause = absl::Milliseconds(1);
+  while (true) {
+    pid_t r = waitpid(pid, status, WNOHANG);
+    if (r == pid) return true;
+    if (r < 0 && errno != EINTR) return true;  // ECHILD: someone else reaped it
+    if (absl::Now() >= deadline) return false;
+    absl::SleepFor(pause);
+    pause = std::min(pause * 2, absl::Milliseconds(20));
+  }
+}
+
+std::string DescribeExit(int status) {
+  if (WIFEXITED(status)) return absl::StrCat("exited with status ", WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return absl::StrCat("was killed by signal ", WTERMSIG(status));
+  return "stopped";
+}
+
+}  // namespace
+
+absl::StatusOr<std::string> FindWorkerBinary() {
+  if (const char* env = std::getenv("TESSERA_WORKER"); env != nullptr && *env != '\0') {
+    if (IsExecutable(env)) return std::string(env);
+    return absl::NotFoundError(absl::StrCat("TESSERA_WORKER=", env, " is not an executable file"));
+  }
+  std::vector<std::string> tried;
+  const std::string built = TESSERA_WORKER_BUILD_PATH;
+  if (IsExecutable(built)) return built;
+  if (!built.empty()) tried.push_back(built);
+  std::string self = ThisBinaryPath();
+  if (!self.empty()) {
+    std::string beside = absl::StrCat(DirName(self), "/", kWorkerName);
+    if (IsExecutable(beside)) return beside;
+    tried.push_back(beside);
+  }
+  return absl::NotFoundError(absl::StrCat("cannot find the ", kWorkerName, " executable (tried ",
+                                          absl::StrJoin(tried, ", "),
+                                          "); set TESSERA_WORKER to its path"));
+}
+
+absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options options) {
+  if (options.binary.empty()) {
+    absl::StatusOr<std::string> found = FindWorkerBinary();
+    if (!found.ok()) return absl::UnavailableError(found.status().message());
+    options.binary = *std::move(found);
+  }
+  std::unique_ptr<WorkerProcess> process(new WorkerProcess);
+  process->stop_grace_ = options.stop_grace;
+  absl::StatusOr<std::string> directory = MakeDirectory();
+  if (!directory.ok()) return directory.status();
+  process->directory_ = *directory;
+  TrackDirectory(process->directory_, true);
+  process->log_path_ = absl::StrCat(process->directory_, "/w", options.index, ".log");
+  std::string listen = options.listen;
+  if (listen.empty()) {
+    process->socket_path_ = absl::StrCat(process->directory_, "/w", options.index, ".sock");
+    listen = absl::StrCat("unix:", process->socket_path_);
+  }
+
+  std::vector<std::string> args = {options.binary, "--listen", listen};
+  if (options.threads > 0) {
+    args.push_back("--threads");
+    args.push_back(std::to_string(options.threads));
+  }
+  for (const std::string& a : options.extra_args) args.push_back(a);
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  // Everything the child touches is prepared here: between fork and exec only async-signal-safe
+  // calls are allowed in a multithreaded process.
+  int out[2];
+  if (pipe2(out, O_CLOEXEC) != 0) return absl::UnavailableError(Errno("pipe"));
+  out[0] = AboveStdio(out[0]);
+  out[1] = AboveStdio(out[1]);
+  int log_fd =
+      AboveStdio(open(process->log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600));
+  int null_fd = AboveStdio(open("/dev/null", O_RDONLY | O_CLOEXEC));
+  auto close_all = [&] {
+    for (int fd : {out[0], out[1], log_fd, null_fd}) {
+      if (fd >= 0) close(fd);
+    }
+  };
+  if (out[0] < 0 || out[1] < 0 || log_fd < 0 || null_fd < 0) {
+    close_all();
+    return absl::UnavailableError(Errno("opening the worker's files"));
+  }
+
+  const pid_t parent = getpid();
+  pid_t pid = -1;
+  int fork_errno = 0;
+  ForkThread::Get().Run([&] {
+    pid = fork();
+    if (pid == 0) {
+      // A host that dies, however it dies, takes the worker along.
+      prctl(PR_SET_PDEATHSIG, SIGKILL);
+      if (getppid() != parent) _exit(126);  // the host died before prctl took effect
+      dup2(null_fd, STDIN_FILENO);
+      dup2(out[1], STDOUT_FILENO);
+      dup2(log_fd, STDERR_FILENO);
+      // The host's blocked or ignored signals must not keep the worker from stopping.
+      sigset_t none;
+      sigemptyset(&none);
+      sigprocmask(SIG_SETMASK, &none, nullptr);
+      struct sigaction dfl;
+      std::memset(&dfl, 0, sizeof(dfl));
+      dfl.sa_handler = SIG_DFL;
+      for (int sig : {SIGTERM, SIGINT, SIGHUP, SIGPIPE, SIGCHLD}) sigaction(sig, &dfl, nullptr);
+      // Descriptors the application left inheritable stay with the application.
+      if (syscall(SYS_close_range, 3u, ~0u, 0u) != 0) {
+        for (int fd = 3; fd < 4096; ++fd) close(fd);
+      }
+      execv(argv[0], argv.data());
+      static const char kMessage[] = "tessera-worker: exec failed\n";
+      ssize_t ignored = write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
+      (void)ignored;
+      _exit(127);
+    }
+    if (pid < 0) fork_errno = errno;
+  });
+  close(out[1]);
+  out[1] = -1;
+  close(log_fd);
+  log_fd = -1;
+  close(null_fd);
+  null_fd = -1;
+  if (pid < 0) {
+    close_all();
+    errno = fork_errno;
+    return absl::UnavailableError(Errno("fork"));
+  }
+  process->pid_ = pid;
+
+  // Wait for the one line the worker prints once it listens.
+  std::string output;
+  std::string failure;
+  const absl::Time deadline = absl::Now() + options.start_timeout;
+  while (true) {
+    size_t newline = output.find('\n');
+    if (newline != std::string::npos) {
+      std::string line = output.substr(0, newline);
+      if (absl::StartsWith(line, kReadyPrefix)) {
+        process->address_ = line.substr(std::strlen(kReadyPrefix));
+      } else {
+        failure = absl::StrCat("printed '", line, "' instead of '", kReadyPrefix, "<address>'");
+      }
+      break;
+    }
+    int64_t remaining = absl::ToInt64Milliseconds(deadline - absl::Now());
+    if (remaining <= 0) {
+      failure = absl::StrCat("did not report listening within ",
+                             absl::FormatDuration(options.start_timeout));
+      break;
+    }
+    pollfd p{out[0], POLLIN, 0};
+    int ready = poll(&p, 1, static_cast<int>(std::min<int64_t>(remaining, INT_MAX)));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) continue;  // timeout: the deadline check above reports it
+    char buf[512];
+    ssize_t n = read(out[0], buf, sizeof(buf));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      // Stdout closed: the worker exited (or is about to).
+      int status = 0;
+      if (WaitFor(pid, absl::Seconds(2), &status)) {
+        process->pid_ = -1;  // reaped
+        failure = DescribeExit(status);
+      } else {
+        failure = "closed its standard output";
+      }
+      break;
+    }
+    output.append(buf, static_cast<size_t>(n));
+  }
+  close(out[0]);
+  if (!failure.empty() || process->address_.empty()) {
+    if (failure.empty()) failure = "printed an empty address";
+    std::string log = process->LogTail();
+    std::string message =
+        absl::StrCat(kWorkerName, " (", options.binary, " ", listen, ") did not start: ", failure,
+                     log.empty() ? std::string("; its stderr was empty")
+                                 : absl::StrCat("; its stderr ends with:\n", log));
+    return absl::UnavailableError(message);  // the destructor kills and reaps it
+  }
+  return process;
+}
+
+WorkerProcess::~WorkerProcess() {
+  if (pid_ > 0) {
+    int status = 0;
+    kill(pid_, SIGTERM);
+    if (!WaitFor(pid_, stop_grace_, &status)) {
+      kill(pid_, SIGKILL);
+      WaitFor(pid_, absl::InfiniteDuration(), &status);
+    }
+  }
+  if (!directory_.empty()) {
+    RemoveDirectory(directory_);
+    TrackDirectory(directory_, false);
+  }
+}
+
+std::string WorkerProcess::LogTail(size_t max_bytes) const {
+  int fd = open(log_path_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return "";
+  off_t size = lseek(fd, 0, SEEK_END);
+  off_t start = size > static_cast<off_t>(max_bytes) ? size - static_cast<off_t>(max_bytes) : 0;
+  std::string tail(static_cast<size_t>(size - start), '\0');
+  ssize_t n = pread(fd, tail.data(), tail.size(), start);
+  close(fd);
+  tail.resize(n > 0 ? static_cast<size_t>(n) : 0);
+  return tail;
+}
+
+}  // namespace tessera::transport

@@ -1,0 +1,68 @@
+// A `tessera-worker` process the host spawns and reaps (device spec `local:N`, DESIGN.md
+// "Devices"). No orphans: the child gets PR_SET_PDEATHSIG(SIGKILL), so a host that crashes takes
+// its workers along, and destruction terminates and reaps the worker.
+#ifndef TESSERA_SCHEDULER_TRANSPORT_WORKER_PROCESS_H_
+#define TESSERA_SCHEDULER_TRANSPORT_WORKER_PROCESS_H_
+
+#include <sys/types.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "absl/time/time.h"
+
+namespace tessera::transport {
+
+// The worker executable: $TESSERA_WORKER, else the path baked in at build time, else
+// `tessera-worker` next to the binary holding this code (libtessera.so). NOT_FOUND names every
+// place tried.
+absl::StatusOr<std::string> FindWorkerBinary();
+
+class WorkerProcess {
+ public:
+  struct Options {
+    std::string binary;  // empty: FindWorkerBinary()
+    // --listen; empty: unix:<private temporary directory>/w<index>.sock.
+    std::string listen;
+    int threads = 0;  // --threads; 0: the worker's default (one per core)
+    int index = 0;    // names the socket and the log
+    std::vector<std::string> extra_args;
+    // Until the worker prints its "listening on" line.
+    absl::Duration start_timeout = absl::Seconds(20);
+    // Between SIGTERM and SIGKILL on destruction.
+    absl::Duration stop_grace = absl::Seconds(2);
+  };
+
+  // Starts the worker and waits until it listens. UNAVAILABLE if it exits or stays silent past
+  // the timeout; the message includes the end of its stderr.
+  static absl::StatusOr<std::unique_ptr<WorkerProcess>> Spawn(Options options);
+
+  // SIGTERM, then SIGKILL after `stop_grace`; reaps the process and removes its directory.
+  ~WorkerProcess();
+  WorkerProcess(const WorkerProcess&) = delete;
+  WorkerProcess& operator=(const WorkerProcess&) = delete;
+
+  pid_t pid() const { return pid_; }
+  // What the worker printed: "unix:/tmp/tessera-w-…/w0.sock" or "127.0.0.1:41234".
+  const std::string& address() const { return address_; }
+  // The worker's stderr goes here (it is removed with the process).
+  const std::string& log_path() const { return log_path_; }
+  // The last `max_bytes` of the log.
+  std::string LogTail(size_t max_bytes = 4096) const;
+
+ private:
+  WorkerProcess() = default;
+
+  pid_t pid_ = -1;
+  std::string address_;
+  std::string directory_;
+  std::string log_path_;
+  std::string socket_path_;  // empty unless the worker listens in `directory_`
+  absl::Duration stop_grace_;
+};
+
+}  // namespace tessera::transport
+
+#endif  // TESSERA_SCHEDULER_TRANSPORT_WORKER_PROCESS_H_

@@ -1,0 +1,134 @@
+#include "transport/worker_wire.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include "absl/strings/str_cat.h"
+
+namespace tessera::transport {
+
+v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta) {
+  // Field by field, so the chunks (the bulk of a delta) are not copied only to be cleared.
+  // worker_wire_test fails when StateDelta gains a field, as a reminder to copy it here.
+  v1::ApplyChunk header;
+  v1::StateDelta* out = header.mutable_delta();
+  out->set_session_id(delta.session_id());
+  out->set_sequence(delta.sequence());
+  *out->mutable_context() = delta.context();
+  *out->mutable_objects() = delta.objects();
+  *out->mutable_removed() = delta.removed();
+  return header;
+}
+
+absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
+  switch (part.part_case()) {
+    case v1::ApplyChunk::kDelta:
+      if (has_delta_) return absl::InvalidArgumentError("Apply stream carries two state deltas");
+      if (part.delta().chunks_size() != 0) {
+        return absl::InvalidArgumentError(
+            "Apply stream's delta carries buffer chunks inline; they travel as separate messages");
+      }
+      delta_ = std::move(*part.mutable_delta());
+      has_delta_ = true;
+      return absl::OkStatus();
+    case v1::ApplyChunk::kChunk:
+      if (!has_delta_) {
+        return absl::InvalidArgumentError("Apply stream starts with a buffer chunk, not a delta");
+      }
+      *delta_.add_chunks() = std::move(*part.mutable_chunk());
+      return absl::OkStatus();
+    case v1::ApplyChunk::PART_NOT_SET:
+      break;
+  }
+  return absl::InvalidArgumentError("Apply stream message carries neither a delta nor a chunk");
+}
+
+absl::StatusOr<v1::StateDelta> DeltaAssembler::Finish() && {
+  if (!has_delta_) return absl::InvalidArgumentError("Apply stream ended without a state delta");
+  return std::move(delta_);
+}
+
+std::vector<v1::TileResult> SplitTileResult(v1::TileResult&& result, size_t max_bytes) {
+  max_bytes = std::max<size_t>(max_bytes, 1);
+  std::vector<v1::TileResult> pieces;
+  size_t used = 0;  // bytes in pieces.back()
+  // A new piece when the next item would not fit; an empty piece takes anything.
+  auto piece_for = [&](size_t bytes) -> v1::TileResult& {
+    if (pieces.empty() || (used > 0 && used + bytes > max_bytes)) {
+      pieces.emplace_back();
+      pieces.back().set_launch_id(result.launch_id());
+      pieces.back().set_tile_index(result.tile_index());
+      used = 0;
+    }
+    used += bytes;
+    return pieces.back();
+  };
+
+  v1::TileResult& first = piece_for(0);
+  first.set_error(std::move(*result.mutable_error()));
+  first.set_error_code(result.error_code());
+  for (v1::BufferRegion& region : *result.mutable_regions()) {
+    const std::string& data = region.data();
+    if (data.size() <= max_bytes) {
+      *piece_for(data.size()).add_regions() = std::move(region);
+      continue;
+    }
+    for (size_t begin = 0; begin < data.size(); begin += max_bytes) {
+      size_t n = std::min(max_bytes, data.size() - begin);
+      v1::BufferRegion* slice = piece_for(n).add_regions();
+      slice->set_buffer_id(region.buffer_id());
+      slice->set_offset(region.offset() + begin);
+      slice->set_data(data.data() + begin, n);
+    }
+  }
+  for (v1::PrintRecord& print : *result.mutable_prints()) {
+    *piece_for(print.ByteSizeLong()).add_prints() = std::move(print);
+  }
+  for (v1::ExceptionReport& report : *result.mutable_exceptions()) {
+    *piece_for(report.ByteSizeLong()).add_exceptions() = std::move(report);
+  }
+  return pieces;
+}
+
+void FinalResultJoiner::Add(v1::TileResult&& piece) {
+  if (!has_result_) {
+    has_result_ = true;
+    result_.set_launch_id(piece.launch_id());
+    result_.set_tile_index(piece.tile_index());
+  }
+  if (!piece.error().empty() && result_.error().empty()) {
+    result_.set_error(std::move(*piece.mutable_error()));
+    result_.set_error_code(piece.error_code());
+  }
+  for (v1::BufferRegion& region : *piece.mutable_regions()) {
+    if (result_.regions_size() > 0) {
+      v1::BufferRegion& last = *result_.mutable_regions(result_.regions_size() - 1);
+      if (last.buffer_id() == region.buffer_id() &&
+          last.offset() + last.data().size() == region.offset()) {
+        last.mutable_data()->append(region.data());
+        continue;
+      }
+    }
+    *result_.add_regions() = std::move(region);
+  }
+  for (v1::PrintRecord& print : *piece.mutable_prints()) *result_.add_prints() = std::move(print);
+  for (v1::ExceptionReport& report : *piece.mutable_exceptions()) {
+    *result_.add_exceptions() = std::move(report);
+  }
+}
+
+v1::TileResult FinalResultJoiner::Take() && { return std::move(result_); }
+
+grpc::Status ToGrpcStatus(const absl::Status& status) {
+  if (status.ok()) return grpc::Status::OK;
+  return grpc::Status(static_cast<grpc::StatusCode>(status.code()), std::string(status.message()));
+}
+
+absl::Status FromGrpcStatus(const grpc::Status& status, absl::string_view address) {
+  if (status.ok()) return absl::OkStatus();
+  return absl::Status(static_cast<absl::StatusCode>(status.error_code()),
+                      absl::StrCat("worker ", address, ": ", status.error_message()));
+}
+
+}  // namespace tessera::transport

@@ -1,0 +1,69 @@
+// How Device calls travel over the Worker service (proto/tessera/v1/worker.proto): deltas as
+// streams of bounded ApplyChunks, tile results cut into bounded messages, and status conversion.
+// Shared by the client (GrpcDevice) and the server (worker/service) so both ends agree.
+#ifndef TESSERA_SCHEDULER_TRANSPORT_WORKER_WIRE_H_
+#define TESSERA_SCHEDULER_TRANSPORT_WORKER_WIRE_H_
+
+#include <grpcpp/support/status.h>
+
+#include <cstddef>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+#include "tessera/v1/worker.pb.h"
+
+namespace tessera::transport {
+
+// Buffer bytes per streamed message; the host's chunks are at most this large too.
+inline constexpr size_t kMaxRegionBytes = size_t{4} << 20;
+// gRPC's default receive limit (4 MiB) is below one full chunk plus framing, so both ends raise
+// it; messages stay near kMaxRegionBytes in practice.
+inline constexpr int kMaxMessageBytes = 64 << 20;
+
+// The first message of an Apply stream: `delta` without its buffer chunks.
+v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta);
+
+// Rebuilds a StateDelta from an Apply stream on the worker.
+class DeltaAssembler {
+ public:
+  // INVALID_ARGUMENT if the stream does not start with the delta or carries it twice.
+  absl::Status Add(v1::ApplyChunk&& part);
+  // INVALID_ARGUMENT if no delta arrived.
+  absl::StatusOr<v1::StateDelta> Finish() &&;
+
+ private:
+  bool has_delta_ = false;
+  v1::StateDelta delta_;
+};
+
+// Cuts `result` into messages that each carry at most `max_bytes` of region data (a larger region
+// becomes several regions by offset) and about as much of prints and exception reports. Every
+// piece keeps launch_id and tile_index; the error fields go with the first.
+std::vector<v1::TileResult> SplitTileResult(v1::TileResult&& result,
+                                            size_t max_bytes = kMaxRegionBytes);
+
+// Joins the pieces of the final TileResult (tile_index == kFinalTileIndex) back into one, with
+// adjacent regions of a buffer merged. The host treats a final region covering a whole buffer as
+// an exact record of what the device holds (so the next launch resends nothing); splitting for the
+// wire must not change what it sees.
+class FinalResultJoiner {
+ public:
+  void Add(v1::TileResult&& piece);
+  bool empty() const { return !has_result_; }
+  v1::TileResult Take() &&;
+
+ private:
+  bool has_result_ = false;
+  v1::TileResult result_;
+};
+
+// Status codes are the same numbers in Abseil and gRPC.
+grpc::Status ToGrpcStatus(const absl::Status& status);
+// The message names the worker: "worker unix:/tmp/w0.sock: <message>".
+absl::Status FromGrpcStatus(const grpc::Status& status, absl::string_view address);
+
+}  // namespace tessera::transport
+
+#endif  // TESSERA_SCHEDULER_TRANSPORT_WORKER_WIRE_H_

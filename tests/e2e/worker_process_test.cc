@@ -1,0 +1,237 @@
+// Real tessera-worker processes driven through the transport (GrpcDevice, WorkerProcess): health on
+// an ephemeral TCP port, refusal of non-loopback addresses, deltas rejected and recovered from,
+// tiles and whole-buffer final results across the process boundary.
+#include "transport/worker_process.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "tessera/rt.h"
+#include "transport/grpc_device.h"
+
+namespace tessera::e2e {
+namespace {
+
+using transport::GrpcDevice;
+using transport::WorkerProcess;
+
+const std::string kModule = std::string(TESSERA_TEST_MODULE_DIR) + "/worker_core_test_programs.so";
+
+std::unique_ptr<WorkerProcess> Spawn(WorkerProcess::Options options) {
+  auto process = WorkerProcess::Spawn(std::move(options));
+  EXPECT_TRUE(process.ok()) << process.status();
+  return process.ok() ? *std::move(process) : nullptr;
+}
+
+// Ray generation writes (x, y, 2, 1) into a w×h float4 OUTPUT buffer (id 2).
+v1::StateDelta WriteIndexDelta(uint64_t sequence, uint64_t w, uint64_t h) {
+  v1::StateDelta d;
+  d.set_session_id(77);
+  d.set_sequence(sequence);
+  v1::ContextState* c = d.mutable_context();
+  c->set_entry_point_count(1);
+  c->set_ray_type_count(1);
+  c->set_stack_size(1024);
+  for (int i = 0; i < 3; ++i) c->add_print_launch_index(-1);
+  c->add_ray_generation(1);
+  v1::Program* p = d.add_objects()->mutable_program();
+  p->set_id(1);
+  p->set_version(1);
+  p->set_module_path(kModule);
+  p->set_function("write_index");
+  v1::Buffer* b = d.add_objects()->mutable_buffer();
+  b->set_id(2);
+  b->set_version(sequence);
+  b->set_desc(RT_BUFFER_OUTPUT);
+  b->set_format(RT_FORMAT_FLOAT4);
+  b->set_element_size(16);
+  b->add_dims(w);
+  b->add_dims(h);
+  v1::Variable* v = c->add_variables();
+  v->set_name("output");
+  v->set_type(RT_OBJECTTYPE_BUFFER);
+  v->set_object_id(2);
+  return d;
+}
+
+// Two tiles side by side over a w×h launch.
+v1::LaunchRequest TwoTiles(uint64_t w, uint64_t h) {
+  v1::LaunchRequest request;
+  request.set_session_id(77);
+  request.set_launch_id(5);
+  request.add_dims(w);
+  request.add_dims(h);
+  for (uint32_t i = 0; i < 2; ++i) {
+    v1::Tile* tile = request.add_tiles();
+    tile->set_index(i);
+    tile->add_origin(i * (w / 2));
+    tile->add_origin(0);
+    tile->add_size(i == 0 ? w / 2 : w - w / 2);
+    tile->add_size(h);
+  }
+  return request;
+}
+
+TEST(WorkerProcessTest, WorkerOnAnEphemeralPortAnswersHealth) {
+  WorkerProcess::Options options;
+  options.listen = "127.0.0.1:0";
+  options.threads = 1;
+  std::unique_ptr<WorkerProcess> worker = Spawn(options);
+  ASSERT_NE(worker, nullptr);
+  const std::string& address = worker->address();
+  ASSERT_EQ(address.rfind("127.0.0.1:", 0), 0u) << address;
+  EXPECT_NE(address, "127.0.0.1:0");  // the real port
+
+  auto device = GrpcDevice::Connect(address);
+  ASSERT_TRUE(device.ok()) << device.status();
+  EXPECT_EQ((*device)->health().pid, worker->pid());
+  EXPECT_EQ((*device)->health().thread_count, 1);
+  EXPECT_FALSE((*device)->health().version.empty());
+  DeviceInfo info = (*device)->Info();
+  EXPECT_EQ(info.name, "worker");
+  EXPECT_EQ(info.address, address);
+  EXPECT_EQ(info.thread_count, 1);
+  auto again = (*device)->Health();
+  ASSERT_TRUE(again.ok()) << again.status();
+  EXPECT_EQ(again->pid, worker->pid());
+}
+
+TEST(WorkerProcessTest, NonLoopbackAddressNeedsAllowRemote) {
+  WorkerProcess::Options options;
+  options.listen = "0.0.0.0:0";
+  auto process = WorkerProcess::Spawn(options);
+  ASSERT_FALSE(process.ok());
+  EXPECT_EQ(process.status().code(), absl::StatusCode::kUnavailable);
+  // The reason comes from the worker's stderr.
+  EXPECT_NE(process.status().message().find("--allow-remote"), std::string::npos)
+      << process.status();
+  EXPECT_NE(process.status().message().find("exited with status 2"), std::string::npos)
+      << process.status();
+}
+
+TEST(WorkerProcessTest, AWorkerThatNeverListensTimesOutWithItsStderr) {
+  char dir[] = "/tmp/tessera-e2e-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string script = std::string(dir) + "/silent-worker";
+  {
+    FILE* f = std::fopen(script.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("#!/bin/sh\necho starting up >&2\nexec sleep 30\n", f);
+    std::fclose(f);
+  }
+  ASSERT_EQ(chmod(script.c_str(), 0755), 0);
+  WorkerProcess::Options options;
+  options.binary = script;
+  options.start_timeout = absl::Milliseconds(300);
+  auto process = WorkerProcess::Spawn(options);
+  unlink(script.c_str());
+  rmdir(dir);
+  ASSERT_FALSE(process.ok());
+  EXPECT_EQ(process.status().code(), absl::StatusCode::kUnavailable);
+  EXPECT_NE(process.status().message().find("did not report listening within"), std::string::npos)
+      << process.status();
+  EXPECT_NE(process.status().message().find("starting up"), std::string::npos) << process.status();
+}
+
+TEST(WorkerProcessTest, ATakenPortIsNotShared) {
+  WorkerProcess::Options options;
+  options.listen = "127.0.0.1:0";
+  std::unique_ptr<WorkerProcess> first = Spawn(options);
+  ASSERT_NE(first, nullptr);
+  options.listen = first->address();
+  auto second = WorkerProcess::Spawn(options);
+  ASSERT_FALSE(second.ok()) << "two workers listen on " << first->address();
+  EXPECT_NE(second.status().message().find("cannot listen"), std::string::npos) << second.status();
+}
+
+TEST(WorkerProcessTest, NoWorkerAtTheAddressIsUnavailable) {
+  auto device = GrpcDevice::Connect("unix:/nonexistent/tessera-e2e.sock", absl::Seconds(5));
+  ASSERT_FALSE(device.ok());
+  EXPECT_EQ(device.status().code(), absl::StatusCode::kUnavailable) << device.status();
+  EXPECT_NE(device.status().message().find("unix:/nonexistent/tessera-e2e.sock"), std::string::npos)
+      << device.status();
+}
+
+TEST(WorkerProcessTest, OutOfOrderDeltaIsRejectedAndTheNextValidOneWorks) {
+  std::unique_ptr<WorkerProcess> worker = Spawn({});
+  ASSERT_NE(worker, nullptr);
+  EXPECT_EQ(worker->address().rfind("unix:", 0), 0u) << worker->address();
+  const pid_t pid = worker->pid();
+  auto connected = GrpcDevice::Connect(std::move(worker));
+  ASSERT_TRUE(connected.ok()) << connected.status();
+  GrpcDevice& device = **connected;
+
+  absl::Status s = device.Apply(WriteIndexDelta(2, 8, 8));  // 1 expected
+  EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition) << s;
+  EXPECT_NE(s.message().find("out of order"), std::string::npos) << s;
+  EXPECT_NE(s.message().find(device.address()), std::string::npos) << s;
+  ASSERT_TRUE(device.Apply(WriteIndexDelta(1, 8, 8)).ok());
+  s = device.Apply(WriteIndexDelta(3, 16, 16));  // 2 expected
+  EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition) << s;
+  ASSERT_TRUE(device.Apply(WriteIndexDelta(2, 10, 6)).ok());
+  EXPECT_EQ(kill(pid, 0), 0) << "the worker stays up";
+
+  std::atomic<bool> cancel{false};
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(device
+                  .Launch(TwoTiles(10, 6), cancel,
+                          [&](v1::TileResult&& r) { results.push_back(std::move(r)); })
+                  .ok());
+  ASSERT_EQ(results.size(), 3u);  // two tiles, then the final contents
+  EXPECT_EQ(results.back().tile_index(), kFinalTileIndex);
+  ASSERT_EQ(results.back().regions_size(), 1);
+  const std::string& bytes = results.back().regions(0).data();
+  ASSERT_EQ(bytes.size(), 10u * 6u * 16u);
+  std::vector<float> f(bytes.size() / 4);
+  std::memcpy(f.data(), bytes.data(), bytes.size());
+  EXPECT_EQ(f[4 * (5 * 10 + 9)], 9.f);
+  EXPECT_EQ(f[4 * (5 * 10 + 9) + 1], 5.f);
+}
+
+TEST(WorkerProcessTest, LargeFinalContentsArriveAsOneWholeBuffer) {
+  std::unique_ptr<WorkerProcess> worker = Spawn({});
+  ASSERT_NE(worker, nullptr);
+  auto device = GrpcDevice::Connect(std::move(worker));
+  ASSERT_TRUE(device.ok()) << device.status();
+  constexpr uint64_t kW = 1024, kH = 700;  // 11 MiB: three messages on the wire
+  ASSERT_TRUE((*device)->Apply(WriteIndexDelta(1, kW, kH)).ok());
+  std::atomic<bool> cancel{false};
+  std::vector<v1::TileResult> finals;
+  ASSERT_TRUE((*device)
+                  ->Launch(TwoTiles(kW, kH), cancel,
+                           [&](v1::TileResult&& r) {
+                             if (r.tile_index() == kFinalTileIndex) finals.push_back(std::move(r));
+                           })
+                  .ok());
+  // The host recognises a complete copy only as one region covering the whole buffer.
+  ASSERT_EQ(finals.size(), 1u);
+  ASSERT_EQ(finals[0].regions_size(), 1);
+  EXPECT_EQ(finals[0].regions(0).offset(), 0u);
+  ASSERT_EQ(finals[0].regions(0).data().size(), kW * kH * 16);
+  float last[4];
+  std::memcpy(last, finals[0].regions(0).data().data() + (kW * kH - 1) * 16, 16);
+  EXPECT_EQ(last[0], kW - 1.f);
+  EXPECT_EQ(last[1], kH - 1.f);
+}
+
+TEST(WorkerProcessTest, DestructionStopsTheWorker) {
+  std::unique_ptr<WorkerProcess> worker = Spawn({});
+  ASSERT_NE(worker, nullptr);
+  const pid_t pid = worker->pid();
+  const std::string log = worker->log_path();
+  ASSERT_EQ(kill(pid, 0), 0);
+  worker.reset();
+  EXPECT_EQ(kill(pid, 0), -1) << "reaped, not a zombie";
+  EXPECT_EQ(errno, ESRCH);
+  EXPECT_NE(access(log.c_str(), F_OK), 0) << "its directory is removed";
+}
+
+}  // namespace
+}  // namespace tessera::e2e

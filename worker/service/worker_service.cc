@@ -1,0 +1,205 @@
+#include "worker_service.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <utility>
+
+#include "absl/strings/str_cat.h"
+#include "tessera/worker/inproc_device.h"
+#include "transport/worker_wire.h"
+
+#ifndef TESSERA_VERSION
+#define TESSERA_VERSION "unknown"
+#endif
+
+namespace tessera::worker {
+namespace {
+
+using transport::DeltaAssembler;
+using transport::SplitTileResult;
+using transport::ToGrpcStatus;
+
+// How often a launch looks at whether its call was cancelled.
+constexpr std::chrono::milliseconds kCancelPoll{2};
+
+int ResolveThreads(int threads) {
+  if (threads > 0) return threads;
+  unsigned cores = std::thread::hardware_concurrency();
+  return cores > 0 ? static_cast<int>(cores) : 1;
+}
+
+std::string DeviceName() {
+  char host[256] = {};
+  if (gethostname(host, sizeof(host) - 1) != 0) return "tessera-worker";
+  return absl::StrCat("tessera-worker@", host);
+}
+
+// Results travel from the launch's threads to the RPC thread, which alone writes to the stream.
+class ResultQueue {
+ public:
+  void Push(v1::TileResult&& result) {
+    std::lock_guard<std::mutex> lock(mu_);
+    queue_.push_back(std::move(result));
+    cv_.notify_one();
+  }
+  void Finish(absl::Status status) {
+    std::lock_guard<std::mutex> lock(mu_);
+    status_ = std::move(status);
+    done_ = true;
+    cv_.notify_one();
+  }
+  // Waits up to `timeout` for results; `*done` once the launch returned and nothing is left.
+  std::deque<v1::TileResult> Take(std::chrono::milliseconds timeout, bool* done) {
+    std::unique_lock<std::mutex> lock(mu_);
+    cv_.wait_for(lock, timeout, [&] { return !queue_.empty() || done_; });
+    std::deque<v1::TileResult> batch;
+    batch.swap(queue_);
+    *done = done_;
+    return batch;
+  }
+  const absl::Status& status() const { return status_; }  // after done
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::deque<v1::TileResult> queue_;
+  bool done_ = false;
+  absl::Status status_;
+};
+
+}  // namespace
+
+WorkerService::WorkerService(int threads)
+    : threads_(ResolveThreads(threads)), name_(DeviceName()) {}
+
+WorkerService::~WorkerService() = default;
+
+std::shared_ptr<WorkerService::Session> WorkerService::FindSession(uint64_t id, bool create) {
+  absl::MutexLock lock(&mu_);
+  auto it = sessions_.find(id);
+  if (it != sessions_.end()) return it->second;
+  if (!create) return nullptr;
+  auto session = std::make_shared<Session>();
+  sessions_.emplace(id, session);
+  return session;
+}
+
+bool WorkerService::IsCurrent(uint64_t id, const std::shared_ptr<Session>& session) {
+  absl::MutexLock lock(&mu_);
+  auto it = sessions_.find(id);
+  return it != sessions_.end() && it->second == session;
+}
+
+void WorkerService::ForgetIfEmpty(uint64_t id, const std::shared_ptr<Session>& session) {
+  absl::MutexLock lock(&mu_);
+  auto it = sessions_.find(id);
+  if (it != sessions_.end() && it->second == session) sessions_.erase(it);
+}
+
+grpc::Status WorkerService::Apply(grpc::ServerContext* context,
+                                  grpc::ServerReader<v1::ApplyChunk>* reader,
+                                  v1::ApplyReply* reply) {
+  DeltaAssembler assembler;
+  v1::ApplyChunk part;
+  while (reader->Read(&part)) {
+    if (absl::Status s = assembler.Add(std::move(part)); !s.ok()) return ToGrpcStatus(s);
+    part.Clear();
+  }
+  if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "Apply cancelled");
+  absl::StatusOr<v1::StateDelta> delta = std::move(assembler).Finish();
+  if (!delta.ok()) return ToGrpcStatus(delta.status());
+
+  const uint64_t id = delta->session_id();
+  std::shared_ptr<Session> session;
+  std::optional<absl::MutexLock> lock;
+  while (true) {
+    session = FindSession(id, /*create=*/true);
+    lock.emplace(&session->mu);
+    // A failed first delta may have dropped the session while this call waited for it.
+    if (IsCurrent(id, session)) break;
+    lock.reset();
+  }
+  if (session->device == nullptr || delta->sequence() == 1) {
+    // The device is replaced only if the new one accepts the delta: a rejected delta leaves the
+    // session as it was.
+    std::unique_ptr<Device> fresh = CreateInprocDevice(threads_);
+    absl::Status status = fresh->Apply(*delta);
+    if (status.ok()) {
+      session->device = std::move(fresh);
+    } else if (session->device == nullptr) {
+      ForgetIfEmpty(id, session);
+    }
+    return ToGrpcStatus(status);
+  }
+  return ToGrpcStatus(session->device->Apply(*delta));
+}
+
+grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::LaunchRequest* request,
+                                   grpc::ServerWriter<v1::TileResult>* writer) {
+  std::shared_ptr<Session> session = FindSession(request->session_id(), /*create=*/false);
+  if (session == nullptr) {
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        absl::StrCat("no state for session ", request->session_id(),
+                                     " on this worker: a state delta must come first"));
+  }
+  absl::MutexLock lock(&session->mu);
+  if (session->device == nullptr) {
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        absl::StrCat("no state for session ", request->session_id()));
+  }
+  Device& device = *session->device;
+
+  std::atomic<bool> cancel{false};
+  ResultQueue results;
+  std::thread runner([&] {
+    absl::Status status;
+    try {
+      status = device.Launch(*request, cancel,
+                             [&](v1::TileResult&& result) { results.Push(std::move(result)); });
+    } catch (const std::exception& e) {
+      status = absl::InternalError(absl::StrCat("launch threw: ", e.what()));
+    } catch (...) {
+      status = absl::InternalError("launch threw a non-standard exception");
+    }
+    results.Finish(std::move(status));
+  });
+  bool done = false;
+  bool writable = true;
+  while (!done) {
+    std::deque<v1::TileResult> batch = results.Take(kCancelPoll, &done);
+    if (context->IsCancelled()) cancel = true;
+    for (v1::TileResult& result : batch) {
+      if (!writable) break;
+      for (v1::TileResult& piece : SplitTileResult(std::move(result))) {
+        if (!writer->Write(piece)) {  // the client went away
+          writable = false;
+          cancel = true;
+          break;
+        }
+      }
+    }
+  }
+  runner.join();
+  if (cancel.load() || context->IsCancelled()) {
+    return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");
+  }
+  return ToGrpcStatus(results.status());
+}
+
+grpc::Status WorkerService::Health(grpc::ServerContext* context, const v1::HealthRequest* request,
+                                   v1::HealthReply* reply) {
+  reply->set_device_name(name_);
+  reply->set_thread_count(static_cast<uint32_t>(threads_));
+  reply->set_pid(getpid());
+  reply->set_version(TESSERA_VERSION);
+  return grpc::Status::OK;
+}
+
+}  // namespace tessera::worker

@@ -1,0 +1,58 @@
+// The Worker gRPC service (proto/tessera/v1/worker.proto) over worker/core's in-process device:
+// one device per host session, so several hosts (or contexts) can share a worker.
+#ifndef TESSERA_WORKER_SERVICE_WORKER_SERVICE_H_
+#define TESSERA_WORKER_SERVICE_WORKER_SERVICE_H_
+
+#include <grpcpp/grpcpp.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "absl/base/thread_annotations.h"
+#include "absl/container/flat_hash_map.h"
+#include "absl/synchronization/mutex.h"
+#include "tessera/scheduler/device.h"
+#include "tessera/v1/worker.grpc.pb.h"
+
+namespace tessera::worker {
+
+class WorkerService final : public v1::Worker::Service {
+ public:
+  // `threads` <= 0: one per core. Every session's launches run on that many threads.
+  explicit WorkerService(int threads);
+  ~WorkerService() override;
+
+  int thread_count() const { return threads_; }
+
+  // A delta with sequence 1 starts the session afresh (a host that re-creates its devices starts
+  // over with the same session id); any other goes to the session's device, which rejects
+  // out-of-order and inconsistent deltas and then keeps its state.
+  grpc::Status Apply(grpc::ServerContext* context, grpc::ServerReader<v1::ApplyChunk>* reader,
+                     v1::ApplyReply* reply) override;
+  // Runs the launch on another thread and streams its results from this one, split into bounded
+  // messages, so tiles never wait on the network; a cancelled call sets the launch's cancel flag.
+  grpc::Status Launch(grpc::ServerContext* context, const v1::LaunchRequest* request,
+                      grpc::ServerWriter<v1::TileResult>* writer) override;
+  grpc::Status Health(grpc::ServerContext* context, const v1::HealthRequest* request,
+                      v1::HealthReply* reply) override;
+
+ private:
+  struct Session {
+    absl::Mutex mu;  // one Apply or Launch at a time (Device contract)
+    std::unique_ptr<Device> device ABSL_GUARDED_BY(mu);  // null until a delta applied
+  };
+
+  std::shared_ptr<Session> FindSession(uint64_t id, bool create);
+  bool IsCurrent(uint64_t id, const std::shared_ptr<Session>& session);
+  void ForgetIfEmpty(uint64_t id, const std::shared_ptr<Session>& session);
+
+  const int threads_;
+  const std::string name_;
+  absl::Mutex mu_;  // taken after a Session::mu, never before
+  absl::flat_hash_map<uint64_t, std::shared_ptr<Session>> sessions_ ABSL_GUARDED_BY(mu_);
+};
+
+}  // namespace tessera::worker
+
+#endif  // TESSERA_WORKER_SERVICE_WORKER_SERVICE_H_

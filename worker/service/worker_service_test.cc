@@ -1,0 +1,215 @@
+// The Worker service through a real gRPC server on 127.0.0.1, driven by the raw stub so that
+// malformed streams can be sent: errors come back as statuses and leave the session as it was.
+#include "worker_service.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "tessera/rt.h"
+#include "tessera/scheduler/device.h"
+#include "transport/worker_wire.h"
+
+namespace tessera::worker {
+namespace {
+
+const std::string kModule = std::string(TESSERA_TEST_MODULE_DIR) + "/worker_core_test_programs.so";
+
+class WorkerServiceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    grpc::ServerBuilder builder;
+    builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port_);
+    builder.RegisterService(&service_);
+    builder.SetMaxReceiveMessageSize(transport::kMaxMessageBytes);
+    server_ = builder.BuildAndStart();
+    ASSERT_NE(server_, nullptr);
+    ASSERT_NE(port_, 0);
+    grpc::ChannelArguments args;
+    args.SetMaxReceiveMessageSize(transport::kMaxMessageBytes);
+    stub_ = v1::Worker::NewStub(grpc::CreateCustomChannel(
+        "127.0.0.1:" + std::to_string(port_), grpc::InsecureChannelCredentials(), args));
+  }
+  void TearDown() override { server_->Shutdown(); }
+
+  // A delta whose ray generation program writes (x, y, 2, 1) into a w×h float4 output buffer.
+  static v1::StateDelta WriteIndexDelta(uint64_t session, uint64_t sequence, uint64_t w,
+                                        uint64_t h) {
+    v1::StateDelta d;
+    d.set_session_id(session);
+    d.set_sequence(sequence);
+    v1::ContextState* c = d.mutable_context();
+    c->set_entry_point_count(1);
+    c->set_ray_type_count(1);
+    c->set_stack_size(1024);
+    for (int i = 0; i < 3; ++i) c->add_print_launch_index(-1);
+    c->add_ray_generation(1);
+    v1::Program* p = d.add_objects()->mutable_program();
+    p->set_id(1);
+    p->set_version(1);
+    p->set_module_path(kModule);
+    p->set_function("write_index");
+    v1::Buffer* b = d.add_objects()->mutable_buffer();
+    b->set_id(2);
+    b->set_version(1);
+    b->set_desc(RT_BUFFER_OUTPUT);
+    b->set_format(RT_FORMAT_FLOAT4);
+    b->set_element_size(16);
+    b->add_dims(w);
+    b->add_dims(h);
+    v1::Variable* v = c->add_variables();
+    v->set_name("output");
+    v->set_type(RT_OBJECTTYPE_BUFFER);
+    v->set_object_id(2);
+    return d;
+  }
+
+  grpc::Status Apply(const std::vector<v1::ApplyChunk>& messages) {
+    grpc::ClientContext context;
+    v1::ApplyReply reply;
+    auto writer = stub_->Apply(&context, &reply);
+    for (const v1::ApplyChunk& m : messages) {
+      if (!writer->Write(m)) break;
+    }
+    writer->WritesDone();
+    return writer->Finish();
+  }
+  grpc::Status Apply(const v1::StateDelta& delta) {
+    std::vector<v1::ApplyChunk> messages = {transport::DeltaHeader(delta)};
+    for (const v1::BufferChunk& c : delta.chunks()) {
+      messages.emplace_back();
+      *messages.back().mutable_chunk() = c;
+    }
+    return Apply(messages);
+  }
+
+  grpc::Status Launch(uint64_t session, uint64_t w, uint64_t h,
+                      std::vector<v1::TileResult>* results) {
+    v1::LaunchRequest request;
+    request.set_session_id(session);
+    request.set_launch_id(1);
+    request.add_dims(w);
+    request.add_dims(h);
+    v1::Tile* tile = request.add_tiles();
+    tile->add_origin(0);
+    tile->add_origin(0);
+    tile->add_size(w);
+    tile->add_size(h);
+    grpc::ClientContext context;
+    auto reader = stub_->Launch(&context, request);
+    v1::TileResult result;
+    while (reader->Read(&result)) results->push_back(result);
+    return reader->Finish();
+  }
+
+  // The final contents of buffer 2, joined from the final results.
+  static std::string FinalOutput(const std::vector<v1::TileResult>& results) {
+    std::string out;
+    for (const v1::TileResult& r : results) {
+      if (r.tile_index() != kFinalTileIndex) continue;
+      for (const v1::BufferRegion& region : r.regions()) {
+        if (region.buffer_id() != 2) continue;
+        if (out.size() < region.offset() + region.data().size()) {
+          out.resize(region.offset() + region.data().size());
+        }
+        out.replace(region.offset(), region.data().size(), region.data());
+      }
+    }
+    return out;
+  }
+
+  static void ExpectIndices(const std::string& bytes, uint64_t w, uint64_t h) {
+    ASSERT_EQ(bytes.size(), w * h * 16);
+    std::vector<float> f(w * h * 4);
+    std::memcpy(f.data(), bytes.data(), bytes.size());
+    for (uint64_t y = 0; y < h; y += h / 4 + 1) {
+      for (uint64_t x = 0; x < w; x += w / 4 + 1) {
+        EXPECT_EQ(f[4 * (y * w + x)], static_cast<float>(x));
+        EXPECT_EQ(f[4 * (y * w + x) + 1], static_cast<float>(y));
+      }
+    }
+  }
+
+  WorkerService service_{2};
+  int port_ = 0;
+  std::unique_ptr<grpc::Server> server_;
+  std::unique_ptr<v1::Worker::Stub> stub_;
+};
+
+TEST_F(WorkerServiceTest, HealthReportsThreadsPidAndVersion) {
+  grpc::ClientContext context;
+  v1::HealthReply reply;
+  ASSERT_TRUE(stub_->Health(&context, v1::HealthRequest(), &reply).ok());
+  EXPECT_EQ(reply.thread_count(), 2u);
+  EXPECT_EQ(reply.pid(), getpid());
+  EXPECT_FALSE(reply.version().empty());
+  EXPECT_EQ(reply.device_name().rfind("tessera-worker", 0), 0u) << reply.device_name();
+}
+
+TEST_F(WorkerServiceTest, MalformedStreamsAreRejectedAndTheWorkerStaysUsable) {
+  v1::ApplyChunk chunk;
+  chunk.mutable_chunk()->set_buffer_id(2);
+  grpc::Status s = Apply(std::vector<v1::ApplyChunk>{chunk});
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("starts with a buffer chunk"), std::string::npos)
+      << s.error_message();
+  s = Apply(std::vector<v1::ApplyChunk>{});
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+
+  // A first delta the device rejects (a chunk outside its buffer) creates no session.
+  v1::StateDelta bad = WriteIndexDelta(5, 1, 4, 4);
+  v1::BufferChunk* c = bad.add_chunks();
+  c->set_buffer_id(2);
+  c->set_offset(4 * 4 * 16);
+  c->set_data("x");
+  s = Apply(bad);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::OUT_OF_RANGE) << s.error_message();
+  std::vector<v1::TileResult> results;
+  s = Launch(5, 4, 4, &results);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_NE(s.error_message().find("no state for session 5"), std::string::npos);
+
+  ASSERT_TRUE(Apply(WriteIndexDelta(5, 1, 4, 4)).ok());
+  results.clear();
+  ASSERT_TRUE(Launch(5, 4, 4, &results).ok());
+  ExpectIndices(FinalOutput(results), 4, 4);
+}
+
+TEST_F(WorkerServiceTest, OutOfOrderDeltaKeepsTheSessionAndSequenceOneRestartsIt) {
+  ASSERT_TRUE(Apply(WriteIndexDelta(9, 1, 8, 8)).ok());
+  grpc::Status s = Apply(WriteIndexDelta(9, 3, 16, 16));
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_NE(s.error_message().find("out of order"), std::string::npos) << s.error_message();
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(9, 8, 8, &results).ok());
+  ExpectIndices(FinalOutput(results), 8, 8);  // still the 8×8 state
+
+  ASSERT_TRUE(Apply(WriteIndexDelta(9, 2, 6, 6)).ok());
+  // The host re-creating its devices starts over at sequence 1 with the same session id.
+  ASSERT_TRUE(Apply(WriteIndexDelta(9, 1, 5, 3)).ok());
+  results.clear();
+  ASSERT_TRUE(Launch(9, 5, 3, &results).ok());
+  ExpectIndices(FinalOutput(results), 5, 3);
+}
+
+TEST_F(WorkerServiceTest, LargeResultsArriveInBoundedMessages) {
+  constexpr uint64_t kW = 1024, kH = 600;  // 9.4 MiB of float4
+  ASSERT_TRUE(Apply(WriteIndexDelta(3, 1, kW, kH)).ok());
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(3, kW, kH, &results).ok());
+  int final_messages = 0;
+  for (const v1::TileResult& r : results) {
+    size_t bytes = 0;
+    for (const v1::BufferRegion& region : r.regions()) bytes += region.data().size();
+    EXPECT_LE(bytes, transport::kMaxRegionBytes);
+    final_messages += r.tile_index() == kFinalTileIndex ? 1 : 0;
+  }
+  EXPECT_GE(final_messages, 3);
+  ExpectIndices(FinalOutput(results), kW, kH);
+}
+
+}  // namespace
+}  // namespace tessera::worker
