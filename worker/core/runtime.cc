@@ -27,6 +27,9 @@ std::string IndexText(const Index3& i) {
 // binding's own values are re-applied from the binding.
 void SaveSlots(SuspendedSlots& s) {
   const ModuleState& ms = *s.module;
+  s.loaded = ms.loaded;
+  s.saved = true;
+  if (!s.reads_per_call) return;
   const auto& vars = ms.module->variables();
   s.bytes.resize(ms.module->per_call_bytes());
   unsigned char* at = s.bytes.data();
@@ -34,8 +37,6 @@ void SaveSlots(SuspendedSlots& s) {
     CopyBytes(at, ms.slots[var], vars[var].size);
     at += vars[var].size;
   }
-  s.loaded = ms.loaded;
-  s.saved = true;
 }
 
 void Apply(ModuleState& ms, const BoundProgram& p) {
@@ -46,11 +47,13 @@ void Apply(ModuleState& ms, const BoundProgram& p) {
 
 void RestoreSlots(const SuspendedSlots& s) {
   ModuleState& ms = *s.module;
-  const auto& vars = ms.module->variables();
-  const unsigned char* at = s.bytes.data();
-  for (unsigned var : ms.module->per_call()) {
-    CopyBytes(ms.slots[var], at, vars[var].size);
-    at += vars[var].size;
+  if (s.reads_per_call) {
+    const auto& vars = ms.module->variables();
+    const unsigned char* at = s.bytes.data();
+    for (unsigned var : ms.module->per_call()) {
+      CopyBytes(ms.slots[var], at, vars[var].size);
+      at += vars[var].size;
+    }
   }
   if (ms.loaded != s.loaded && s.loaded != nullptr) Apply(ms, *s.loaded);
 }
@@ -117,6 +120,7 @@ SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
   s.module = ts.current_module;
   s.outer = s.module->suspended;
   s.saved = false;
+  s.reads_per_call = ts.kind != ProgramKind::kRayGeneration && ts.kind != ProgramKind::kException;
   s.module->suspended = &s;
   return s;
 }

@@ -83,6 +83,9 @@ struct SuspendedSlots {
   ModuleState* module = nullptr;
   SuspendedSlots* outer = nullptr;  // the next suspended state of the same module
   bool saved = false;
+  // Whether the suspended program can read per-call values: ray generation and exception
+  // programs cannot (Table 4), so nothing but their binding needs restoring.
+  bool reads_per_call = true;
   const BoundProgram* loaded = nullptr;
   std::vector<unsigned char> bytes;
 };
