@@ -15,6 +15,7 @@
 
 #include "tessera/rt.h"
 #include "transport/grpc_device.h"
+#include "write_index_delta.h"
 
 namespace tessera::e2e {
 namespace {
@@ -30,35 +31,8 @@ std::unique_ptr<WorkerProcess> Spawn(WorkerProcess::Options options) {
   return process.ok() ? *std::move(process) : nullptr;
 }
 
-// Ray generation writes (x, y, 2, 1) into a w×h float4 OUTPUT buffer (id 2).
 v1::StateDelta WriteIndexDelta(uint64_t sequence, uint64_t w, uint64_t h) {
-  v1::StateDelta d;
-  d.set_session_id(77);
-  d.set_sequence(sequence);
-  v1::ContextState* c = d.mutable_context();
-  c->set_entry_point_count(1);
-  c->set_ray_type_count(1);
-  c->set_stack_size(1024);
-  for (int i = 0; i < 3; ++i) c->add_print_launch_index(-1);
-  c->add_ray_generation(1);
-  v1::Program* p = d.add_objects()->mutable_program();
-  p->set_id(1);
-  p->set_version(1);
-  p->set_module_path(kModule);
-  p->set_function("write_index");
-  v1::Buffer* b = d.add_objects()->mutable_buffer();
-  b->set_id(2);
-  b->set_version(sequence);
-  b->set_desc(RT_BUFFER_OUTPUT);
-  b->set_format(RT_FORMAT_FLOAT4);
-  b->set_element_size(16);
-  b->add_dims(w);
-  b->add_dims(h);
-  v1::Variable* v = c->add_variables();
-  v->set_name("output");
-  v->set_type(RT_OBJECTTYPE_BUFFER);
-  v->set_object_id(2);
-  return d;
+  return ::tessera::testing::WriteIndexDelta(kModule, 77, sequence, w, h);
 }
 
 // Two tiles side by side over a w×h launch.

@@ -1,0 +1,48 @@
+// A hand-built StateDelta for transport and worker tests: the `write_index` program of
+// basic_programs.cu (worker_core_test_programs.so) writes (x, y, 2, 1) into a w×h float4 OUTPUT
+// buffer (program id 1, buffer id 2, bound as the context variable `output`).
+#ifndef TESSERA_WORKER_CORE_TESTDATA_WRITE_INDEX_DELTA_H_
+#define TESSERA_WORKER_CORE_TESTDATA_WRITE_INDEX_DELTA_H_
+
+#include <cstdint>
+#include <string>
+
+#include "tessera/rt.h"
+#include "tessera/v1/state.pb.h"
+
+namespace tessera::testing {
+
+inline v1::StateDelta WriteIndexDelta(const std::string& module, uint64_t session,
+                                      uint64_t sequence, uint64_t w, uint64_t h) {
+  v1::StateDelta d;
+  d.set_session_id(session);
+  d.set_sequence(sequence);
+  v1::ContextState* c = d.mutable_context();
+  c->set_entry_point_count(1);
+  c->set_ray_type_count(1);
+  c->set_stack_size(1024);
+  for (int i = 0; i < 3; ++i) c->add_print_launch_index(-1);
+  c->add_ray_generation(1);
+  v1::Program* p = d.add_objects()->mutable_program();
+  p->set_id(1);
+  p->set_version(1);
+  p->set_module_path(module);
+  p->set_function("write_index");
+  v1::Buffer* b = d.add_objects()->mutable_buffer();
+  b->set_id(2);
+  b->set_version(sequence);
+  b->set_desc(RT_BUFFER_OUTPUT);
+  b->set_format(RT_FORMAT_FLOAT4);
+  b->set_element_size(16);
+  b->add_dims(w);
+  b->add_dims(h);
+  v1::Variable* v = c->add_variables();
+  v->set_name("output");
+  v->set_type(RT_OBJECTTYPE_BUFFER);
+  v->set_object_id(2);
+  return d;
+}
+
+}  // namespace tessera::testing
+
+#endif  // TESSERA_WORKER_CORE_TESTDATA_WRITE_INDEX_DELTA_H_
