@@ -29,7 +29,10 @@ function(tessera_cc_test)
   cmake_parse_arguments(A "" "NAME" "SRCS;DEPS" ${ARGN})
   add_executable(${A_NAME} ${A_SRCS})
   target_link_libraries(${A_NAME} PRIVATE ${A_DEPS} GTest::gtest GTest::gtest_main tessera_warnings)
-  gtest_discover_tests(${A_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 300)
+  # Tests name their devices: without TESSERA_DEVICES a context would spawn one worker process
+  # per core (the default for applications), which tests of other things need not pay for.
+  gtest_discover_tests(${A_NAME} DISCOVERY_TIMEOUT 60
+    PROPERTIES TIMEOUT 300 ENVIRONMENT "TESSERA_DEVICES=inproc")
 endfunction()
 
 # tessera_add_program_module(TARGET name SOURCES file.cu ...)

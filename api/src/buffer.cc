@@ -109,6 +109,7 @@ void Buffer::Reallocate() {
   changed_.Clear();
   changed_.Add(0, bytes);
   ++host_write_epoch_;
+  views_.clear();  // device pointers name memory of the old size
   Touch();
   NotifyStructureChanged(this);
 }
@@ -135,7 +136,85 @@ absl::Status Buffer::Unmap() {
   return absl::OkStatus();
 }
 
-void Buffer::MarkDirty() { HostWrote(0, data_.size()); }
+void Buffer::MarkDirty() {
+  HostWrote(0, data_.size());
+  views_dirty_ = true;
+}
+
+absl::StatusOr<void*> Buffer::GetDevicePointer(int ordinal) {
+  if (!sized() || element_size() == 0) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat(Describe(), " needs a format and a size before a device pointer"));
+  }
+  auto [it, inserted] = views_.try_emplace(ordinal);
+  if (inserted) it->second.owned = data_;
+  views_dirty_ = true;
+  static unsigned char empty_buffer_storage[16];
+  return data_.empty() ? static_cast<void*>(empty_buffer_storage)
+                       : static_cast<void*>(it->second.data());
+}
+
+absl::Status Buffer::SetDevicePointer(int ordinal, void* pointer) {
+  if (!sized() || element_size() == 0) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat(Describe(), " needs a format and a size before a device pointer"));
+  }
+  View& view = views_[ordinal];
+  view.owned.clear();
+  view.application = pointer;
+  views_dirty_ = true;
+  return absl::OkStatus();
+}
+
+absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordinals) {
+  per_device_ = false;
+  if (views_.empty()) {
+    if (for_cuda_ && !data_.empty()) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat(Describe(),
+                                  " was created with rtBufferCreateForCUDA and has no "
+                                  "device pointer; call rtBufferSetDevicePointer"));
+    }
+    return absl::OkStatus();
+  }
+  for (const auto& [ordinal, view] : views_) {
+    if (std::find(ordinals.begin(), ordinals.end(), ordinal) == ordinals.end()) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat(Describe(), " has a device pointer for device ", ordinal,
+                                  ", which the context does not run on"));
+    }
+  }
+  const size_t k = views_.size(), n = ordinals.size();
+  if (k > 1 && k < n) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat(Describe(), " has device pointers for ", k, " of the context's ", n,
+                                " devices; give one device a pointer, or every device"));
+  }
+  if (!ships_content()) return absl::OkStatus();
+  // A device with a pointer runs on its own view, as a GPU runs on its own memory.
+  per_device_ = true;
+  if (k == 1 && ((desc_ & RT_BUFFER_COPY_ON_DIRTY) == 0 || views_dirty_)) {
+    // One device's view reaches every device through the host contents.
+    const unsigned char* source = views_.begin()->second.data();
+    if (!data_.empty() && std::memcmp(source, data_.data(), data_.size()) != 0) {
+      std::memcpy(data_.data(), source, data_.size());
+      HostWrote(0, data_.size());
+    }
+  }
+  views_dirty_ = false;
+  return absl::OkStatus();
+}
+
+const unsigned char* Buffer::PerDeviceBytes(int ordinal) const {
+  if (!per_device_) return nullptr;
+  auto it = views_.find(ordinal);
+  return it == views_.end() ? nullptr : it->second.data();
+}
+
+void Buffer::SyncDevicePointersAfterLaunch() {
+  if (!gathers_content() || data_.empty()) return;
+  for (auto& [ordinal, view] : views_) std::memcpy(view.data(), data_.data(), data_.size());
+}
 
 void Buffer::HostWrote(uint64_t begin, uint64_t end) {
   changed_.Add(begin, end);

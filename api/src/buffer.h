@@ -6,6 +6,7 @@
 #define TESSERA_API_SRC_BUFFER_H_
 
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -68,9 +69,41 @@ class Buffer : public Object {
   // Bumped whenever the host may have written the contents (map, resize, mark dirty).
   uint64_t host_write_epoch() const { return host_write_epoch_; }
 
+  // ---- Device pointers (OptiX guide ch. 7, "Interoperability with CUDA"): a host-side view of
+  // one device's copy, by device ordinal. A device's copy lives in its worker process, so the
+  // view is host memory that stands for it: before a launch its contents become that device's
+  // copy, after a launch it shows the merged contents of gathered buffers. A resize drops views.
+  bool for_cuda() const { return for_cuda_; }
+  void set_for_cuda() { for_cuda_ = true; }
+  // The view for device `ordinal`, created from the host contents if there is none yet.
+  absl::StatusOr<void*> GetDevicePointer(int ordinal);
+  // Makes application memory of byte_size() bytes the view for device `ordinal`.
+  absl::Status SetDevicePointer(int ordinal, void* pointer);
+  size_t device_pointer_count() const { return views_.size(); }
+  // Before a launch on devices `ordinals`: pointers for more than one but fewer than all of them
+  // are an error (as in OptiX). A device with a pointer gets its own view. With one pointer, the
+  // view is also copied into the host contents, which reach the other devices: every launch, or
+  // with COPY_ON_DIRTY only after the pointer was taken or set and after rtBufferMarkDirty.
+  absl::Status SyncDevicePointersBeforeLaunch(const std::vector<int>& ordinals);
+  // The bytes device `ordinal` gets when it has a view of an INPUT buffer; null otherwise.
+  const unsigned char* PerDeviceBytes(int ordinal) const;
+  // After a launch: views of gathered buffers show the merged contents.
+  void SyncDevicePointersAfterLaunch();
+
   void VisitEdges(EdgeVisitor visit) const override {}
 
  private:
+  struct View {
+    std::vector<unsigned char> owned;  // rtBufferGetDevicePointer
+    void* application = nullptr;       // rtBufferSetDevicePointer
+    unsigned char* data() {
+      return application != nullptr ? static_cast<unsigned char*>(application) : owned.data();
+    }
+    const unsigned char* data() const {
+      return application != nullptr ? static_cast<const unsigned char*>(application) : owned.data();
+    }
+  };
+
   void Reallocate();
   void HostWrote(uint64_t begin, uint64_t end);
 
@@ -83,6 +116,10 @@ class Buffer : public Object {
   ByteRanges changed_;  // not yet reflected in chunk_hashes_
   std::vector<uint64_t> chunk_hashes_;
   uint64_t host_write_epoch_ = 1;
+  bool for_cuda_ = false;
+  std::map<int, View> views_;
+  bool views_dirty_ = false;  // a pointer taken or set, or rtBufferMarkDirty, since a launch
+  bool per_device_ = false;   // this launch: devices with a view get it (INPUT buffers)
 };
 
 }  // namespace tessera::api

@@ -4,6 +4,7 @@
 #include "absl/strings/str_cat.h"
 #include "boundary.h"
 #include "buffer.h"
+#include "context.h"
 #include "scope_api.h"
 #include "validate.h"
 
@@ -16,9 +17,51 @@ RTresult BufferCall(const char* fn, RTbuffer buffer, Body&& body) {
   return Call<Buffer>(fn, buffer, std::forward<Body>(body));
 }
 
+// Device pointers name a device the context runs on.
+absl::Status CheckDeviceNumber(const Buffer& b, unsigned number) {
+  for (const DeviceSlot& slot : b.context()->device_slots()) {
+    if (slot.sync.ordinal == static_cast<int>(number)) return absl::OkStatus();
+  }
+  return RtError(RT_ERROR_INVALID_VALUE, absl::StrCat("device number ", number,
+                                                      " is not one of the devices the context "
+                                                      "runs on (rtContextSetDevices)"));
+}
+
 }  // namespace
 
 extern "C" {
+
+RTresult rtBufferCreateForCUDA(RTcontext context, unsigned int bufferdesc, RTbuffer* buffer) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(buffer, "buffer pointer"));
+    TS_RETURN_IF_ERROR(Buffer::CheckDesc(bufferdesc));
+    Buffer* b = c.Make<Buffer>(bufferdesc);
+    b->set_for_cuda();
+    *buffer = ToHandle<RTbuffer>(b);
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtBufferGetDevicePointer(RTbuffer buffer, unsigned int optix_device_number,
+                                  void** device_pointer) {
+  return BufferCall(__func__, buffer, [&](Buffer& b) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(device_pointer, "device pointer"));
+    TS_RETURN_IF_ERROR(CheckDeviceNumber(b, optix_device_number));
+    auto p = b.GetDevicePointer(static_cast<int>(optix_device_number));
+    if (!p.ok()) return p.status();
+    *device_pointer = *p;
+    return absl::OkStatus();
+  });
+}
+
+RTresult rtBufferSetDevicePointer(RTbuffer buffer, unsigned int optix_device_number,
+                                  void* device_pointer) {
+  return BufferCall(__func__, buffer, [&](Buffer& b) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(device_pointer, "device pointer"));
+    TS_RETURN_IF_ERROR(CheckDeviceNumber(b, optix_device_number));
+    return b.SetDevicePointer(static_cast<int>(optix_device_number), device_pointer);
+  });
+}
 
 RTresult rtBufferCreate(RTcontext context, unsigned int bufferdesc, RTbuffer* buffer) {
   return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {

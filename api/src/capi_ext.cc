@@ -1,8 +1,11 @@
 // tessera* extension functions (tessera/rt_ext.h).
 #include <string>
+#include <vector>
 
+#include "absl/strings/str_cat.h"
 #include "boundary.h"
 #include "device_spec.h"
+#include "status.h"
 #include "tessera/rt_ext.h"
 
 using namespace tessera::api;  // NOLINT: C entry points only
@@ -37,6 +40,50 @@ RTresult tesseraContextGetExceptionReportCount(RTcontext context, RTsize* count)
   return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
     TS_RETURN_IF_ERROR(NotNull(count, "count pointer"));
     *count = c.last_exceptions().size();
+    return absl::OkStatus();
+  });
+}
+
+RTresult tesseraContextGetTransferStats(RTcontext context, unsigned long long* bytes_sent,
+                                        unsigned long long* bytes_received) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    if (bytes_sent != nullptr) *bytes_sent = c.bytes_sent();
+    if (bytes_received != nullptr) *bytes_received = c.bytes_received();
+    return absl::OkStatus();
+  });
+}
+
+RTresult tesseraContextSetTileSize(RTcontext context, unsigned int dimensionality,
+                                   const RTsize* size) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    if (dimensionality > 3) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat("tile size dimensionality ", dimensionality, " is not 0..3"));
+    }
+    std::vector<uint64_t> tile(dimensionality);
+    if (dimensionality > 0) TS_RETURN_IF_ERROR(NotNull(size, "tile size"));
+    for (unsigned d = 0; d < dimensionality; ++d) {
+      if (size[d] == 0) {
+        return RtError(RT_ERROR_INVALID_VALUE,
+                       absl::StrCat("tile size entry ", d, " is 0; tiles need a positive size"));
+      }
+      tile[d] = size[d];
+    }
+    return c.SetTileSize(std::move(tile));
+  });
+}
+
+RTresult tesseraContextSetRaceCheck(RTcontext context, int enabled) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    c.set_race_check(enabled != 0);
+    return absl::OkStatus();
+  });
+}
+
+RTresult tesseraContextGetRaceCount(RTcontext context, RTsize* count) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(count, "count pointer"));
+    *count = c.last_race_count();
     return absl::OkStatus();
   });
 }

@@ -16,8 +16,8 @@ RTresult rtProgramCreateFromPTXFile(RTcontext context, const char* filename,
     TS_RETURN_IF_ERROR(NotNull(program_name, "program name"));
     TS_RETURN_IF_ERROR(NotNull(program, "program pointer"));
     TS_ASSIGN_OR_RETURN(ModuleRef module, LoadProgramFile(filename, program_name));
-    *program = ToHandle<RTprogram>(
-        c.Make<Program>(std::move(module.path), std::move(module.hash), program_name));
+    *program = ToHandle<RTprogram>(c.Make<Program>(std::move(module.path), std::move(module.hash),
+                                                   std::move(module.bytes), program_name));
     return absl::OkStatus();
   });
 }
@@ -29,8 +29,8 @@ RTresult rtProgramCreateFromPTXString(RTcontext context, const char* ptx, const 
     TS_RETURN_IF_ERROR(NotNull(program_name, "program name"));
     TS_RETURN_IF_ERROR(NotNull(program, "program pointer"));
     TS_ASSIGN_OR_RETURN(ModuleRef module, LoadProgramSource(ptx, program_name));
-    *program = ToHandle<RTprogram>(
-        c.Make<Program>(std::move(module.path), std::move(module.hash), program_name));
+    *program = ToHandle<RTprogram>(c.Make<Program>(std::move(module.path), std::move(module.hash),
+                                                   std::move(module.bytes), program_name));
     return absl::OkStatus();
   });
 }

@@ -101,8 +101,27 @@ class Context : public Object {
   std::vector<DeviceSlot>& device_slots() { return slots_; }
   // Replaces the devices with the given ones (tests drive the launch path with fakes).
   void UseDevicesForTesting(std::vector<std::unique_ptr<Device>> devices);
-  // Creates the selected devices that do not exist yet.
+  // Creates the selected devices that do not exist yet, including lost ones again (a respawned
+  // local worker, a reconnected remote one). A device that cannot be created again is left out
+  // of the launch with a warning on stderr; UNAVAILABLE (RT_ERROR_CONNECTION_FAILED) when none
+  // is left.
   absl::Status EnsureDevices();
+  // Forgets a device that was lost during a launch (killed, hung, crashed): the next launch
+  // creates it again and sends it the whole state under a new session.
+  void LoseDevice(DeviceSlot& slot);
+  // The tile size launches use: empty = automatic.
+  absl::Status SetTileSize(std::vector<uint64_t> size);
+  const std::vector<uint64_t>& tile_size() const { return tile_size_; }
+  // Buffer bytes shipped to devices and gathered from them (tesseraContextGetTransferStats).
+  uint64_t bytes_sent() const { return bytes_sent_; }
+  uint64_t bytes_received() const { return bytes_received_; }
+  void CountSent(uint64_t bytes) { bytes_sent_ += bytes; }
+  // Race checking: tesseraContextSetRaceCheck, or TESSERA_RACE_CHECK=1 in the environment.
+  bool race_check() const;
+  void set_race_check(bool enabled) { race_check_ = enabled; }
+  uint64_t last_race_count() const { return last_race_count_; }
+  void set_last_race_count(uint64_t count) { last_race_count_ = count; }
+  void CountReceived(uint64_t bytes) { bytes_received_ += bytes; }
 
   // ---- Launch (launch.cc).
   absl::Status Launch(unsigned entry_point, const std::vector<uint64_t>& dims);
@@ -157,6 +176,12 @@ class Context : public Object {
   std::vector<DeviceSlot> slots_;
   bool injected_devices_ = false;
   uint64_t session_id_;
+  uint64_t sessions_ = 0;  // sessions opened after session_id_ (ids session_id_ + n)
+  std::vector<uint64_t> tile_size_;
+  uint64_t bytes_sent_ = 0;
+  bool race_check_ = false;
+  uint64_t last_race_count_ = 0;
+  uint64_t bytes_received_ = 0;
   std::vector<v1::ExceptionReport> last_exceptions_;
 
   mutable std::mutex error_mu_;

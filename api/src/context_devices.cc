@@ -1,4 +1,8 @@
 // Context device selection: which devices of the context's list a launch uses.
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
 #include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
 #include "context.h"
@@ -12,7 +16,8 @@ void Context::ResetDeviceSlots() {
   for (int ordinal : selected_) {
     DeviceSlot slot;
     slot.desc = device_list_[ordinal];
-    slot.sync.session_id = session_id_ + slots_.size();
+    slot.sync.ordinal = ordinal;
+    slot.sync.session_id = session_id_ + sessions_++;
     slots_.push_back(std::move(slot));
   }
   injected_devices_ = false;
@@ -64,7 +69,8 @@ void Context::UseDevicesForTesting(std::vector<std::unique_ptr<Device>> devices)
     DeviceInfo info = device->Info();
     slot.desc = DeviceDesc{DeviceSpecEntry::Type::kInproc, info.name, info.address};
     slot.device = std::move(device);
-    slot.sync.session_id = session_id_ + slots_.size();
+    slot.sync.ordinal = static_cast<int>(slots_.size());
+    slot.sync.session_id = session_id_ + sessions_++;
     slots_.push_back(std::move(slot));
   }
   injected_devices_ = true;
@@ -72,12 +78,60 @@ void Context::UseDevicesForTesting(std::vector<std::unique_ptr<Device>> devices)
 
 absl::Status Context::EnsureDevices() {
   if (slots_.empty()) return RtError(RT_ERROR_NO_DEVICE, "the context has no devices");
+  size_t available = 0;
+  std::string failures;
   for (DeviceSlot& slot : slots_) {
-    if (slot.device != nullptr) continue;
+    if (slot.device != nullptr) {
+      ++available;
+      continue;
+    }
+    if (injected_devices_) continue;  // a lost test device stays lost
     auto device = CreateDevice(slot.desc, num_threads_);
-    if (!device.ok()) return device.status();
+    if (!device.ok()) {
+      // A device that never worked is a configuration error; one that was lost is left out.
+      if (!slot.lost) return device.status();
+      std::fprintf(stderr, "tessera: device '%s' (%s) could not be started again: %s\n",
+                   slot.desc.name.c_str(), slot.desc.address.c_str(),
+                   std::string(device.status().message()).c_str());
+      absl::StrAppend(&failures, failures.empty() ? "" : "; ", slot.desc.name, ": ",
+                      device.status().message());
+      continue;
+    }
     slot.device = *std::move(device);
+    slot.lost = false;
+    ++available;
   }
+  if (available == 0) {
+    return RtError(
+        RT_ERROR_CONNECTION_FAILED,
+        absl::StrCat("every device was lost and none could be started again",
+                     failures.empty() ? "" : " (", failures, failures.empty() ? "" : ")"));
+  }
+  return absl::OkStatus();
+}
+
+void Context::LoseDevice(DeviceSlot& slot) {
+  slot.device.reset();
+  slot.lost = true;
+  // A new session: the replacement starts from nothing, and a worker that comes back must not
+  // mistake the new deltas for the continuation of the old ones.
+  const int ordinal = slot.sync.ordinal;
+  slot.sync = DeviceSync();
+  slot.sync.ordinal = ordinal;
+  slot.sync.session_id = session_id_ + sessions_++;
+}
+
+bool Context::race_check() const {
+  if (race_check_) return true;
+  const char* env = std::getenv("TESSERA_RACE_CHECK");
+  return env != nullptr && *env != '\0' && std::string(env) != "0";
+}
+
+absl::Status Context::SetTileSize(std::vector<uint64_t> size) {
+  if (running()) {
+    return RtError(RT_ERROR_INVALID_CONTEXT, "cannot change the tile size while a launch runs");
+  }
+  tile_size_ = std::move(size);
   return absl::OkStatus();
 }
 

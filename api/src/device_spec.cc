@@ -129,9 +129,9 @@ absl::StatusOr<std::vector<DeviceSpecEntry>> ParseDeviceSpec(absl::string_view s
   return entries;
 }
 
-std::string DeviceSpecFromEnvironment() {
+std::string DeviceSpecFromEnvironment(const std::string& fallback) {
   const char* env = std::getenv("TESSERA_DEVICES");
-  if (env == nullptr || absl::StripAsciiWhitespace(env).empty()) return kDefaultDeviceSpec;
+  if (env == nullptr || absl::StripAsciiWhitespace(env).empty()) return fallback;
   return env;
 }
 

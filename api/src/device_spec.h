@@ -24,14 +24,16 @@ struct DeviceSpecEntry {
   std::string ToString() const;
 };
 
-// The spec used when TESSERA_DEVICES is unset or empty.
+// The spec used when TESSERA_DEVICES is unset or empty and worker processes cannot be made
+// (tessera::api_core without libtessera's transport); otherwise the default is one local worker
+// process per core (DefaultDeviceSpec in device_table.h).
 inline constexpr char kDefaultDeviceSpec[] = "inproc";
 
 // Parses a whole spec; the error message quotes the offending entry and says what was expected.
 absl::StatusOr<std::vector<DeviceSpecEntry>> ParseDeviceSpec(absl::string_view spec);
 
-// TESSERA_DEVICES, or the default.
-std::string DeviceSpecFromEnvironment();
+// TESSERA_DEVICES, or `fallback` when it is unset or blank.
+std::string DeviceSpecFromEnvironment(const std::string& fallback = kDefaultDeviceSpec);
 
 }  // namespace tessera::api
 

@@ -1,5 +1,5 @@
-// What the host knows one device holds: object versions and buffer chunk hashes as of the last
-// successful Apply, so the next delta carries only differences.
+// What the host knows one device holds: object versions, buffer chunk hashes and program modules
+// as of the last successful Apply, so the next delta carries only differences.
 #ifndef TESSERA_API_SRC_DEVICE_SYNC_H_
 #define TESSERA_API_SRC_DEVICE_SYNC_H_
 
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "absl/container/flat_hash_map.h"
+#include "absl/container/flat_hash_set.h"
 #include "device_table.h"
 #include "tessera/scheduler/device.h"
 
@@ -21,21 +22,22 @@ struct BufferSyncState {
 };
 
 struct DeviceSync {
+  int ordinal = -1;  // the device's number in the context's device list (device pointers)
   uint64_t session_id = 0;
   uint64_t next_sequence = 1;
   uint64_t context_version = 0;
   absl::flat_hash_map<uint64_t, uint64_t> versions;  // object id → version the device has
   absl::flat_hash_map<uint64_t, BufferSyncState> buffers;
-  // With several devices: the last contents this device reported for each OUTPUT buffer, so
-  // that the next final copy can be reduced to what the device wrote in that launch.
-  absl::flat_hash_map<uint64_t, std::string> output_copies;
+  // Hashes of the program modules the device has received (state.proto ModuleChunk).
+  absl::flat_hash_set<std::string> modules;
 };
 
 // A device a context uses, created at its first launch.
 struct DeviceSlot {
   DeviceDesc desc;
-  std::unique_ptr<Device> device;
+  std::unique_ptr<Device> device;  // null until created, and after it was lost
   DeviceSync sync;
+  bool lost = false;  // lost during a launch: created again, or left out, at the next one
 };
 
 }  // namespace tessera::api

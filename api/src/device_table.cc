@@ -1,5 +1,6 @@
 #include "device_table.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 
@@ -54,8 +55,13 @@ std::vector<DeviceDesc> ExpandDevices(const std::vector<DeviceSpecEntry>& entrie
   return devices;
 }
 
+std::string DefaultDeviceSpec() {
+  if (g_worker_factory.load() == nullptr) return kDefaultDeviceSpec;
+  return absl::StrCat("local:", HardwareThreads());
+}
+
 absl::StatusOr<std::vector<DeviceDesc>> DevicesFromEnvironment() {
-  std::string spec = DeviceSpecFromEnvironment();
+  std::string spec = DeviceSpecFromEnvironment(DefaultDeviceSpec());
   auto entries = ParseDeviceSpec(spec);
   if (!entries.ok()) {
     return RtError(ToRtResult(entries.status()),
@@ -79,8 +85,12 @@ absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attr
     }
     case RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT:
       // Worker processes on other machines report their threads once connected (issue 3).
+      // A local:N worker gets its share of the cores (api/src/worker_factory.cc).
       return Write<int>("RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT", size, out,
-                        local ? HardwareThreads() : 0);
+                        !local ? 0
+                        : device.type == DeviceSpecEntry::Type::kLocal
+                            ? std::max(1, HardwareThreads() / std::max(1, device.local_count))
+                            : HardwareThreads());
     case RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY:
       return Write<RTsize>("RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY", size, out,
                            local ? static_cast<RTsize>(TotalSystemMemory()) : 0);

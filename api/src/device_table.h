@@ -28,6 +28,10 @@ struct DeviceDesc {
 // One device per entry; local:N gives N devices.
 std::vector<DeviceDesc> ExpandDevices(const std::vector<DeviceSpecEntry>& entries);
 
+// With nothing configured: one local worker process per core ("local:<cores>"), or "inproc"
+// when no worker transport is installed.
+std::string DefaultDeviceSpec();
+
 // Parses TESSERA_DEVICES (or the default) and expands it.
 absl::StatusOr<std::vector<DeviceDesc>> DevicesFromEnvironment();
 

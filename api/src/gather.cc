@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <tuple>
 
 #include "absl/strings/str_cat.h"
@@ -10,6 +11,8 @@
 #include "hash.h"
 #include "status.h"
 #include "tessera/scheduler/device.h"
+#include "variable.h"
+#include "variable_scope.h"
 
 namespace tessera::api {
 namespace {
@@ -50,19 +53,42 @@ void LaunchGather::ReportExceptions() {
   }
 }
 
-LaunchGather::LaunchGather(Context& context, std::vector<DeviceSlot>& slots)
+LaunchGather::LaunchGather(Context& context, std::vector<DeviceSlot*> slots)
     : context_(context),
-      slots_(slots),
-      multi_device_(slots.size() > 1),
-      running_devices_(slots.size()),
-      statuses_(slots.size()),
-      written_(slots.size()) {
-  if (!multi_device_) return;
+      slots_(std::move(slots)),
+      check_races_(context.race_check() && slots_.size() > 1) {
+  if (!check_races_) return;
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() != Kind::kBuffer) continue;
     auto* b = static_cast<Buffer*>(object);
-    if (b->gathers_content() && b->ships_content()) {
-      snapshots_[id].assign(reinterpret_cast<const char*>(b->bytes()), b->byte_size());
+    if (!b->gathers_content() || b->element_size() == 0) continue;
+    RaceState& state = race_state_[id];
+    state.before.assign(reinterpret_cast<const char*>(b->bytes()), b->byte_size());
+    state.owner.assign(b->byte_size() / b->element_size(), -1);
+  }
+}
+
+void LaunchGather::CheckRaces(size_t device, const Buffer& b, uint64_t offset,
+                              const std::string& data) {
+  auto it = race_state_.find(b.id());
+  if (it == race_state_.end()) return;
+  RaceState& state = it->second;
+  const size_t size = b.element_size();
+  const char* host = reinterpret_cast<const char*>(b.bytes());
+  for (uint64_t at = 0; at + size <= data.size(); at += size) {
+    const uint64_t byte = offset + at;
+    const uint64_t element = byte / size;
+    // Programs mark the elements they index, reads included: an element still holding its
+    // value from before the launch was not written by this device.
+    if (std::memcmp(data.data() + at, state.before.data() + byte, size) == 0) continue;
+    int16_t& owner = state.owner[element];
+    if (owner == kNoWriter) {
+      owner = static_cast<int16_t>(device);
+    } else if (owner >= 0 && owner != static_cast<int16_t>(device) &&
+               std::memcmp(data.data() + at, host + byte, size) != 0) {
+      if (races_.size() < 10) races_.push_back({b.id(), element, size_t(owner), device});
+      ++race_count_;
+      owner = kSeveralWriters;  // each element is reported once
     }
   }
 }
@@ -71,65 +97,26 @@ void LaunchGather::RecordError(absl::Status status) {
   if (first_error_.ok()) first_error_ = std::move(status);
 }
 
-void LaunchGather::OnResult(size_t device, v1::TileResult&& result) {
-  std::lock_guard<std::mutex> lock(mu_);
-  queue_.emplace_back(device, std::move(result));
-  cv_.notify_all();
-}
-
-void LaunchGather::DeviceDone(size_t device, absl::Status status) {
-  std::lock_guard<std::mutex> lock(mu_);
-  statuses_[device] = std::move(status);
-  --running_devices_;
-  cv_.notify_all();
-}
-
-bool LaunchGather::ProcessUntil(std::chrono::steady_clock::time_point deadline) {
-  while (true) {
-    std::vector<std::pair<size_t, v1::TileResult>> batch;
-    bool done;
-    {
-      std::unique_lock<std::mutex> lock(mu_);
-      auto ready = [&] { return !queue_.empty() || running_devices_ == 0; };
-      if (deadline == std::chrono::steady_clock::time_point::max()) {
-        cv_.wait(lock, ready);
-      } else {
-        cv_.wait_until(lock, deadline, ready);
-      }
-      batch.swap(queue_);
-      done = running_devices_ == 0;
+void LaunchGather::Apply(scheduler::FinishedBatch& batch) {
+  const std::string& device_name = slots_[batch.device]->desc.name;
+  for (v1::TileResult& result : batch.results) {
+    if (!result.error().empty()) {
+      RTresult code = result.error_code() != 0 ? static_cast<RTresult>(result.error_code())
+                                               : RT_ERROR_LAUNCH_FAILED;
+      RecordError(RtError(code, absl::StrCat("device '", device_name, "': ", result.error())));
     }
-    for (auto& [device, result] : batch) Apply(device, result);
-    if (done) {
-      // Devices finished: nothing more can arrive once the queue is drained.
-      std::lock_guard<std::mutex> lock(mu_);
-      if (queue_.empty()) return true;
-      continue;
-    }
-    // Keep the timeout callback on schedule even while results stream in.
-    if (std::chrono::steady_clock::now() >= deadline) return false;
+    for (const v1::BufferRegion& region : result.regions()) ApplyRegion(batch.device, region);
+    for (auto& p : *result.mutable_prints()) prints_.push_back(std::move(p));
+    for (auto& e : *result.mutable_exceptions()) exceptions_.push_back(std::move(e));
   }
 }
 
-void LaunchGather::Apply(size_t device, v1::TileResult& result) {
-  const std::string& device_name = slots_[device].desc.name;
-  if (!result.error().empty()) {
-    RTresult code = result.error_code() != 0 ? static_cast<RTresult>(result.error_code())
-                                             : RT_ERROR_LAUNCH_FAILED;
-    RecordError(RtError(code, absl::StrCat("device '", device_name, "': ", result.error())));
-  }
-  const bool final_tile = result.tile_index() == kFinalTileIndex;
-  for (const v1::BufferRegion& region : result.regions()) ApplyRegion(device, final_tile, region);
-  for (auto& p : *result.mutable_prints()) prints_.push_back(std::move(p));
-  for (auto& e : *result.mutable_exceptions()) exceptions_.push_back(std::move(e));
-}
-
-void LaunchGather::ApplyRegion(size_t device, bool final_tile, const v1::BufferRegion& region) {
+void LaunchGather::ApplyRegion(size_t device, const v1::BufferRegion& region) {
   Object* object = context_.FindById(region.buffer_id());
   if (object == nullptr || object->kind() != Kind::kBuffer) {
     RecordError(
         RtError(RT_ERROR_LAUNCH_FAILED,
-                absl::StrCat("device '", slots_[device].desc.name,
+                absl::StrCat("device '", slots_[device]->desc.name,
                              "' sent contents for unknown buffer id ", region.buffer_id())));
     return;
   }
@@ -140,77 +127,89 @@ void LaunchGather::ApplyRegion(size_t device, bool final_tile, const v1::BufferR
   const uint64_t offset = region.offset();
   if (offset > b->byte_size() || data.size() > b->byte_size() - offset) {
     RecordError(RtError(RT_ERROR_LAUNCH_FAILED,
-                        absl::StrCat("device '", slots_[device].desc.name, "' wrote bytes [",
+                        absl::StrCat("device '", slots_[device]->desc.name, "' wrote bytes [",
                                      offset, ", ", offset + data.size(), ") outside ",
                                      b->Describe(), " (", b->byte_size(), " bytes)")));
     return;
   }
-  Written& w = written_[device][b->id()];
-  w.ranges.emplace_back(offset, offset + data.size());
-  if (final_tile && offset == 0 && data.size() == b->byte_size() && b->ships_content()) {
-    // A complete copy: the device's contents are now exactly known.
-    w.full_hashes.clear();
-    for (uint64_t begin = 0; begin < data.size(); begin += kChunkBytes) {
-      uint64_t n = std::min<uint64_t>(kChunkBytes, data.size() - begin);
-      w.full_hashes.push_back(ChunkHash(data.data() + begin, n));
+  if (data.empty()) return;
+  if (check_races_) CheckRaces(device, *b, offset, data);
+  // Regions hold exactly the elements the device's programs touched: applying them in any order
+  // merges the devices' work (two devices writing one element is a race, as in OptiX).
+  b->WriteRegion(offset, data).IgnoreError();  // bounds checked above
+  context_.CountReceived(data.size());
+  std::vector<int>& writers = chunk_writers_[b->id()];
+  writers.resize((b->byte_size() + kChunkBytes - 1) / kChunkBytes, kNoWriter);
+  const int d = static_cast<int>(device);
+  for (uint64_t c = offset / kChunkBytes; c <= (offset + data.size() - 1) / kChunkBytes; ++c) {
+    if (writers[c] == kNoWriter) {
+      writers[c] = d;
+    } else if (writers[c] != d) {
+      writers[c] = kSeveralWriters;
     }
-  }
-  if (!final_tile || !multi_device_) {
-    b->WriteRegion(offset, data).IgnoreError();  // bounds checked above
-    return;
-  }
-  // Several devices: a device's final copy is stale outside its own tiles, so only the bytes it
-  // changed during this launch count. Before the launch it held the host's contents (INPUT_OUTPUT
-  // buffers are synced) or, for OUTPUT buffers, its own previous final copy (zeros when new).
-  const std::string* before = nullptr;
-  std::string zeros;
-  auto& copies = slots_[device].sync.output_copies;
-  if (b->ships_content()) {
-    before = &snapshots_[b->id()];
-  } else if (auto it = copies.find(b->id());
-             it != copies.end() && it->second.size() == b->byte_size()) {
-    before = &it->second;
-  } else {
-    zeros.assign(b->byte_size(), '\0');
-    before = &zeros;
-  }
-  size_t i = 0;
-  while (i < data.size()) {
-    if (data[i] == (*before)[offset + i]) {
-      ++i;
-      continue;
-    }
-    size_t j = i;
-    while (j < data.size() && data[j] != (*before)[offset + j]) ++j;
-    b->WriteRegion(offset + i, absl::string_view(data).substr(i, j - i)).IgnoreError();
-    i = j;
-  }
-  if (!b->ships_content()) {
-    std::string& copy = copies[b->id()];
-    if (copy.size() != b->byte_size()) copy = std::move(zeros);
-    copy.resize(b->byte_size(), '\0');
-    copy.replace(offset, data.size(), data);
   }
 }
 
+namespace {
+
+// The name an application knows a buffer by: the first variable bound to it.
+std::string BufferName(Context& context, uint64_t id) {
+  auto name_in = [&](Object* owner) -> std::string {
+    VariableScope* scope = owner->scope();
+    if (scope == nullptr) return "";
+    for (const Variable* v : scope->variables()) {
+      if (v->object() != nullptr && v->object()->id() == id) return v->name();
+    }
+    return "";
+  };
+  std::string name = name_in(&context);
+  for (const auto& [object_id, object] : context.objects()) {
+    if (!name.empty()) break;
+    name = name_in(object);
+  }
+  return name.empty() ? absl::StrCat("#", id) : absl::StrCat("'", name, "'");
+}
+
+}  // namespace
+
 absl::Status LaunchGather::Finish() {
-  ProcessUntil(std::chrono::steady_clock::time_point::max());
-  for (size_t d = 0; d < slots_.size(); ++d) {
-    for (auto& [id, w] : written_[d]) {
-      auto state = slots_[d].sync.buffers.find(id);
-      if (state == slots_[d].sync.buffers.end()) continue;
+  if (race_count_ > 0) {
+    for (const Race& r : races_) {
+      Object* object = context_.FindById(r.buffer_id);
+      const auto* b = static_cast<const Buffer*>(object);
+      const uint64_t w = b->dim(0), h = b->dim(1);
+      std::fprintf(stderr,
+                   "tessera: race check: buffer %s element (%llu, %llu, %llu): devices '%s' and "
+                   "'%s' wrote different values in one launch\n",
+                   BufferName(context_, r.buffer_id).c_str(),
+                   static_cast<unsigned long long>(r.element % w),
+                   static_cast<unsigned long long>(r.element / w % h),
+                   static_cast<unsigned long long>(r.element / (w * h)),
+                   slots_[r.first]->desc.name.c_str(), slots_[r.second]->desc.name.c_str());
+    }
+    if (race_count_ > races_.size()) {
+      std::fprintf(stderr, "tessera: race check: %llu more elements written by two devices\n",
+                   static_cast<unsigned long long>(race_count_ - races_.size()));
+    }
+  }
+  context_.set_last_race_count(race_count_);
+  // A device holds the host's contents of a chunk it alone wrote into (its own writes are what the
+  // host applied); chunks other devices wrote into differ there and travel again next launch.
+  for (const auto& [id, writers] : chunk_writers_) {
+    Object* object = context_.FindById(id);
+    if (object == nullptr) continue;
+    const auto* b = static_cast<const Buffer*>(object);
+    for (size_t d = 0; d < slots_.size(); ++d) {
+      auto state = slots_[d]->sync.buffers.find(id);
+      if (state == slots_[d]->sync.buffers.end()) continue;
       std::vector<uint64_t>& hashes = state->second.hashes;
-      if (!w.full_hashes.empty() && w.full_hashes.size() == hashes.size()) {
-        hashes = std::move(w.full_hashes);
-        continue;
-      }
-      // Partial writes: those chunks are no longer known; the next launch resends them.
-      for (const auto& [begin, end] : w.ranges) {
-        if (begin == end) continue;
-        for (uint64_t c = begin / kChunkBytes; c <= (end - 1) / kChunkBytes && c < hashes.size();
-             ++c) {
-          hashes[c] = 0;
-        }
+      for (size_t c = 0; c < writers.size() && c < hashes.size(); ++c) {
+        if (writers[c] == kNoWriter) continue;
+        const uint64_t begin = c * kChunkBytes;
+        const uint64_t n = std::min<uint64_t>(kChunkBytes, b->byte_size() - begin);
+        hashes[c] = writers[c] == static_cast<int>(d) && b->ships_content()
+                        ? ChunkHash(reinterpret_cast<const char*>(b->bytes()) + begin, n)
+                        : 0;
       }
     }
   }

@@ -1,5 +1,7 @@
-// Content hashes for buffer chunks and program modules: XXH64 (Yann Collet's algorithm, written
-// here from its public specification), chosen for speed on multi-megabyte chunks.
+// Content hashes. Buffer chunks and compile-cache keys: XXH64 (Yann Collet's algorithm, written
+// here from its public specification), chosen for speed on multi-megabyte chunks. Program
+// modules: SHA-256 (ModuleHash), because a device trusts a module's hash as its name for good,
+// in a cache shared by every host and session it serves.
 #ifndef TESSERA_API_SRC_HASH_H_
 #define TESSERA_API_SRC_HASH_H_
 
@@ -26,6 +28,10 @@ inline uint64_t ChunkHash(const void* data, size_t size) {
 
 // 16 lowercase hex digits.
 std::string HexHash(uint64_t hash);
+
+// The wire's module hash (state.proto Program.module_hash): 64 lowercase hex digits of the
+// SHA-256 of a module file's bytes. worker/core computes the same to check what it receives.
+std::string ModuleHash(absl::string_view bytes);
 
 }  // namespace tessera::api
 

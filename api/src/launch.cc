@@ -1,7 +1,9 @@
-// Context::Launch: validate, ship state deltas, dispatch tiles to devices, gather results.
+// Context::Launch: validate, ship state deltas, dispatch tiles to devices (scheduler/), gather
+// results, and deal with devices lost on the way.
 #include <algorithm>
 #include <chrono>
-#include <thread>
+#include <cstdio>
+#include <cstdlib>
 
 #include "absl/strings/str_cat.h"
 #include "acceleration.h"
@@ -11,7 +13,8 @@
 #include "geometry.h"
 #include "lowering.h"
 #include "status.h"
-#include "tiling.h"
+#include "tessera/scheduler/dispatcher.h"
+#include "tessera/scheduler/tiling.h"
 #include "validate.h"
 
 namespace tessera::api {
@@ -24,8 +27,24 @@ absl::Status DeviceError(const DeviceSlot& slot, const char* what, const absl::S
   if (code == RT_ERROR_INVALID_VALUE || code == RT_ERROR_INVALID_CONTEXT) {
     code = RT_ERROR_LAUNCH_FAILED;  // a device rejecting our own messages is a launch failure
   }
-  return RtError(code,
-                 absl::StrCat("device '", slot.desc.name, "' ", what, ": ", status.message()));
+  if (status.code() == absl::StatusCode::kAborted) code = RT_ERROR_LAUNCH_FAILED;
+  return RtError(code, absl::StrCat("device '", slot.desc.name, "' (", slot.desc.address, ") ",
+                                    what, ": ", status.message()));
+}
+
+// Whether `status` says the device itself is gone rather than that it refused our request.
+bool IsDeviceLoss(const absl::Status& status) {
+  return status.code() == absl::StatusCode::kUnavailable ||
+         status.code() == absl::StatusCode::kDeadlineExceeded;
+}
+
+void WarnLost(const DeviceSlot& slot, uint64_t launch_id, const absl::Status& reason) {
+  std::fprintf(stderr,
+               "tessera: device '%s' (%s) was lost during launch %llu: %s. Its tiles ran on the "
+               "other devices; its copies of GPU_LOCAL buffers are gone. It is started again for "
+               "the next launch.\n",
+               slot.desc.name.c_str(), slot.desc.address.c_str(),
+               static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str());
 }
 
 // Sets the running flag for the duration of a launch.
@@ -48,12 +67,30 @@ absl::Status CheckNothingMapped(Context& context) {
   return absl::OkStatus();
 }
 
-absl::Status ApplyDeltas(Context& context) {
+// Ships each device what changed since it last synced. A device that is gone is dropped from
+// this launch (and created again for the next); every device gone is RT_ERROR_CONNECTION_FAILED.
+absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
+  size_t alive = 0;
+  std::string lost;
   for (DeviceSlot& slot : context.device_slots()) {
+    if (slot.device == nullptr) continue;
     PreparedDelta prepared = BuildDelta(context, slot.sync);
+    uint64_t bytes = 0;
+    for (const v1::BufferChunk& chunk : prepared.delta.chunks()) bytes += chunk.data().size();
     absl::Status status = slot.device->Apply(prepared.delta);
+    if (IsDeviceLoss(status)) {
+      WarnLost(slot, launch_id, status);
+      absl::StrAppend(&lost, lost.empty() ? "" : "; ", slot.desc.name, ": ", status.message());
+      context.LoseDevice(slot);
+      continue;
+    }
     if (!status.ok()) return DeviceError(slot, "rejected the state update", status);
+    context.CountSent(bytes);
     CommitDelta(std::move(prepared), &slot.sync);
+    ++alive;
+  }
+  if (alive == 0) {
+    return RtError(RT_ERROR_CONNECTION_FAILED, absl::StrCat("every device was lost (", lost, ")"));
   }
   // Every device now holds the current build epochs.
   for (const auto& [id, object] : context.objects()) {
@@ -61,6 +98,49 @@ absl::Status ApplyDeltas(Context& context) {
     if (object->kind() == Kind::kGeometry) static_cast<Geometry*>(object)->ClearDirty();
   }
   return absl::OkStatus();
+}
+
+// Device pointers (rtBufferGetDevicePointer/SetDevicePointer) into the host contents, or into
+// per-device contents, before deltas are built.
+absl::Status SyncDevicePointers(Context& context) {
+  std::vector<int> ordinals;
+  for (const DeviceSlot& slot : context.device_slots()) ordinals.push_back(slot.sync.ordinal);
+  for (const auto& [id, object] : context.objects()) {
+    if (object->kind() != Kind::kBuffer) continue;
+    TS_RETURN_IF_ERROR(static_cast<Buffer*>(object)->SyncDevicePointersBeforeLaunch(ordinals));
+  }
+  return absl::OkStatus();
+}
+
+// GPU_LOCAL buffers hold per-device state across launches (accumulation, RNG seeds): launches
+// then keep every launch index on the same device (DESIGN.md "Buffer semantics").
+bool NeedsStableOwnership(Context& context) {
+  for (const auto& [id, object] : context.objects()) {
+    if (object->kind() == Kind::kBuffer && static_cast<Buffer*>(object)->gpu_local()) return true;
+  }
+  return false;
+}
+
+// The context's tile size (tesseraContextSetTileSize), else TESSERA_TILE_SIZE, else chosen from
+// the launch size and the devices' threads; one entry per launch dimension.
+absl::StatusOr<std::vector<uint64_t>> TileSizeFor(const Context& context,
+                                                  const std::vector<uint64_t>& dims,
+                                                  int total_threads) {
+  std::vector<uint64_t> size = context.tile_size();
+  if (size.empty()) {
+    const char* env = std::getenv("TESSERA_TILE_SIZE");
+    if (env != nullptr && *env != '\0') {
+      auto parsed = scheduler::ParseTileSize(env);
+      if (!parsed.ok()) {
+        return RtError(RT_ERROR_INVALID_VALUE,
+                       absl::StrCat("TESSERA_TILE_SIZE: ", parsed.status().message()));
+      }
+      size = *std::move(parsed);
+    }
+  }
+  if (size.empty()) return scheduler::ChooseTileSize(dims, total_threads);
+  size.resize(dims.size(), size.back());
+  return size;
 }
 
 }  // namespace
@@ -77,41 +157,41 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   TS_RETURN_IF_ERROR(ValidateContext(*this));
   TS_RETURN_IF_ERROR(CheckNothingMapped(*this));
   TS_RETURN_IF_ERROR(EnsureDevices());
+  TS_RETURN_IF_ERROR(SyncDevicePointers(*this));
   RunningScope running_scope(*this);
-  TS_RETURN_IF_ERROR(ApplyDeltas(*this));
+  const uint64_t launch_id = NextLaunchId();
+  TS_RETURN_IF_ERROR(ApplyDeltas(*this, launch_id));
 
-  std::vector<DeviceSlot>& slots = device_slots();
-  const size_t n = slots.size();
   v1::LaunchRequest common;
-  common.set_launch_id(NextLaunchId());
+  common.set_launch_id(launch_id);
   common.set_entry_point(entry_point);
   for (uint64_t d : dims) common.add_dims(d);
-  std::vector<v1::LaunchRequest> requests(n, common);
-  // Tile i goes to device i mod n: the same launch size and device set give every launch index
-  // the same device each time, which GPU_LOCAL accumulation relies on.
-  std::vector<v1::Tile> tiles = MakeTiles(dims, DefaultTileSize(dims.size()));
-  for (v1::Tile& tile : tiles) *requests[tile.index() % n].add_tiles() = std::move(tile);
-  for (size_t d = 0; d < n; ++d) requests[d].set_session_id(slots[d].sync.session_id);
+
+  // The devices of this launch: slots whose device exists.
+  std::vector<DeviceSlot*> slots;
+  std::vector<scheduler::DispatchDevice> devices;
+  int total_threads = 0;
+  for (DeviceSlot& slot : device_slots()) {
+    if (slot.device == nullptr) continue;
+    slots.push_back(&slot);
+    scheduler::DispatchDevice device;
+    device.device = slot.device.get();
+    device.name = absl::StrCat("'", slot.desc.name, "' (", slot.desc.address, ")");
+    device.threads = std::max(1, slot.device->Info().thread_count);
+    device.header = common;
+    device.header.set_session_id(slot.sync.session_id);
+    total_threads += device.threads;
+    devices.push_back(std::move(device));
+  }
+  auto tile_size = TileSizeFor(*this, dims, total_threads);
+  if (!tile_size.ok()) return tile_size.status();
+  // No tiles for the all-zero launch: each device then runs one empty call, which builds its
+  // accelerations (bounding-box programs may write buffers: their regions are gathered too).
+  std::vector<v1::Tile> tiles = scheduler::MakeTiles(dims, *tile_size);
 
   LaunchGather gather(*this, slots);
-  std::atomic<bool> cancel{false};
-  std::vector<std::thread> threads;
-  threads.reserve(n);
-  for (size_t d = 0; d < n; ++d) {
-    threads.emplace_back([&, d] {
-      absl::Status status;
-      try {
-        status = slots[d].device->Launch(requests[d], cancel, [&gather, d](v1::TileResult&& r) {
-          gather.OnResult(d, std::move(r));
-        });
-      } catch (const std::exception& e) {
-        status = absl::InternalError(absl::StrCat("threw: ", e.what()));
-      } catch (...) {
-        status = absl::InternalError("threw a non-standard exception");
-      }
-      gather.DeviceDone(d, std::move(status));
-    });
-  }
+  scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles),
+                                   NeedsStableOwnership(*this));
 
   // The launching thread applies results as they arrive and polls the timeout callback (OptiX
   // semantics: the callback runs on the application's thread and may ask to stop).
@@ -120,28 +200,47 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   const auto interval = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(std::max(timeout_polling_seconds(), 0.001)));
   auto next_poll = std::chrono::steady_clock::now() + interval;
+  std::vector<scheduler::FinishedBatch> batches;
   while (true) {
     const bool polling = callback != nullptr && !cancelled;
-    if (gather.ProcessUntil(polling ? next_poll : std::chrono::steady_clock::time_point::max())) {
-      break;
-    }
+    const bool done = dispatcher.Wait(
+        polling ? next_poll : std::chrono::steady_clock::time_point::max(), &batches);
+    for (scheduler::FinishedBatch& batch : batches) gather.Apply(batch);
+    batches.clear();
+    if (done) break;
     if (polling && std::chrono::steady_clock::now() >= next_poll) {
       if (callback() != 0) {
         cancelled = true;
-        cancel.store(true);
+        dispatcher.Cancel();
       }
       next_poll = std::chrono::steady_clock::now() + interval;
     }
   }
-  for (std::thread& t : threads) t.join();
 
+  for (const scheduler::LostDevice& lost : dispatcher.lost()) {
+    WarnLost(*slots[lost.device], launch_id, lost.reason);
+  }
   absl::Status tile_status = gather.Finish();
+  for (const scheduler::LostDevice& lost : dispatcher.lost()) LoseDevice(*slots[lost.device]);
+
+  for (const auto& [id, object] : objects()) {
+    if (object->kind() == Kind::kBuffer) {
+      static_cast<Buffer*>(object)->SyncDevicePointersAfterLaunch();
+    }
+  }
+
+  absl::Status status = dispatcher.status();
   if (cancelled) {
     return RtError(RT_TIMEOUT_CALLBACK, "launch cancelled by the timeout callback");
   }
-  for (size_t d = 0; d < n; ++d) {
-    const absl::Status& status = gather.device_statuses()[d];
-    if (!status.ok()) return DeviceError(slots[d], "failed the launch", status);
+  if (status.code() == absl::StatusCode::kUnavailable) {
+    return RtError(RT_ERROR_CONNECTION_FAILED,
+                   absl::StrCat("launch ", launch_id, " failed: ", status.message()));
+  }
+  if (!status.ok()) {
+    const int d = dispatcher.failed_device();
+    if (d >= 0) return DeviceError(*slots[d], "failed the launch", status);
+    return RtError(RT_ERROR_LAUNCH_FAILED, std::string(status.message()));
   }
   return tile_status;
 }

@@ -7,6 +7,7 @@
 #include "buffer.h"
 #include "context.h"
 #include "geometry.h"
+#include "hash.h"
 #include "nodes.h"
 #include "program.h"
 #include "validate.h"
@@ -170,31 +171,62 @@ void LowerObject(const Context& c, Object& o, v1::Object* out) {
   }
 }
 
-// Adds the chunks of `b` the device lacks; returns what it holds afterwards.
-BufferSyncState LowerChunks(Buffer& b, const BufferSyncState* known, v1::StateDelta* delta) {
+// Adds the chunks of `b` the device lacks; returns what it holds afterwards. With device pointers
+// for every device, device `ordinal` gets its own view instead of the host contents.
+BufferSyncState LowerChunks(Buffer& b, const BufferSyncState* known, int ordinal,
+                            v1::StateDelta* delta) {
   BufferSyncState next;
   next.byte_size = b.byte_size();
   next.host_write_epoch = b.host_write_epoch();
-  const std::vector<uint64_t>& hashes = b.ChunkHashes();
-  next.hashes = hashes;
+  const unsigned char* own = b.PerDeviceBytes(ordinal);
+  const unsigned char* source = own != nullptr ? own : b.bytes();
+  if (own != nullptr) {
+    for (uint64_t begin = 0; begin < b.byte_size(); begin += kChunkBytes) {
+      next.hashes.push_back(ChunkHash(reinterpret_cast<const char*>(own) + begin,
+                                      std::min<uint64_t>(kChunkBytes, b.byte_size() - begin)));
+    }
+  } else {
+    next.hashes = b.ChunkHashes();
+  }
+  const std::vector<uint64_t>& hashes = next.hashes;
   const bool same_shape = known != nullptr && known->byte_size == b.byte_size() &&
                           known->hashes.size() == hashes.size();
   // GPU_LOCAL copies diverge on each device, so equal hashes prove nothing there: every host
-  // write is broadcast in full.
+  // write is broadcast in full (a device's own view is compared with what it was last sent).
   const bool force =
       b.gpu_local() && (known == nullptr || known->host_write_epoch != b.host_write_epoch());
   for (size_t i = 0; i < hashes.size(); ++i) {
-    const bool ship = b.gpu_local() ? force : (!same_shape || known->hashes[i] != hashes[i]);
+    const bool changed = !same_shape || known->hashes[i] != hashes[i];
+    const bool ship = b.gpu_local() && own == nullptr ? force : changed;
     if (!ship) continue;
     uint64_t begin = i * kChunkBytes;
     uint64_t end = std::min<uint64_t>(b.byte_size(), begin + kChunkBytes);
     v1::BufferChunk* chunk = delta->add_chunks();
     chunk->set_buffer_id(b.id());
     chunk->set_offset(begin);
-    chunk->set_data(b.bytes() + begin, end - begin);
+    chunk->set_data(source + begin, end - begin);
     chunk->set_hash(hashes[i]);
   }
   return next;
+}
+
+// Ships the module of `p` in slices, unless the device has it or this delta carries it already.
+void LowerModule(const Program& p, const DeviceSync& sync, PreparedDelta* out) {
+  const std::string& hash = p.module_hash();
+  if (sync.modules.contains(hash) ||
+      std::find(out->modules.begin(), out->modules.end(), hash) != out->modules.end()) {
+    return;
+  }
+  const std::string& bytes = p.module_bytes();
+  // Slices no larger than buffer chunks keep every Apply stream message under the same bound.
+  for (uint64_t begin = 0; begin < bytes.size(); begin += kChunkBytes) {
+    v1::ModuleChunk* chunk = out->delta.add_modules();
+    chunk->set_module_hash(hash);
+    chunk->set_offset(begin);
+    chunk->set_total_size(bytes.size());
+    chunk->set_data(bytes.data() + begin, std::min<uint64_t>(kChunkBytes, bytes.size() - begin));
+  }
+  out->modules.push_back(hash);
 }
 
 }  // namespace
@@ -220,13 +252,14 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
     if (known == sync.versions.end() || known->second != o->version()) {
       LowerObject(context, *o, delta.add_objects());
       out.versions.emplace_back(o->id(), o->version());
+      if (o->kind() == Kind::kProgram) LowerModule(static_cast<Program&>(*o), sync, &out);
     }
     if (o->kind() == Kind::kBuffer) {
       auto& b = static_cast<Buffer&>(*o);
       if (!b.ships_content()) continue;
       auto it = sync.buffers.find(b.id());
       const BufferSyncState* state = it == sync.buffers.end() ? nullptr : &it->second;
-      out.buffers.emplace_back(b.id(), LowerChunks(b, state, &delta));
+      out.buffers.emplace_back(b.id(), LowerChunks(b, state, sync.ordinal, &delta));
     }
   }
 
@@ -245,14 +278,10 @@ void CommitDelta(PreparedDelta&& prepared, DeviceSync* sync) {
   for (uint64_t id : prepared.delta.removed()) {
     sync->versions.erase(id);
     sync->buffers.erase(id);
-    sync->output_copies.erase(id);
   }
-  for (auto& [id, version] : prepared.versions) {
-    sync->versions[id] = version;
-    // A buffer whose description changed is reallocated (zeroed) on the device.
-    sync->output_copies.erase(id);
-  }
+  for (auto& [id, version] : prepared.versions) sync->versions[id] = version;
   for (auto& [id, state] : prepared.buffers) sync->buffers[id] = std::move(state);
+  for (std::string& hash : prepared.modules) sync->modules.insert(std::move(hash));
 }
 
 }  // namespace tessera::api

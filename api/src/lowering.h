@@ -3,6 +3,7 @@
 #ifndef TESSERA_API_SRC_LOWERING_H_
 #define TESSERA_API_SRC_LOWERING_H_
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -18,12 +19,14 @@ struct PreparedDelta {
   v1::StateDelta delta;
   std::vector<std::pair<uint64_t, uint64_t>> versions;        // id → version shipped
   std::vector<std::pair<uint64_t, BufferSyncState>> buffers;  // id → what it will hold
+  std::vector<std::string> modules;                           // module hashes shipped
 };
 
 // Everything that changed for the device `sync` describes: the full ContextState; every object
 // whose version differs (reachable from the context, plus every buffer, since programs can reach
-// buffers by id); ids of destroyed objects the device holds; and buffer chunks whose content
-// hash the device lacks. OUTPUT-only buffers never ship contents. The context must be valid.
+// buffers by id); ids of destroyed objects the device holds; buffer chunks whose content hash
+// the device lacks; and, once per device, the bytes of each program module it has not received.
+// OUTPUT-only buffers never ship contents. The context must be valid.
 PreparedDelta BuildDelta(Context& context, const DeviceSync& sync);
 
 // The device applied the delta.

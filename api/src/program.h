@@ -3,6 +3,7 @@
 #ifndef TESSERA_API_SRC_PROGRAM_H_
 #define TESSERA_API_SRC_PROGRAM_H_
 
+#include <memory>
 #include <string>
 
 #include "object.h"
@@ -15,10 +16,11 @@ class Program : public Object {
   static constexpr Kind kKind = Kind::kProgram;
 
   Program(Context* context, uint64_t id, std::string module_path, std::string module_hash,
-          std::string function)
+          std::shared_ptr<const std::string> module_bytes, std::string function)
       : Object(Kind::kProgram, context, id),
         module_path_(std::move(module_path)),
         module_hash_(std::move(module_hash)),
+        module_bytes_(std::move(module_bytes)),
         function_(std::move(function)),
         variables_(this) {
     Touch();
@@ -26,6 +28,8 @@ class Program : public Object {
 
   const std::string& module_path() const { return module_path_; }
   const std::string& module_hash() const { return module_hash_; }
+  // The module file as read at creation (program_loader.h ModuleRef::bytes); never null.
+  const std::string& module_bytes() const { return *module_bytes_; }
   const std::string& function() const { return function_; }
 
   VariableScope* scope() override { return &variables_; }
@@ -37,6 +41,7 @@ class Program : public Object {
 
   const std::string module_path_;
   const std::string module_hash_;
+  const std::shared_ptr<const std::string> module_bytes_;
   const std::string function_;
   VariableScope variables_;
 };

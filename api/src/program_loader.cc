@@ -6,7 +6,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <mutex>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "hash.h"
@@ -54,7 +57,22 @@ absl::Status CheckModule(const std::string& path, const std::string& function) {
   return absl::OkStatus();
 }
 
-absl::StatusOr<ModuleRef> FromModule(const std::string& path, const std::string* bytes,
+// One copy of each module's bytes while programs hold it, however many programs use it.
+std::shared_ptr<const std::string> SharedBytes(const std::string& hash, std::string&& bytes) {
+  static std::mutex mu;
+  static auto* live = new absl::flat_hash_map<std::string, std::weak_ptr<const std::string>>;
+  std::lock_guard<std::mutex> lock(mu);
+  std::shared_ptr<const std::string> shared = (*live)[hash].lock();
+  if (shared == nullptr) {
+    shared = std::make_shared<const std::string>(std::move(bytes));
+    (*live)[hash] = shared;
+  }
+  // Expired entries are dropped as they are met, so the table stays as large as what is alive.
+  absl::erase_if(*live, [](const auto& entry) { return entry.second.expired(); });
+  return shared;
+}
+
+absl::StatusOr<ModuleRef> FromModule(const std::string& path, std::string* bytes,
                                      const std::string& function) {
   std::error_code ec;
   fs::path absolute = fs::absolute(path, ec);
@@ -66,7 +84,8 @@ absl::StatusOr<ModuleRef> FromModule(const std::string& path, const std::string*
     bytes = &read;
   }
   TS_RETURN_IF_ERROR(CheckModule(ref.path, function));
-  ref.hash = HexHash(HashString(*bytes));
+  ref.hash = ModuleHash(*bytes);
+  ref.bytes = SharedBytes(ref.hash, std::move(*bytes));
   return ref;
 }
 

@@ -3,6 +3,7 @@
 #ifndef TESSERA_API_SRC_PROGRAM_LOADER_H_
 #define TESSERA_API_SRC_PROGRAM_LOADER_H_
 
+#include <memory>
 #include <string>
 
 #include "absl/status/statusor.h"
@@ -12,7 +13,11 @@ namespace tessera::api {
 
 struct ModuleRef {
   std::string path;  // absolute
-  std::string hash;  // hex content hash of the module file
+  std::string hash;  // ModuleHash of the module file
+  // The file's bytes as read now, shared by every program of the same module: devices receive
+  // these, so a module rebuilt at the same path later does not change existing programs (as PTX
+  // is compiled when the program is created, in OptiX).
+  std::shared_ptr<const std::string> bytes;
 };
 
 // `path` is a module (.so, or any ELF shared object) or C++ source (.cu, .cpp, .cc, .cxx).

@@ -5,12 +5,14 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <cstdlib>
 #include <mutex>
 #include <thread>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "tessera/v1/worker.grpc.pb.h"
+#include "transport/credentials.h"
 #include "transport/worker_wire.h"
 
 namespace tessera::transport {
@@ -23,22 +25,28 @@ std::chrono::system_clock::time_point DeadlineIn(absl::Duration timeout) {
   return absl::ToChronoTime(absl::Now() + timeout);
 }
 
-// Cancels `context` once `cancel` becomes true, until stopped. Blocking reads on the stream cannot
-// watch the flag themselves.
-class CancelWatcher {
+// Cancels `context` once `cancel` becomes true, or once the worker has sent nothing (not even a
+// heartbeat, which a running worker sends twice a second) for `silence`; stops when destroyed.
+// Blocking reads on the stream cannot watch either themselves.
+class CallWatcher {
  public:
-  CancelWatcher(grpc::ClientContext* context, const std::atomic<bool>& cancel)
-      : thread_([this, context, &cancel] {
+  CallWatcher(grpc::ClientContext* context, const std::atomic<bool>& cancel, absl::Duration silence)
+      : thread_([this, context, &cancel, silence] {
           std::unique_lock<std::mutex> lock(mu_);
           while (!stop_) {
             if (cancel.load()) {
               context->TryCancel();
               return;
             }
+            if (absl::Now() - last_message_ > silence) {
+              silent_ = true;
+              context->TryCancel();
+              return;
+            }
             cv_.wait_for(lock, kCancelPoll);
           }
         }) {}
-  ~CancelWatcher() {
+  ~CallWatcher() {
     {
       std::lock_guard<std::mutex> lock(mu_);
       stop_ = true;
@@ -46,13 +54,31 @@ class CancelWatcher {
     cv_.notify_all();
     thread_.join();
   }
+  void Heard() {
+    std::lock_guard<std::mutex> lock(mu_);
+    last_message_ = absl::Now();
+  }
+  bool silent() {
+    std::lock_guard<std::mutex> lock(mu_);
+    return silent_;
+  }
 
  private:
   std::mutex mu_;
   std::condition_variable cv_;
-  bool stop_ = false;   // guarded by mu_
-  std::thread thread_;  // last: starts after the members it uses
+  bool stop_ = false;                      // guarded by mu_
+  bool silent_ = false;                    // guarded by mu_
+  absl::Time last_message_ = absl::Now();  // guarded by mu_
+  std::thread thread_;                     // last: starts after the members it uses
 };
+
+// TESSERA_WORKER_TIMEOUT (seconds, default 10): how long a worker may stay silent during a launch
+// before the host gives up on it and runs its tiles elsewhere.
+absl::Duration SilenceDeadline() {
+  const char* env = std::getenv("TESSERA_WORKER_TIMEOUT");
+  double seconds = env != nullptr ? std::atof(env) : 0.0;
+  return absl::Seconds(seconds > 0 ? seconds : 10.0);
+}
 
 }  // namespace
 
@@ -98,7 +124,11 @@ absl::Status GrpcDevice::Open(absl::Duration timeout) {
   // Workers are reached directly; an http_proxy meant for the application must not reroute them.
   args.SetInt(GRPC_ARG_ENABLE_HTTP_PROXY, 0);
   stub_ = std::make_unique<Stub>();
-  stub_->channel = grpc::CreateCustomChannel(address_, grpc::InsecureChannelCredentials(), args);
+  // TLS and the token as the environment says; refused before connecting to another machine
+  // without them (docs/security.md).
+  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = CreateWorkerChannel(address_, args);
+  if (!channel.ok()) return channel.status();
+  stub_->channel = *std::move(channel);
   stub_->worker = v1::Worker::NewStub(stub_->channel);
   absl::StatusOr<WorkerHealth> health = Health(timeout);
   if (!health.ok()) {
@@ -137,12 +167,7 @@ absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
       stub_->worker->Apply(&context, &reply);
   // A failed Write means the call is over (the worker rejected the delta early, or the connection
   // dropped); Finish says why.
-  if (writer->Write(DeltaHeader(delta))) {
-    v1::ApplyChunk message;
-    for (const v1::BufferChunk& chunk : delta.chunks()) {
-      *message.mutable_chunk() = chunk;
-      if (!writer->Write(message)) break;
-    }
+  if (WriteApplyStream(delta, [&](const v1::ApplyChunk& m) { return writer->Write(m); })) {
     writer->WritesDone();
   }
   return FromGrpcStatus(writer->Finish(), address_);
@@ -155,24 +180,51 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
       stub_->worker->Launch(&context, request);
   FinalResultJoiner final_result;
   grpc::Status status;
+  bool silent = false;
   {
-    CancelWatcher watcher(&context, cancel);
+    CallWatcher watcher(&context, cancel, SilenceDeadline());
     v1::TileResult result;
     while (reader->Read(&result)) {
+      watcher.Heard();
       if (result.tile_index() == kFinalTileIndex) {
         final_result.Add(std::move(result));
-      } else {
+      } else if (result.tile_index() != kHeartbeatTileIndex) {
         on_result(std::move(result));
       }
       result.Clear();
     }
     status = reader->Finish();
+    silent = watcher.silent();
   }
   if (cancel.load()) return absl::CancelledError("launch cancelled");
-  if (!status.ok()) return FromGrpcStatus(status, address_);
-  // The final contents, reassembled, come last as they do from an in-process device.
+  if (silent) {
+    return absl::DeadlineExceededError(absl::StrCat(
+        "worker ", address_, " sent nothing for ", absl::FormatDuration(SilenceDeadline()),
+        " (hung or unreachable; TESSERA_WORKER_TIMEOUT sets the limit)"));
+  }
+  if (!status.ok()) return LostOrFailed(FromGrpcStatus(status, address_));
+  // The written regions, reassembled, come last as they do from an in-process device.
   if (!final_result.empty()) on_result(std::move(final_result).Take());
   return absl::OkStatus();
+}
+
+absl::Status GrpcDevice::LostOrFailed(absl::Status status) {
+  if (process_ != nullptr) {
+    // A spawned worker that died: a crash (a program's fault: say which program) or a kill.
+    bool crashed = false;
+    std::string exit = process_->WaitForExit(absl::Seconds(1), &crashed);
+    if (!exit.empty()) {
+      std::string log = process_->LogTail(16384);
+      size_t at = log.rfind(kCrashReportPrefix);
+      if (crashed && at != std::string::npos) {
+        std::string line = log.substr(at + sizeof(kCrashReportPrefix) - 1);
+        line = line.substr(0, line.find('\n'));
+        return absl::AbortedError(absl::StrCat("worker process ", address_, " crashed: ", line));
+      }
+      return absl::UnavailableError(absl::StrCat("worker process ", address_, " ", exit));
+    }
+  }
+  return status;
 }
 
 }  // namespace tessera::transport

@@ -54,6 +54,9 @@ class GrpcDevice : public Device {
   struct Stub;  // the gRPC channel and stub, kept out of this header
   GrpcDevice() = default;
   absl::Status Open(absl::Duration timeout);  // channel, stub, first Health
+  // A failed Launch call: ABORTED when the spawned worker crashed (naming the program from its
+  // crash report), UNAVAILABLE when it died otherwise, else `status`.
+  absl::Status LostOrFailed(absl::Status status);
 
   // Declared first so that it is destroyed last: the worker stops after the channel closes.
   std::unique_ptr<WorkerProcess> process_;

@@ -359,10 +359,24 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
   return process;
 }
 
+std::string WorkerProcess::WaitForExit(absl::Duration timeout, bool* crashed) {
+  if (pid_ > 0) {
+    int status = 0;
+    if (WaitFor(pid_, timeout, &status)) {
+      exit_ = DescribeExit(status);
+      crashed_ = WIFSIGNALED(status) && WTERMSIG(status) != SIGKILL && WTERMSIG(status) != SIGTERM;
+      pid_ = -1;
+    }
+  }
+  if (crashed != nullptr) *crashed = crashed_;
+  return exit_;
+}
+
 WorkerProcess::~WorkerProcess() {
   if (pid_ > 0) {
     int status = 0;
     kill(pid_, SIGTERM);
+    kill(pid_, SIGCONT);  // a stopped worker (one that missed its deadline) must see the SIGTERM
     if (!WaitFor(pid_, stop_grace_, &status)) {
       kill(pid_, SIGKILL);
       WaitFor(pid_, absl::InfiniteDuration(), &status);

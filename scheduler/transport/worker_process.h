@@ -52,10 +52,17 @@ class WorkerProcess {
   // The last `max_bytes` of the log.
   std::string LogTail(size_t max_bytes = 4096) const;
 
+  // How the worker ended, waiting up to `timeout` for it to end: "was killed by signal 9", or
+  // empty while it still runs. `crashed` says whether a fatal signal other than SIGKILL ended
+  // it (a crash rather than something killing it). Reaps the process once it ended.
+  std::string WaitForExit(absl::Duration timeout, bool* crashed);
+
  private:
   WorkerProcess() = default;
 
   pid_t pid_ = -1;
+  std::string exit_;  // set once reaped
+  bool crashed_ = false;
   std::string address_;
   std::string directory_;
   std::string log_path_;

@@ -21,13 +21,29 @@ v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta) {
   return header;
 }
 
+bool WriteApplyStream(const v1::StateDelta& delta,
+                      absl::FunctionRef<bool(const v1::ApplyChunk&)> write) {
+  if (!write(DeltaHeader(delta))) return false;
+  v1::ApplyChunk message;
+  for (const v1::ModuleChunk& module : delta.modules()) {
+    *message.mutable_module() = module;
+    if (!write(message)) return false;
+  }
+  for (const v1::BufferChunk& chunk : delta.chunks()) {
+    *message.mutable_chunk() = chunk;
+    if (!write(message)) return false;
+  }
+  return true;
+}
+
 absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
   switch (part.part_case()) {
     case v1::ApplyChunk::kDelta:
       if (has_delta_) return absl::InvalidArgumentError("Apply stream carries two state deltas");
-      if (part.delta().chunks_size() != 0) {
+      if (part.delta().chunks_size() != 0 || part.delta().modules_size() != 0) {
         return absl::InvalidArgumentError(
-            "Apply stream's delta carries buffer chunks inline; they travel as separate messages");
+            "Apply stream's delta carries buffer chunks or module slices inline; they travel as "
+            "separate messages");
       }
       delta_ = std::move(*part.mutable_delta());
       has_delta_ = true;
@@ -38,10 +54,17 @@ absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
       }
       *delta_.add_chunks() = std::move(*part.mutable_chunk());
       return absl::OkStatus();
+    case v1::ApplyChunk::kModule:
+      if (!has_delta_) {
+        return absl::InvalidArgumentError("Apply stream starts with a module slice, not a delta");
+      }
+      *delta_.add_modules() = std::move(*part.mutable_module());
+      return absl::OkStatus();
     case v1::ApplyChunk::PART_NOT_SET:
       break;
   }
-  return absl::InvalidArgumentError("Apply stream message carries neither a delta nor a chunk");
+  return absl::InvalidArgumentError(
+      "Apply stream message carries no delta, buffer chunk or module slice");
 }
 
 absl::StatusOr<v1::StateDelta> DeltaAssembler::Finish() && {

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "absl/functional/function_ref.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
@@ -22,13 +23,20 @@ inline constexpr size_t kMaxRegionBytes = size_t{4} << 20;
 // it; messages stay near kMaxRegionBytes in practice.
 inline constexpr int kMaxMessageBytes = 64 << 20;
 
-// The first message of an Apply stream: `delta` without its buffer chunks.
+// The first message of an Apply stream: `delta` without its buffer chunks and module slices.
 v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta);
+
+// Sends `delta` as an Apply stream through `write`: the header, then each module slice, then each
+// buffer chunk, one per message. Stops at the first write that fails (the call is over) and
+// returns false then.
+bool WriteApplyStream(const v1::StateDelta& delta,
+                      absl::FunctionRef<bool(const v1::ApplyChunk&)> write);
 
 // Rebuilds a StateDelta from an Apply stream on the worker.
 class DeltaAssembler {
  public:
-  // INVALID_ARGUMENT if the stream does not start with the delta or carries it twice.
+  // INVALID_ARGUMENT if the stream does not start with the delta or carries it twice. Module
+  // slices are only collected: the device checks them against their hashes.
   absl::Status Add(v1::ApplyChunk&& part);
   // INVALID_ARGUMENT if no delta arrived.
   absl::StatusOr<v1::StateDelta> Finish() &&;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "tessera/scheduler/device.h"
 
@@ -27,34 +28,56 @@ v1::StateDelta SampleDelta() {
     c->set_data(std::string(8, static_cast<char>('a' + i)));
     c->set_hash(100 + i);
   }
+  for (int i = 0; i < 2; ++i) {
+    v1::ModuleChunk* m = delta.add_modules();
+    m->set_module_hash(std::string(64, 'c'));
+    m->set_offset(static_cast<uint64_t>(i) * 5);
+    m->set_total_size(10);
+    m->set_data(std::string(5, static_cast<char>('m' + i)));
+  }
   return delta;
 }
 
-TEST(WorkerWireTest, DeltaHeaderCopiesEveryFieldButChunks) {
+TEST(WorkerWireTest, DeltaHeaderCopiesEveryFieldButChunksAndModules) {
   // DeltaHeader copies StateDelta field by field: a new field must be added there too.
-  EXPECT_EQ(v1::StateDelta::descriptor()->field_count(), 6)
+  EXPECT_EQ(v1::StateDelta::descriptor()->field_count(), 7)
       << "StateDelta changed: update DeltaHeader in worker_wire.cc";
   v1::StateDelta delta = SampleDelta();
   v1::ApplyChunk header = DeltaHeader(delta);
   ASSERT_TRUE(header.has_delta());
   EXPECT_EQ(header.delta().chunks_size(), 0);
-  v1::StateDelta without_chunks = delta;
-  without_chunks.clear_chunks();
-  EXPECT_EQ(header.delta().SerializeAsString(), without_chunks.SerializeAsString());
+  EXPECT_EQ(header.delta().modules_size(), 0);
+  v1::StateDelta without_bulk = delta;
+  without_bulk.clear_chunks();
+  without_bulk.clear_modules();
+  EXPECT_EQ(header.delta().SerializeAsString(), without_bulk.SerializeAsString());
 }
 
 TEST(WorkerWireTest, ApplyStreamRoundTrip) {
   v1::StateDelta delta = SampleDelta();
+  std::vector<v1::ApplyChunk> messages;
+  ASSERT_TRUE(WriteApplyStream(delta, [&](const v1::ApplyChunk& m) {
+    messages.push_back(m);
+    return true;
+  }));
+  // The header, then one message per module slice, then one per buffer chunk.
+  ASSERT_EQ(messages.size(), 6u);
+  EXPECT_TRUE(messages[0].has_delta());
+  EXPECT_TRUE(messages[1].has_module());
+  EXPECT_TRUE(messages[2].has_module());
+  EXPECT_TRUE(messages[3].has_chunk());
   DeltaAssembler assembler;
-  ASSERT_TRUE(assembler.Add(DeltaHeader(delta)).ok());
-  for (const v1::BufferChunk& c : delta.chunks()) {
-    v1::ApplyChunk m;
-    *m.mutable_chunk() = c;
-    ASSERT_TRUE(assembler.Add(std::move(m)).ok());
-  }
+  for (v1::ApplyChunk& m : messages) ASSERT_TRUE(assembler.Add(std::move(m)).ok());
   absl::StatusOr<v1::StateDelta> out = std::move(assembler).Finish();
   ASSERT_TRUE(out.ok()) << out.status();
   EXPECT_EQ(out->SerializeAsString(), delta.SerializeAsString());
+}
+
+TEST(WorkerWireTest, ApplyStreamStopsAtTheFirstFailedWrite) {
+  int writes = 0;
+  EXPECT_FALSE(
+      WriteApplyStream(SampleDelta(), [&](const v1::ApplyChunk&) { return ++writes < 2; }));
+  EXPECT_EQ(writes, 2);
 }
 
 TEST(WorkerWireTest, MalformedApplyStreamsAreRejected) {
@@ -81,6 +104,21 @@ TEST(WorkerWireTest, MalformedApplyStreamsAreRejected) {
     v1::ApplyChunk inline_chunks;
     *inline_chunks.mutable_delta() = SampleDelta();
     EXPECT_EQ(a.Add(std::move(inline_chunks)).code(), absl::StatusCode::kInvalidArgument);
+  }
+  {
+    DeltaAssembler a;
+    v1::ApplyChunk inline_modules;
+    *inline_modules.mutable_delta() = SampleDelta();
+    inline_modules.mutable_delta()->clear_chunks();
+    EXPECT_EQ(a.Add(std::move(inline_modules)).code(), absl::StatusCode::kInvalidArgument);
+  }
+  {
+    DeltaAssembler a;
+    v1::ApplyChunk module;
+    module.mutable_module()->set_module_hash(std::string(64, 'c'));
+    absl::Status s = a.Add(std::move(module));
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(s.message().find("starts with a module slice"), std::string::npos) << s;
   }
 }
 

@@ -97,7 +97,7 @@ TEST_F(CApiSweepTest, EveryEntryPointIsSwept) {
        ++it) {
     declared.insert((*it)[1]);
   }
-  EXPECT_EQ(declared.size(), 256u);
+  EXPECT_EQ(declared.size(), 259u);  // OptiX 3.0's 256 and the three CUDA-interop calls
   std::set<std::string> swept = {"rtContextGetErrorString"};  // void: own test below
   auto name = [](const char* call) {
     std::string s = call;

@@ -7,7 +7,6 @@
 #include "hash.h"
 #include "matrix4.h"
 #include "status.h"
-#include "tiling.h"
 
 namespace tessera::api {
 namespace {
@@ -90,38 +89,6 @@ TEST(ByteRangesTest, MergesAndOverlaps) {
   EXPECT_EQ(r.ranges()[0].second, 100u);
   r.Clear();
   EXPECT_TRUE(r.empty());
-}
-
-TEST(TilingTest, SplitsGridsOfEachDimensionality) {
-  EXPECT_EQ(DefaultTileSize(1), std::vector<uint64_t>({4096}));
-  EXPECT_EQ(DefaultTileSize(2), std::vector<uint64_t>({64, 64}));
-  EXPECT_EQ(DefaultTileSize(3), std::vector<uint64_t>({16, 16, 4}));
-
-  auto tiles = MakeTiles({100, 70}, {64, 64});
-  ASSERT_EQ(tiles.size(), 4u);
-  EXPECT_EQ(tiles[1].origin(0), 64u);
-  EXPECT_EQ(tiles[1].size(0), 36u);
-  EXPECT_EQ(tiles[2].origin(1), 64u);
-  EXPECT_EQ(tiles[2].size(1), 6u);
-  uint64_t covered = 0;
-  for (size_t i = 0; i < tiles.size(); ++i) {
-    EXPECT_EQ(tiles[i].index(), i);
-    covered += tiles[i].size(0) * tiles[i].size(1);
-  }
-  EXPECT_EQ(covered, 100u * 70u);
-
-  auto one = MakeTiles({10000}, {4096});
-  ASSERT_EQ(one.size(), 3u);
-  EXPECT_EQ(one[2].size(0), 10000u - 8192u);
-  EXPECT_EQ(one[2].origin_size(), 1);
-
-  auto three = MakeTiles({17, 16, 9}, {16, 16, 4});
-  EXPECT_EQ(three.size(), 2u * 1u * 3u);
-  EXPECT_EQ(three.back().size(2), 1u);
-
-  EXPECT_TRUE(MakeTiles({0, 5}, {64, 64}).empty());
-  EXPECT_TRUE(MakeTiles({}, {}).empty());
-  EXPECT_EQ(MakeTiles({3, 3}, {0, 0}).size(), 9u);  // tile size 0 reads as 1
 }
 
 TEST(Matrix4Test, InvertsAndRejectsSingular) {

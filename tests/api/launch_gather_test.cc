@@ -6,6 +6,7 @@
 #include "gtest/gtest.h"
 #include "launch_fixture.h"
 #include "tessera/rt_ext.h"
+#include "tessera/scheduler/tiling.h"
 
 namespace tessera::test {
 namespace {
@@ -242,56 +243,165 @@ TEST_F(LaunchTest, ExceptionReportsAreCounted) {
   EXPECT_EQ(count, 3u);
 }
 
+// Writes Pixel(x, y) + offset like WritePixels, but as a real device does: one region per
+// tile row in the call's final result, after the tiles.
+FakeDevice::Answer WritePixelsFinal(uint64_t buffer_id, uint64_t width,
+                                    std::shared_ptr<std::atomic<int>> launch) {
+  return [=](const v1::LaunchRequest& r, const std::atomic<bool>&,
+             const std::function<void(v1::TileResult &&)>& on_result) {
+    v1::TileResult final_result;
+    final_result.set_tile_index(kFinalTileIndex);
+    for (const v1::Tile& t : r.tiles()) {
+      for (uint64_t y = t.origin(1); y < t.origin(1) + t.size(1); ++y) {
+        std::vector<float> row;
+        for (uint64_t x = t.origin(0); x < t.origin(0) + t.size(0); ++x) {
+          row.push_back(Pixel(x, y) + 1000.0f * launch->load());
+        }
+        v1::BufferRegion* region = final_result.add_regions();
+        region->set_buffer_id(buffer_id);
+        region->set_offset((y * width + t.origin(0)) * sizeof(float));
+        region->set_data(row.data(), row.size() * sizeof(float));
+      }
+    }
+    on_result(std::move(final_result));
+    return absl::OkStatus();
+  };
+}
+
+int WrongPixels(const std::vector<float>& pixels, RTsize width, RTsize height, int launch) {
+  int wrong = 0;
+  for (RTsize y = 0; y < height; ++y) {
+    for (RTsize x = 0; x < width; ++x) {
+      wrong += pixels[y * width + x] != Pixel(x, y) + 1000.0f * launch;
+    }
+  }
+  return wrong;
+}
+
 TEST_F(LaunchTest, TwoDevicesSplitTilesAndMergeOutputs) {
   UseFakes(2);
   const RTsize width = 128;
   const RTsize height = 64;
   ASSERT_EQ(rtBufferSetSize2D(output, width, height), RT_SUCCESS);
   auto launch = std::make_shared<std::atomic<int>>(0);
-  for (int d = 0; d < 2; ++d) {
-    uint64_t id = Id(output);
-    // Like a real device, each fake keeps its own copy of the output buffer across launches and
-    // reports all of it after its tiles: stale outside its own tiles, so the host must take
-    // only what the device changed in this launch.
-    auto copy = std::make_shared<std::vector<float>>(width * height, 0.0f);
-    records[d]->answer = [=](const v1::LaunchRequest& r, const std::atomic<bool>&,
-                             const std::function<void(v1::TileResult &&)>& on_result) {
-      for (const v1::Tile& t : r.tiles()) {
-        for (uint64_t y = t.origin(1); y < t.origin(1) + t.size(1); ++y) {
-          for (uint64_t x = t.origin(0); x < t.origin(0) + t.size(0); ++x) {
-            (*copy)[y * width + x] = Pixel(x, y) + 1000.0f * launch->load();
-          }
-        }
-      }
-      v1::TileResult final_result;
-      final_result.set_tile_index(kFinalTileIndex);
-      v1::BufferRegion* region = final_result.add_regions();
-      region->set_buffer_id(id);
-      region->set_data(copy->data(), copy->size() * sizeof(float));
-      on_result(std::move(final_result));
-      return absl::OkStatus();
-    };
-  }
+  for (int d = 0; d < 2; ++d) records[d]->answer = WritePixelsFinal(Id(output), width, launch);
   for (int l = 0; l < 3; ++l) {
     launch->store(l);
     ASSERT_EQ(Launch(width, height), RT_SUCCESS);
-    ASSERT_EQ(LastLaunch(0).tiles_size(), 1);
-    ASSERT_EQ(LastLaunch(1).tiles_size(), 1);
-    EXPECT_EQ(LastLaunch(0).tiles(0).index(), 0u);
-    EXPECT_EQ(LastLaunch(1).tiles(0).index(), 1u);
-    EXPECT_EQ(LastLaunch(1).tiles(0).origin(0), 64u);
-    std::vector<float> pixels = ReadFloats(output, width * height);
-    int wrong = 0;
-    for (RTsize y = 0; y < height; ++y) {
-      for (RTsize x = 0; x < width; ++x) {
-        wrong += pixels[y * width + x] != Pixel(x, y) + 1000.0f * l;
-      }
-    }
-    EXPECT_EQ(wrong, 0) << "launch " << l;
+    EXPECT_EQ(WrongPixels(ReadFloats(output, width * height), width, height, l), 0)
+        << "launch " << l;
   }
+  // Every tile ran exactly once per launch, on one device or the other.
+  size_t tiles = 0;
+  for (int d = 0; d < 2; ++d) {
+    for (const v1::LaunchRequest& r : records[d]->launches) tiles += r.tiles_size();
+  }
+  EXPECT_EQ(tiles % 3, 0u);
+  EXPECT_EQ(tiles / 3, scheduler::MakeTiles({width, height}, {16, 16}).size());
   // Both devices received the full state, each in its own session.
   EXPECT_EQ(records[0]->deltas.front().objects_size(), records[1]->deltas.front().objects_size());
   EXPECT_NE(LastDelta(0).session_id(), LastDelta(1).session_id());
+}
+
+TEST_F(LaunchTest, TileSizeCanBeSet) {
+  const RTsize size[2] = {4, 2};
+  ASSERT_EQ(tesseraContextSetTileSize(ctx, 2, size), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  size_t tiles = 0;
+  for (const v1::LaunchRequest& r : records[0]->launches) {
+    for (const v1::Tile& t : r.tiles()) {
+      EXPECT_LE(t.size(0), 4u);
+      EXPECT_LE(t.size(1), 2u);
+      ++tiles;
+    }
+  }
+  EXPECT_EQ(tiles, ((kWidth + 3) / 4) * ((kHeight + 1) / 2));
+  const RTsize zero[2] = {0, 1};
+  EXPECT_EQ(tesseraContextSetTileSize(ctx, 2, zero), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(tesseraContextSetTileSize(ctx, 4, size), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(tesseraContextSetTileSize(ctx, 0, nullptr), RT_SUCCESS);
+}
+
+TEST_F(LaunchTest, GpuLocalBuffersKeepTilesOnTheirDevice) {
+  UseFakes(3);
+  RTbuffer local;
+  ASSERT_EQ(rtBufferCreate(ctx, RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, &local), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetFormat(local, RT_FORMAT_FLOAT), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetSize1D(local, 1), RT_SUCCESS);
+  for (int l = 0; l < 2; ++l) {
+    for (int d = 0; d < 3; ++d) records[d]->launches.clear();
+    ASSERT_EQ(Launch(), RT_SUCCESS);
+    for (int d = 0; d < 3; ++d) {
+      for (const v1::LaunchRequest& r : records[d]->launches) {
+        for (const v1::Tile& t : r.tiles()) EXPECT_EQ(t.index() % 3, static_cast<uint32_t>(d));
+      }
+    }
+  }
+}
+
+TEST_F(LaunchTest, LostDeviceTilesRunOnTheOthers) {
+  UseFakes(2);
+  const RTsize width = 128;
+  const RTsize height = 64;
+  ASSERT_EQ(rtBufferSetSize2D(output, width, height), RT_SUCCESS);
+  auto launch = std::make_shared<std::atomic<int>>(0);
+  FakeDevice::Answer write = WritePixelsFinal(Id(output), width, launch);
+  records[0]->answer = [write](const v1::LaunchRequest& r, const std::atomic<bool>& cancel,
+                               const std::function<void(v1::TileResult &&)>& on_result) {
+    // Slow enough that the other device's thread surely takes a batch (and fails it).
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    return write(r, cancel, on_result);
+  };
+  records[1]->answer = [](const v1::LaunchRequest&, const std::atomic<bool>&,
+                          const std::function<void(v1::TileResult &&)>&) {
+    return absl::UnavailableError("worker 127.0.0.1:1 went away");
+  };
+  testing::internal::CaptureStderr();
+  ASSERT_EQ(Launch(width, height), RT_SUCCESS);
+  std::string warning = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warning.find("fake1"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("went away"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("GPU_LOCAL"), std::string::npos) << warning;
+  EXPECT_EQ(WrongPixels(ReadFloats(output, width * height), width, height, 0), 0);
+  // The lost device is gone for good here (a real one would be started again).
+  EXPECT_TRUE(records[1]->destroyed);
+  launch->store(1);
+  ASSERT_EQ(Launch(width, height), RT_SUCCESS);
+  EXPECT_EQ(WrongPixels(ReadFloats(output, width * height), width, height, 1), 0);
+}
+
+TEST_F(LaunchTest, EveryDeviceLostIsConnectionFailed) {
+  UseFakes(2);
+  for (int d = 0; d < 2; ++d) {
+    records[d]->answer = [](const v1::LaunchRequest&, const std::atomic<bool>&,
+                            const std::function<void(v1::TileResult &&)>&) {
+      return absl::DeadlineExceededError("worker sent nothing for 10s");
+    };
+  }
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(Launch(), RT_ERROR_CONNECTION_FAILED);
+  testing::internal::GetCapturedStderr();
+  std::string message = ErrorString(ctx, RT_ERROR_CONNECTION_FAILED);
+  EXPECT_NE(message.find("every device was lost"), std::string::npos) << message;
+  // Nothing is left to launch on: a clear error again, not a hang.
+  EXPECT_EQ(Launch(), RT_ERROR_CONNECTION_FAILED);
+}
+
+TEST_F(LaunchTest, CrashedDeviceFailsTheLaunchNamingDeviceAndProgram) {
+  UseFakes(2);
+  for (int d = 0; d < 2; ++d) {
+    records[d]->answer = [](const v1::LaunchRequest&, const std::atomic<bool>&,
+                            const std::function<void(v1::TileResult &&)>&) {
+      return absl::AbortedError(
+          "worker process unix:/w.sock crashed: signal 11 (SIGSEGV) in closest hit program 'f'");
+    };
+  }
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(Launch(), RT_ERROR_LAUNCH_FAILED);
+  testing::internal::GetCapturedStderr();
+  std::string message = ErrorString(ctx, RT_ERROR_LAUNCH_FAILED);
+  EXPECT_NE(message.find("device 'fake"), std::string::npos) << message;
+  EXPECT_NE(message.find("closest hit program 'f'"), std::string::npos) << message;
 }
 
 }  // namespace

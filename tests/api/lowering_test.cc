@@ -1,13 +1,25 @@
 // Lowering: what a launch ships to a device (StateDelta) and asks of it (LaunchRequest).
 #include <algorithm>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
 
+#include "hash.h"
 #include "launch_fixture.h"
 
 namespace tessera::test {
 namespace {
 
 using Kind = v1::Object::KindCase;
+
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The wire's module hash of a file (api/src/hash.h).
+std::string ModuleHashOf(const std::string& path) { return api::ModuleHash(FileBytes(path)); }
 
 const v1::Variable* FindVariable(const google::protobuf::RepeatedPtrField<v1::Variable>& vars,
                                  const std::string& name) {
@@ -99,7 +111,7 @@ TEST_F(LaunchTest, FirstLaunchShipsEverything) {
     }
     if (o.has_program()) {
       EXPECT_EQ(o.program().module_path(), kTestModule);
-      EXPECT_EQ(o.program().module_hash().size(), 16u);
+      EXPECT_EQ(o.program().module_hash(), ModuleHashOf(kTestModule));
     }
     if (o.has_material()) {
       ASSERT_EQ(o.material().closest_hit_size(), 1);
@@ -107,6 +119,18 @@ TEST_F(LaunchTest, FirstLaunchShipsEverything) {
       EXPECT_EQ(o.material().any_hit(0), 0u);
     }
   }
+
+  // The programs' one module travels whole, in order, under its hash.
+  ASSERT_GE(d.modules_size(), 1);
+  std::string module;
+  for (const v1::ModuleChunk& m : d.modules()) {
+    EXPECT_EQ(m.module_hash(), ModuleHashOf(kTestModule));
+    EXPECT_EQ(m.offset(), module.size());
+    EXPECT_LE(m.data().size(), size_t{4} << 20);
+    module += m.data();
+    EXPECT_EQ(m.total_size(), FileBytes(kTestModule).size());
+  }
+  EXPECT_EQ(module, FileBytes(kTestModule));
 
   // One tile covers the 8x4 grid.
   const v1::LaunchRequest& r = LastLaunch();
@@ -128,9 +152,51 @@ TEST_F(LaunchTest, UnchangedSecondLaunchShipsNothing) {
   EXPECT_EQ(d.sequence(), 2u);
   EXPECT_EQ(d.objects_size(), 0);
   EXPECT_EQ(d.chunks_size(), 0);
+  EXPECT_EQ(d.modules_size(), 0);
   EXPECT_EQ(d.removed_size(), 0);
   EXPECT_TRUE(d.has_context());
   EXPECT_GT(LastLaunch().launch_id(), records[0]->launches.front().launch_id());
+}
+
+// Module bytes in a delta.
+size_t ModuleBytes(const v1::StateDelta& d) {
+  size_t bytes = 0;
+  for (const v1::ModuleChunk& m : d.modules()) bytes += m.data().size();
+  return bytes;
+}
+
+TEST_F(LaunchTest, ModuleBytesTravelOncePerDevice) {
+  UseFakes(2);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  const size_t module_size = FileBytes(kTestModule).size();
+  for (int device = 0; device < 2; ++device) {
+    EXPECT_EQ(ModuleBytes(LastDelta(device)), module_size) << "device " << device;
+  }
+  // A new program from the same module: the program travels, the module does not.
+  RTprogram miss = MakeProgram("miss");
+  ASSERT_EQ(rtContextSetMissProgram(ctx, 0, miss), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  for (int device = 0; device < 2; ++device) {
+    const v1::StateDelta& d = LastDelta(device);
+    auto kinds = ObjectKinds(d);
+    EXPECT_EQ(std::count(kinds.begin(), kinds.end(), Kind::kProgram), 1) << "device " << device;
+    EXPECT_EQ(ModuleBytes(d), 0u) << "device " << device;
+  }
+}
+
+TEST_F(LaunchTest, ModuleTravelsAgainAfterAFailedApply) {
+  // A device that rejects the delta (and stays, unlike one that is lost).
+  records[0]->apply_status = absl::InvalidArgumentError("delta rejected");
+  EXPECT_NE(Launch(), RT_SUCCESS);
+  ASSERT_EQ(records[0]->deltas.size(), 1u);
+  EXPECT_GT(ModuleBytes(LastDelta()), 0u);
+  // The device never confirmed the module, so the next delta carries it again.
+  records[0]->apply_status = absl::OkStatus();
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  ASSERT_EQ(records[0]->deltas.size(), 2u);
+  EXPECT_EQ(ModuleBytes(LastDelta()), FileBytes(kTestModule).size());
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  EXPECT_EQ(ModuleBytes(LastDelta()), 0u);
 }
 
 TEST_F(LaunchTest, ChangingOneVariableShipsOnlyItsScope) {
@@ -250,15 +316,25 @@ TEST_F(LaunchTest, ZeroDimensionsOnlyBuildAccelerations) {
 }
 
 TEST_F(LaunchTest, LaunchDimensionalityFollowsTheCall) {
-  ASSERT_EQ(rtContextLaunch1D(ctx, 0, 10000), RT_SUCCESS);
+  // One thread in all (the fake device): the largest tiles already give enough of them.
+  auto tiles = [&] {
+    std::vector<v1::Tile> all;
+    for (const v1::LaunchRequest& r : records[0]->launches) {
+      for (const v1::Tile& t : r.tiles()) all.push_back(t);
+    }
+    records[0]->launches.clear();
+    return all;
+  };
+  ASSERT_EQ(rtContextLaunch1D(ctx, 0, 100000), RT_SUCCESS);
   EXPECT_EQ(LastLaunch().dims_size(), 1);
-  EXPECT_EQ(LastLaunch().tiles_size(), 3);  // 4096-wide tiles
-  ASSERT_EQ(rtContextLaunch3D(ctx, 0, 20, 16, 5), RT_SUCCESS);
+  EXPECT_EQ(tiles().size(), 25u);  // 4096-wide tiles
+  ASSERT_EQ(rtContextLaunch3D(ctx, 0, 64, 64, 16), RT_SUCCESS);
   EXPECT_EQ(LastLaunch().dims_size(), 3);
-  EXPECT_EQ(LastLaunch().tiles_size(), 2 * 1 * 2);  // 16x16x4 tiles
-  EXPECT_EQ(LastLaunch().tiles(0).origin_size(), 3);
-  ASSERT_EQ(rtContextLaunch2D(ctx, 0, 130, 64), RT_SUCCESS);
-  EXPECT_EQ(LastLaunch().tiles_size(), 3);  // 64x64 tiles
+  std::vector<v1::Tile> three = tiles();
+  EXPECT_EQ(three.size(), 4u * 4u * 4u);  // 16x16x4 tiles
+  EXPECT_EQ(three[0].origin_size(), 3);
+  ASSERT_EQ(rtContextLaunch2D(ctx, 0, 640, 512), RT_SUCCESS);
+  EXPECT_EQ(tiles().size(), 10u * 8u);  // 64x64 tiles
 }
 
 TEST_F(LaunchTest, MappedBufferBlocksLaunch) {

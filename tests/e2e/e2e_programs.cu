@@ -82,3 +82,13 @@ RT_PROGRAM void render_slow() {
   }
   image[launch_index] = make_float4(sum, 0.f, 0.f, 1.f);
 }
+
+// Writes through `bad_address` (0 unless the host sets it) at launch index (5, 5): a program
+// that crashes the process running it.
+rtDeclareVariable(unsigned long long, bad_address, , ) = 0;
+RT_PROGRAM void render_crash() {
+  if (launch_index.x == 5 && launch_index.y == 5) {
+    *reinterpret_cast<volatile int*>(bad_address) = 1;
+  }
+  image[launch_index] = make_float4(1.f);
+}

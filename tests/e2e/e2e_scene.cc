@@ -53,6 +53,8 @@ std::string ReadBytes(RTbuffer buffer) {
   return bytes;
 }
 
+const char* ModulePath() { return TESSERA_E2E_MODULE; }
+
 RTresult BuildScene(RTcontext ctx, unsigned width, unsigned height, Scene* scene,
                     std::string* error) {
   scene->ctx = ctx;

@@ -25,6 +25,9 @@ struct Scene {
 RTresult BuildScene(RTcontext ctx, unsigned width, unsigned height, Scene* scene,
                     std::string* error);
 
+// The program module the scene's programs come from.
+const char* ModulePath();
+
 // The bytes of a buffer (mapped and copied).
 std::string ReadBytes(RTbuffer buffer);
 

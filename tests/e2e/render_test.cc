@@ -10,10 +10,12 @@
 #include <sys/prctl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "e2e_scene.h"
@@ -185,6 +187,29 @@ TEST_F(RenderTest, TimeoutCallbackCancelsWorkerProcessesPromptly) {
   float first[4];
   std::memcpy(first, bytes.data(), sizeof(first));
   EXPECT_EQ(first[3], 1.f);
+}
+
+TEST_F(RenderTest, DefaultDevicesAreOneWorkerProcessPerCore) {
+  Create("inproc", 64, 48);
+  Ok(rtContextLaunch2D(ctx_, 0, 64, 48));
+  const std::string reference = ReadBytes(scene_.image);
+  rtContextDestroy(ctx_);
+  ctx_ = nullptr;
+
+  unsetenv("TESSERA_DEVICES");  // ctest sets it for tests that do not name devices
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  unsigned count = 0;
+  Ok(rtDeviceGetDeviceCount(&count));
+  EXPECT_EQ(count, cores);
+  Ok(rtContextCreate(&ctx_));
+  std::string error;
+  ASSERT_EQ(BuildScene(ctx_, 64, 48, &scene_, &error), RT_SUCCESS) << error;
+  Ok(rtContextLaunch2D(ctx_, 0, 64, 48));
+  EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), cores);
+  EXPECT_TRUE(ReadBytes(scene_.image) == reference);
+  int threads = 0;
+  Ok(rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT, sizeof(threads), &threads));
+  EXPECT_EQ(threads, 1);  // each worker gets its share of the cores
 }
 
 TEST_F(RenderTest, UnreachableWorkerIsConnectionFailed) {

@@ -77,15 +77,14 @@ TEST(WorkerProcessTest, WorkerOnAnEphemeralPortAnswersHealth) {
   EXPECT_EQ(again->pid, worker->pid());
 }
 
-TEST(WorkerProcessTest, NonLoopbackAddressNeedsAllowRemote) {
+TEST(WorkerProcessTest, NonLoopbackAddressWithoutTlsAndTokenIsRefused) {
   WorkerProcess::Options options;
   options.listen = "0.0.0.0:0";
   auto process = WorkerProcess::Spawn(options);
   ASSERT_FALSE(process.ok());
   EXPECT_EQ(process.status().code(), absl::StatusCode::kUnavailable);
   // The reason comes from the worker's stderr.
-  EXPECT_NE(process.status().message().find("--allow-remote"), std::string::npos)
-      << process.status();
+  EXPECT_NE(process.status().message().find("--tls-cert"), std::string::npos) << process.status();
   EXPECT_NE(process.status().message().find("exited with status 2"), std::string::npos)
       << process.status();
 }

@@ -76,7 +76,8 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
     return absl::NotFoundError(
         absl::StrCat(KindName(kind), " program #", program_id, " is unknown to the device"));
   }
-  absl::StatusOr<const Module*> module = ModuleCache::Get().Load(program->module_path);
+  absl::StatusOr<const Module*> module =
+      ModuleCache::Get().Load(program->module_hash, program->module_path);
   if (!module.ok()) return module.status();
   BoundProgram b;
   b.kind = kind;
@@ -151,7 +152,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
   const auto& buffers = b.module->buffers();
   for (unsigned slot = 0; slot < buffers.size(); ++slot) {
     const ModuleBuffer& mb = buffers[slot];
-    TesseraBufferView view{nullptr, {0, 1, 1}, mb.element_size, 0};
+    TesseraBufferView view{nullptr, {0, 1, 1}, mb.element_size, 0, nullptr};
     const Value* value = Lookup(scopes, mb.name);
     if (value != nullptr) {
       if (value->type != RT_OBJECTTYPE_BUFFER) {
@@ -181,6 +182,9 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
         view.size[1] = buf->dims[1];
         view.size[2] = buf->dims[2];
         view.id = value->object_id;
+        if (!buf->written.empty()) {
+          view.written = const_cast<unsigned char*>(buf->written.data());
+        }
       }
     }
     b.views.push_back({slot, view});

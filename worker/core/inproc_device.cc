@@ -45,6 +45,11 @@ class InprocDevice : public Device {
       return absl::InvalidArgumentError(
           absl::StrCat("launch with ", request.dims_size(), " dimensions"));
     }
+    // Before the plan: building accelerations runs bounding-box programs, which may write.
+    if (request.launch_id() != snapshot_launch_id_) {
+      replica_.SnapshotForLaunch();
+      snapshot_launch_id_ = request.launch_id();
+    }
     if (!plan_ || plan_->generation != replica_.generation()) {
       absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan;
       try {
@@ -108,19 +113,14 @@ class InprocDevice : public Device {
         tbb::parallel_for(0, request.tiles_size(), 1, [&](int i) { run_tile(request.tiles(i)); });
       });
     }
-    if (!failure.ok()) return failure;
-    if (cancel.load()) return absl::CancelledError("launch cancelled");
-
     v1::TileResult final_result;
     final_result.set_launch_id(request.launch_id());
     final_result.set_tile_index(kFinalTileIndex);
-    for (const auto& [id, buffer] : replica_.buffers) {
-      if (!(buffer.desc & RT_BUFFER_OUTPUT) || (buffer.desc & RT_BUFFER_GPU_LOCAL)) continue;
-      v1::BufferRegion* region = final_result.add_regions();
-      region->set_buffer_id(id);
-      region->set_offset(0);
-      region->set_data(buffer.data.data(), buffer.data.size());
-    }
+    // Taken even when the call failed, so that marks of unfinished tiles do not leak into the
+    // next call's regions.
+    replica_.TakeWrittenRegions(&final_result);
+    if (!failure.ok()) return failure;
+    if (cancel.load()) return absl::CancelledError("launch cancelled");
     on_result(std::move(final_result));
     return absl::OkStatus();
   }
@@ -131,6 +131,7 @@ class InprocDevice : public Device {
   worker::Replica replica_;
   worker::SceneCache scenes_;
   std::unique_ptr<worker::LaunchPlan> plan_;
+  uint64_t snapshot_launch_id_ = 0;  // the launch whose start the replica's snapshots record
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tessera/rt.h"
+#include "testdata/module_delta.h"
 
 namespace tessera {
 namespace {
@@ -30,6 +31,10 @@ class Scene {
     auto* p = delta_.add_objects()->mutable_program();
     p->set_id(++next_id_);
     p->set_module_path(kModule);
+    if (module_hash_.empty()) {
+      module_hash_ = testing::AddModuleBytes(&delta_, testing::ReadModuleFile(kModule));
+    }
+    p->set_module_hash(module_hash_);
     p->set_function(function);
     return p->id();
   }
@@ -104,6 +109,7 @@ class Scene {
 
  private:
   v1::StateDelta delta_;
+  std::string module_hash_;  // of kModule, whose bytes the delta carries once set
   uint64_t next_id_ = 0;
   uint64_t last_instance_ = 0;
 };
@@ -131,7 +137,12 @@ Result Launch(Device& device, v1::StateDelta& delta, std::vector<uint64_t> dims,
   }
   std::atomic<bool> cancel{false};
   r.status = device.Launch(req, cancel, [&](v1::TileResult&& t) {
-    for (const auto& reg : t.regions()) r.buffers[reg.buffer_id()] = reg.data();
+    // Regions hold the elements programs touched; the rest reads as zeros (see Pixel).
+    for (const auto& reg : t.regions()) {
+      std::string& b = r.buffers[reg.buffer_id()];
+      if (b.size() < reg.offset() + reg.data().size()) b.resize(reg.offset() + reg.data().size());
+      b.replace(reg.offset(), reg.data().size(), reg.data());
+    }
     for (const auto& p : t.prints()) r.prints.push_back(p);
     for (const auto& e : t.exceptions()) r.exceptions.push_back(e);
   });
@@ -139,7 +150,11 @@ Result Launch(Device& device, v1::StateDelta& delta, std::vector<uint64_t> dims,
 }
 
 const float* Pixel(const Result& r, uint64_t buffer, int x, int y, int width) {
-  return reinterpret_cast<const float*>(r.buffers.at(buffer).data()) + 4 * (y * width + x);
+  static const float kUnwritten[4] = {0, 0, 0, 0};
+  auto it = r.buffers.find(buffer);
+  const size_t offset = 16 * (size_t(y) * width + x);
+  if (it == r.buffers.end() || it->second.size() < offset + 16) return kUnwritten;
+  return reinterpret_cast<const float*>(it->second.data() + offset);
 }
 
 TEST(InprocDevice, RayGenerationWritesEveryIndexWithStaticInitializer) {

@@ -3,13 +3,19 @@
 #include <cxxabi.h>
 #include <dlfcn.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <cstring>
+#include <map>
+#include <utility>
 
 #include "absl/status/status.h"
+#include "absl/strings/escaping.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "module_store.h"
 #include "runtime.h"
+#include "tessera/worker/module_cache.h"
 
 namespace tessera::worker {
 namespace {
@@ -82,11 +88,102 @@ ModuleCache& ModuleCache::Get() {
   return *cache;
 }
 
-absl::StatusOr<const Module*> ModuleCache::Load(const std::string& path) {
-  std::lock_guard<std::mutex> lock(mu_);
-  if (auto it = modules_.find(path); it != modules_.end()) return it->second.get();
+ModuleCache::ModuleCache(std::string directory) : requested_(std::move(directory)) {}
 
-  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+void ModuleCache::SetDirectory(std::string directory) {
+  std::lock_guard<std::mutex> lock(mu_);
+  requested_ = std::move(directory);
+  directory_.clear();
+  stored_.clear();
+}
+
+std::string ModuleCache::directory() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return DirectoryLocked();
+}
+
+const std::string& ModuleCache::DirectoryLocked() {
+  if (directory_.empty()) {
+    directory_ = PrepareModuleCacheDir(requested_.empty() ? DefaultModuleCacheDir() : requested_);
+  }
+  return directory_;
+}
+
+absl::Status ModuleCache::Store(const std::string& hash, absl::string_view bytes) {
+  // Hashed before anything else: a module must never be stored under a name it does not match.
+  if (!IsModuleHash(hash) || ModuleHash(bytes) != hash) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("program module bytes do not match their hash ", hash));
+  }
+  std::lock_guard<std::mutex> lock(mu_);
+  if (stored_.count(hash) != 0) return absl::OkStatus();
+  if (absl::Status s = WriteModuleFile(DirectoryLocked(), hash, bytes); !s.ok()) return s;
+  stored_.insert(hash);
+  return absl::OkStatus();
+}
+
+bool ModuleCache::Has(const std::string& hash) {
+  if (!IsModuleHash(hash)) return false;
+  std::lock_guard<std::mutex> lock(mu_);
+  if (modules_.count(hash) != 0 || stored_.count(hash) != 0) return true;
+  if (!HasModuleFile(DirectoryLocked(), hash)) return false;
+  stored_.insert(hash);
+  return true;
+}
+
+absl::Status ModuleCache::Receive(const v1::StateDelta& delta) {
+  absl::StatusOr<std::map<std::string, std::string>> modules = AssembleModules(delta.modules());
+  if (!modules.ok()) return modules.status();
+  auto describe = [](const v1::Program& p) {
+    return absl::StrCat("program #", p.id(), " '", p.function(), "' from ", p.module_path());
+  };
+  std::map<std::string, const v1::Program*> users;  // by module hash, for messages
+  for (const v1::Object& o : delta.objects()) {
+    if (!o.has_program()) continue;
+    const v1::Program& p = o.program();
+    if (!IsModuleHash(p.module_hash())) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          describe(p), " names no module hash ('", absl::CEscape(p.module_hash().substr(0, 80)),
+          "'; expected 64 lowercase hex digits of SHA-256)"));
+    }
+    users.emplace(p.module_hash(), &p);
+    if (modules->count(p.module_hash()) == 0 && !Has(p.module_hash())) {
+      return absl::FailedPreconditionError(absl::StrCat(describe(p), " needs program module ",
+                                                        p.module_hash(),
+                                                        ", which this device has not received"));
+    }
+  }
+  for (const auto& [hash, bytes] : *modules) {
+    if (absl::Status s = Store(hash, bytes); !s.ok()) {
+      auto user = users.find(hash);
+      if (user == users.end()) return s;
+      return absl::Status(s.code(), absl::StrCat(describe(*user->second), ": ", s.message()));
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::string_view origin) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (auto it = modules_.find(hash); it != modules_.end()) return it->second.get();
+  if (!IsModuleHash(hash)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("program module ", origin, " has no valid hash ('", hash, "')"));
+  }
+  const std::string& dir = DirectoryLocked();
+  if (stored_.count(hash) == 0) {
+    if (!HasModuleFile(dir, hash)) {
+      return absl::NotFoundError(absl::StrCat("program module ", origin, origin.empty() ? "" : " ",
+                                              hash, " is not in this device's module cache (", dir,
+                                              "): the host has not sent it"));
+    }
+    stored_.insert(hash);
+  }
+  const std::string file = ModuleFilePath(dir, hash);
+  // Messages name the host's file, which the user knows, and the copy that was loaded.
+  const std::string path = origin.empty() ? file : absl::StrCat(origin, " (cached as ", file, ")");
+
+  void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) {
     const char* err = dlerror();
     return absl::NotFoundError(
@@ -112,8 +209,10 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& path) {
                                                      TESSERA_MAX_BUFFERS_PER_MODULE));
   }
   auto module = std::make_unique<Module>();
-  module->index_ = next_index_++;
-  module->path_ = path;
+  // Process-wide, not per cache: the index selects this module's per-thread slot tables.
+  static std::atomic<int> next_index{0};
+  module->index_ = next_index++;
+  module->path_ = file;
   module->handle_ = handle;
   module->info_ = info;
   for (unsigned i = 0; i < info->variable_count; ++i) {
@@ -149,8 +248,18 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& path) {
     module->buffers_.push_back(std::move(b));
   }
   const Module* result = module.get();
-  modules_.emplace(path, std::move(module));
+  modules_.emplace(hash, std::move(module));
   return result;
 }
 
 }  // namespace tessera::worker
+
+namespace tessera {
+
+void SetModuleCacheDirectory(const std::string& dir) {
+  worker::ModuleCache::Get().SetDirectory(dir);
+}
+
+std::string ModuleCacheDirectory() { return worker::ModuleCache::Get().directory(); }
+
+}  // namespace tessera

@@ -7,10 +7,13 @@
 #include <mutex>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "tessera/detail/module_abi.h"
+#include "tessera/v1/state.pb.h"
 
 namespace tessera::worker {
 
@@ -69,16 +72,50 @@ class Module {
   size_t per_call_bytes_ = 0;
 };
 
-// Process-wide: a module is loaded once and never unloaded (programs may still run from it).
+// Program modules by content hash (state.proto Program.module_hash). Bytes a host sends are kept
+// in an on-disk cache directory (module_store.h) and loaded from there, so a device never needs
+// the host's path. A module is loaded once and never unloaded (programs may still run from it).
+//
+// In-process devices go through the cache too rather than loading the host's path: one code path
+// for every device, and the file loaded is immutable under its hash, where the host's file may be
+// rebuilt after rtProgramCreateFromPTXFile read it. The cost is one copy of each module in the
+// cache directory, written once, and hashing its bytes once per device.
 class ModuleCache {
  public:
+  // The process-wide cache that devices use.
   static ModuleCache& Get();
-  absl::StatusOr<const Module*> Load(const std::string& path);
+
+  // `directory` empty: DefaultModuleCacheDir(), resolved at first use.
+  explicit ModuleCache(std::string directory = "");
+
+  // Later stores and loads use `directory` (empty: the default); loaded modules stay loaded.
+  void SetDirectory(std::string directory);
+  // The directory in use, created if missing (PrepareModuleCacheDir).
+  std::string directory();
+
+  // Checks module bytes received from a host against their hash (INVALID_ARGUMENT naming the
+  // module on mismatch) and stores them, unless the directory holds them already.
+  absl::Status Store(const std::string& hash, absl::string_view bytes);
+  // Whether Load(hash) needs no bytes from the host: loaded, or stored intact in the directory.
+  bool Has(const std::string& hash);
+  // `origin` (the host's path) names the module in messages.
+  absl::StatusOr<const Module*> Load(const std::string& hash, absl::string_view origin = "");
+
+  // For Replica::Apply, after its other checks and before it changes anything: every program of
+  // `delta` must name a module that the delta carries (checked against its hash, INVALID_ARGUMENT
+  // if it does not match, then stored) or that Has() finds (FAILED_PRECONDITION if not).
+  absl::Status Receive(const v1::StateDelta& delta);
 
  private:
+  const std::string& DirectoryLocked();
+
+  // Guards everything below. Held while a module file is read, written or loaded: those happen
+  // once per module, and concurrent Applies of one module must not write it twice.
   std::mutex mu_;
-  std::unordered_map<std::string, std::unique_ptr<Module>> modules_;
-  int next_index_ = 0;
+  std::string requested_;  // as set; empty: the default
+  std::string directory_;  // resolved from requested_ at first use; empty until then
+  std::unordered_set<std::string> stored_;  // hashes known intact in directory_
+  std::unordered_map<std::string, std::unique_ptr<Module>> modules_;  // by hash
 };
 
 }  // namespace tessera::worker

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
+#include "module.h"
 #include "tessera/rt.h"
 
 namespace tessera::worker {
@@ -41,6 +42,69 @@ absl::Status CheckBuffer(const v1::Buffer& b) {
 }
 
 }  // namespace
+
+bool BufferRec::Gathered() const {
+  return (desc & RT_BUFFER_OUTPUT) != 0 && (desc & RT_BUFFER_GPU_LOCAL) == 0;
+}
+
+void Replica::SnapshotForLaunch() {
+  for (auto& [id, b] : buffers) {
+    if (b.Gathered() && (b.desc & RT_BUFFER_INPUT) != 0) {
+      b.before.assign(b.data.begin(), b.data.end());
+    } else {
+      b.before.clear();
+    }
+  }
+}
+
+namespace {
+
+// Adds the elements [begin, end) of `b` to `out` as one region.
+void AddRegion(uint64_t id, const BufferRec& b, size_t begin, size_t end, v1::TileResult* out) {
+  v1::BufferRegion* region = out->add_regions();
+  region->set_buffer_id(id);
+  region->set_offset(begin * b.element_size);
+  region->set_data(b.data.data() + begin * b.element_size, (end - begin) * b.element_size);
+}
+
+}  // namespace
+
+void Replica::TakeWrittenRegions(v1::TileResult* out) {
+  for (auto& [id, b] : buffers) {
+    if (b.written.empty()) continue;
+    unsigned char* marks = b.written.data();
+    const size_t n = b.written.size();
+    const size_t size = b.element_size;
+    const bool compare = b.before.size() == b.data.size();
+    size_t i = 0;
+    while (i < n) {
+      // memchr is vectorised: an unwritten buffer costs a fast scan, not a loop per element.
+      auto* first = static_cast<unsigned char*>(std::memchr(marks + i, 1, n - i));
+      if (first == nullptr) break;
+      size_t begin = first - marks, end = begin;
+      while (end < n && marks[end] != 0) ++end;
+      std::memset(marks + begin, 0, end - begin);
+      if (!compare) {
+        AddRegion(id, b, begin, end, out);
+      } else {
+        // Only elements that changed since the launch began: the rest were read, or rewritten
+        // with the value every device already has.
+        auto changed = [&](size_t e) {
+          return std::memcmp(b.data.data() + e * size, b.before.data() + e * size, size) != 0;
+        };
+        size_t e = begin;
+        while (e < end) {
+          while (e < end && !changed(e)) ++e;
+          size_t run = e;
+          while (run < end && changed(run)) ++run;
+          if (run > e) AddRegion(id, b, e, run, out);
+          e = run;
+        }
+      }
+      i = end;
+    }
+  }
+}
 
 absl::Status Replica::Apply(const v1::StateDelta& delta) {
   // ---- Check everything before changing anything.
@@ -86,6 +150,8 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
                                                 c.buffer_id(), " of ", bytes, " bytes"));
     }
   }
+  // Last: it stores the modules the delta carries (not replica state, and harmless to keep).
+  if (absl::Status s = ModuleCache::Get().Receive(delta); !s.ok()) return s;
 
   // ---- Apply.
   session_id_ = delta.session_id();
@@ -130,7 +196,9 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
       case v1::Object::kBuffer: {
         const auto& b = o.buffer();
         BufferRec& r = buffers[b.id()];
-        BufferRec before = BufferRec{r.desc, r.format, r.element_size, r.dims, r.ndims, {}};
+        const uint32_t old_format = r.format;
+        const uint64_t old_element_size = r.element_size;
+        const std::array<uint64_t, 3> old_dims = r.dims;
         r.desc = b.desc();
         r.format = b.format();
         r.element_size = b.element_size();
@@ -138,10 +206,12 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
         r.dims = {0, 1, 1};
         for (int i = 0; i < b.dims_size(); ++i) r.dims[i] = b.dims(i);
         if (r.ndims == 0) r.dims[0] = 0;
-        if (r.format != before.format || r.element_size != before.element_size ||
-            r.dims != before.dims) {
+        if (r.format != old_format || r.element_size != old_element_size || r.dims != old_dims) {
           // A new shape starts zeroed, like a new buffer; the host resends INPUT contents.
           r.data.assign(r.Bytes(), 0);
+        }
+        if (r.written.size() != (r.Gathered() ? r.Elements() : 0)) {
+          r.written.assign(r.Gathered() ? r.Elements() : 0, 0);
         }
         break;
       }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "absl/status/status.h"
+#include "tessera/v1/launch.pb.h"
 #include "tessera/v1/state.pb.h"
 
 namespace tessera::worker {
@@ -36,7 +37,16 @@ struct BufferRec {
   std::array<uint64_t, 3> dims{0, 1, 1};
   unsigned ndims = 0;
   std::vector<unsigned char> data;
-  uint64_t Bytes() const { return element_size * dims[0] * dims[1] * dims[2]; }
+  // Gathered buffers (OUTPUT or INPUT_OUTPUT, not GPU_LOCAL): one byte per element that programs
+  // set on access (TesseraBufferView::written); TakeWrittenRegions collects and clears them.
+  std::vector<unsigned char> written;
+  // INPUT_OUTPUT: the contents when the launch began. Programs mark the elements they read too,
+  // and an element that still holds its old value must not travel back: it would undo another
+  // device's write of it.
+  std::vector<unsigned char> before;
+  uint64_t Elements() const { return dims[0] * dims[1] * dims[2]; }
+  uint64_t Bytes() const { return element_size * Elements(); }
+  bool Gathered() const;
 };
 struct GeometryRec {
   uint64_t primitive_count = 0, intersection = 0, bounds = 0;
@@ -91,6 +101,11 @@ class Replica {
   // Applies a delta: checks it whole first (sequence, ids, chunk bounds), so a rejected delta
   // leaves the replica as it was.
   absl::Status Apply(const v1::StateDelta& delta);
+  // Appends to `out` the elements of gathered buffers that programs marked since the last call,
+  // as runs of adjacent elements, and clears the marks.
+  void TakeWrittenRegions(v1::TileResult* out);
+  // Records the contents of INPUT_OUTPUT buffers at the start of a launch (see BufferRec::before).
+  void SnapshotForLaunch();
 
   const ContextRec& context() const { return context_; }
   template <typename T>

@@ -10,7 +10,7 @@
 namespace tessera::worker {
 
 // True when only this machine can connect: unix sockets, localhost, 127.0.0.0/8 and ::1. A worker
-// runs the code its host sends, so anything else needs --allow-remote (and, later, TLS).
+// runs the code its host sends, so anything else needs TLS and a token (docs/security.md).
 bool IsLoopbackAddress(absl::string_view listen);
 
 // `listen` with `bound_port` in place of its port (port 0 asks for an ephemeral one); unix

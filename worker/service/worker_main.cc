@@ -1,6 +1,12 @@
 // tessera-worker: serves one Tessera device over gRPC (DESIGN.md "Devices").
 //
-//   tessera-worker [--listen 127.0.0.1:0 | HOST:PORT | unix:PATH] [--threads N] [--allow-remote]
+//   tessera-worker [--listen 127.0.0.1:0 | HOST:PORT | unix:PATH] [--threads N]
+//                  [--tls-cert FILE --tls-key FILE [--tls-client-ca FILE]] [--token-file FILE]
+//
+// A non-loopback address needs TLS and a token (docs/security.md); the token may also come from
+// $TESSERA_WORKER_TOKEN. --allow-remote is still accepted but allows nothing by itself.
+//
+// Program modules arrive by content hash and are kept in --module-cache DIR (module_cache.h).
 //
 // Once it listens it prints exactly one line to stdout, `tessera-worker listening on <address>`
 // (with the real port when asked for port 0), so that a parent process can read where it is.
@@ -14,7 +20,10 @@
 #include <memory>
 #include <string>
 
+#include "auth.h"
 #include "listen_address.h"
+#include "tessera/worker/crash_report.h"
+#include "tessera/worker/module_cache.h"
 #include "transport/worker_wire.h"
 #include "worker_service.h"
 
@@ -23,23 +32,22 @@ namespace {
 // Pings from clients' keepalive (scheduler/transport/grpc_device.cc) must not count as abuse.
 constexpr int kMinPingIntervalMs = 10000;
 
-int Serve(const std::string& listen, int threads, bool allow_remote) {
-  using tessera::worker::IsLoopbackAddress;
-  if (!IsLoopbackAddress(listen)) {
-    if (!allow_remote) {
-      std::fprintf(stderr,
-                   "tessera-worker: refusing to listen on %s: it is not a loopback address, and a "
-                   "worker runs whatever code its host sends. Pass --allow-remote to accept "
-                   "connections from other machines (no TLS or authentication yet: use a trusted "
-                   "network only).\n",
-                   listen.c_str());
-      return 2;
-    }
-    std::fprintf(stderr,
-                 "tessera-worker: WARNING: listening on %s without TLS or authentication; any "
-                 "host that can reach it can run code in this process\n",
-                 listen.c_str());
+int Serve(const std::string& listen, int threads,
+          const tessera::worker::SecurityOptions& security) {
+  absl::StatusOr<std::string> token = tessera::worker::ResolveToken(
+      security.token_file, std::getenv(tessera::worker::kWorkerTokenEnv));
+  absl::Status allowed = token.ok()
+                             ? tessera::worker::CheckListenPolicy(listen, security, !token->empty())
+                             : token.status();
+  using Credentials = absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>>;
+  Credentials credentials =
+      allowed.ok() ? tessera::worker::MakeServerCredentials(security) : Credentials(allowed);
+  if (!credentials.ok()) {
+    std::fprintf(stderr, "tessera-worker: %s\n",
+                 std::string(credentials.status().message()).c_str());
+    return 2;
   }
+  // From here on the token is known (possibly empty: no token required).
 
   // Stop signals are taken by sigwait below; blocked here, before gRPC starts its threads, so that
   // they inherit the mask and none of them receives the signal instead.
@@ -54,10 +62,18 @@ int Serve(const std::string& listen, int threads, bool allow_remote) {
   signal(SIGPIPE, SIG_IGN);
 
   tessera::worker::WorkerService service(threads);
+  // One line per refused call on stderr, where the host's log of a spawned worker also goes.
+  tessera::worker::AuthenticatedWorker authenticated(&service, *token, [](const std::string& line) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+  });
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(listen, grpc::InsecureServerCredentials(), &port);
-  builder.RegisterService(&service);
+  builder.AddListeningPort(listen, *credentials, &port);
+  if (token->empty()) {
+    builder.RegisterService(&service);
+  } else {
+    builder.RegisterService(&authenticated);
+  }
   builder.SetMaxReceiveMessageSize(tessera::transport::kMaxMessageBytes);
   builder.SetMaxSendMessageSize(tessera::transport::kMaxMessageBytes);
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
@@ -68,9 +84,17 @@ int Serve(const std::string& listen, int threads, bool allow_remote) {
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (server == nullptr || port == 0) {
-    std::fprintf(stderr, "tessera-worker: cannot listen on %s (address in use or not allowed?)\n",
-                 listen.c_str());
+    std::fprintf(stderr, "tessera-worker: cannot listen on %s (address in use or not allowed%s?)\n",
+                 listen.c_str(),
+                 security.tls() ? ", or the TLS key does not match the certificate" : "");
     return 1;
+  }
+  if (security.tls() || !token->empty()) {
+    std::fprintf(stderr, "tessera-worker: %s; %s\n",
+                 !security.tls()                       ? "no TLS"
+                 : security.tls_client_ca_file.empty() ? "TLS"
+                                                       : "TLS with client certificates",
+                 token->empty() ? "no token" : "every call must carry the token");
   }
   std::printf("tessera-worker listening on %s\n",
               tessera::worker::ResolvedListenAddress(listen, port).c_str());
@@ -91,20 +115,39 @@ int Serve(const std::string& listen, int threads, bool allow_remote) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tessera::InstallCrashReporter();
   CLI::App app{
       "tessera-worker: serves a Tessera device (context replica, tiles, Embree) over gRPC"};
   std::string listen = "127.0.0.1:0";
   int threads = 0;
   bool allow_remote = false;
+  tessera::worker::SecurityOptions security;
   app.add_option("--listen", listen,
-                 "HOST:PORT (port 0: ephemeral), [IPV6]:PORT or unix:PATH; loopback unless "
-                 "--allow-remote")
+                 "HOST:PORT (port 0: ephemeral), [IPV6]:PORT or unix:PATH; a non-loopback address "
+                 "needs --tls-cert, --tls-key and a token")
       ->capture_default_str();
   app.add_option("--threads", threads, "threads per launch (0: one per core)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--tls-cert", security.tls_cert_file, "PEM certificate chain: serve over TLS");
+  app.add_option("--tls-key", security.tls_key_file, "PEM private key of --tls-cert");
+  app.add_option("--tls-client-ca", security.tls_client_ca_file,
+                 "PEM CA: callers must present a certificate it signed (mutual TLS)");
+  app.add_option("--token-file", security.token_file,
+                 "file whose first line is the token every call must carry (default: "
+                 "$TESSERA_WORKER_TOKEN)");
+  // Kept so that old command lines get the explanation below rather than a parse error; it used
+  // to allow a non-loopback address without TLS or authentication, which nothing allows now.
   app.add_flag("--allow-remote", allow_remote,
-               "allow a non-loopback --listen address (no TLS or authentication yet)");
+               "no effect: a non-loopback address needs --tls-cert, --tls-key and a token");
+  std::string module_cache;
+  app.add_option("--module-cache", module_cache,
+                 "directory of the program modules hosts send, by content hash (default: "
+                 "$TESSERA_MODULE_CACHE, else $XDG_CACHE_HOME/tessera/modules or "
+                 "~/.cache/tessera/modules)");
   CLI11_PARSE(app, argc, argv);
-  return Serve(listen, threads, allow_remote);
+  tessera::SetModuleCacheDirectory(module_cache);
+  // Resolved now, so that falling back to a temporary directory is reported at startup.
+  tessera::ModuleCacheDirectory();
+  return Serve(listen, threads, security);
 }

@@ -28,6 +28,9 @@ using transport::ToGrpcStatus;
 
 // How often a launch looks at whether its call was cancelled.
 constexpr std::chrono::milliseconds kCancelPoll{2};
+// How often a running launch says it is alive when no tile finished; well below the host's
+// silence deadline (GrpcDevice, TESSERA_WORKER_TIMEOUT).
+constexpr std::chrono::milliseconds kHeartbeatInterval{500};
 
 int ResolveThreads(int threads) {
   if (threads > 0) return threads;
@@ -172,9 +175,18 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
   });
   bool done = false;
   bool writable = true;
+  auto last_write = std::chrono::steady_clock::now();
   while (!done) {
     std::deque<v1::TileResult> batch = results.Take(kCancelPoll, &done);
     if (context->IsCancelled()) cancel = true;
+    if (batch.empty() && !done && writable &&
+        std::chrono::steady_clock::now() - last_write >= kHeartbeatInterval) {
+      v1::TileResult heartbeat;
+      heartbeat.set_launch_id(request->launch_id());
+      heartbeat.set_tile_index(kHeartbeatTileIndex);
+      batch.push_back(std::move(heartbeat));
+    }
+    if (!batch.empty()) last_write = std::chrono::steady_clock::now();
     for (v1::TileResult& result : batch) {
       if (!writable) break;
       for (v1::TileResult& piece : SplitTileResult(std::move(result))) {

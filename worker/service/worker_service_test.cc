@@ -5,12 +5,15 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
+#include "tessera/worker/module_cache.h"
 #include "transport/worker_wire.h"
 #include "write_index_delta.h"
 
@@ -22,6 +25,14 @@ const std::string kModule = std::string(TESSERA_TEST_MODULE_DIR) + "/worker_core
 class WorkerServiceTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    // Modules this test's worker receives go to a private cache directory.
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "tessera-worker-test-XXXXXX").string();
+    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
+    module_cache_ = pattern;
+    SetModuleCacheDirectory(module_cache_);
+    ASSERT_EQ(ModuleCacheDirectory(), module_cache_);
+
     grpc::ServerBuilder builder;
     builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port_);
     builder.RegisterService(&service_);
@@ -34,11 +45,15 @@ class WorkerServiceTest : public ::testing::Test {
     stub_ = v1::Worker::NewStub(grpc::CreateCustomChannel(
         "127.0.0.1:" + std::to_string(port_), grpc::InsecureChannelCredentials(), args));
   }
-  void TearDown() override { server_->Shutdown(); }
+  void TearDown() override {
+    if (server_ != nullptr) server_->Shutdown();
+    std::error_code ec;
+    std::filesystem::remove_all(module_cache_, ec);
+  }
 
-  static v1::StateDelta WriteIndexDelta(uint64_t session, uint64_t sequence, uint64_t w,
-                                        uint64_t h) {
-    return ::tessera::testing::WriteIndexDelta(kModule, session, sequence, w, h);
+  static v1::StateDelta WriteIndexDelta(uint64_t session, uint64_t sequence, uint64_t w, uint64_t h,
+                                        bool ship_module = true) {
+    return ::tessera::testing::WriteIndexDelta(kModule, session, sequence, w, h, ship_module);
   }
 
   grpc::Status Apply(const std::vector<v1::ApplyChunk>& messages) {
@@ -51,12 +66,14 @@ class WorkerServiceTest : public ::testing::Test {
     writer->WritesDone();
     return writer->Finish();
   }
-  grpc::Status Apply(const v1::StateDelta& delta) {
-    std::vector<v1::ApplyChunk> messages = {transport::DeltaHeader(delta)};
-    for (const v1::BufferChunk& c : delta.chunks()) {
-      messages.emplace_back();
-      *messages.back().mutable_chunk() = c;
-    }
+  // As GrpcDevice sends it; `module_bytes` counts the module bytes that travel.
+  grpc::Status Apply(const v1::StateDelta& delta, size_t* module_bytes = nullptr) {
+    std::vector<v1::ApplyChunk> messages;
+    transport::WriteApplyStream(delta, [&](const v1::ApplyChunk& m) {
+      messages.push_back(m);
+      if (module_bytes != nullptr && m.has_module()) *module_bytes += m.module().data().size();
+      return true;
+    });
     return Apply(messages);
   }
 
@@ -108,6 +125,7 @@ class WorkerServiceTest : public ::testing::Test {
   }
 
   WorkerService service_{2};
+  std::string module_cache_;
   int port_ = 0;
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<v1::Worker::Stub> stub_;
@@ -183,6 +201,102 @@ TEST_F(WorkerServiceTest, LargeResultsArriveInBoundedMessages) {
   }
   EXPECT_GE(final_messages, 3);
   ExpectIndices(FinalOutput(results), kW, kH);
+}
+
+TEST_F(WorkerServiceTest, ModuleShippedByBytesLoadsWithoutTheHostsPath) {
+  v1::StateDelta delta = WriteIndexDelta(21, 1, 6, 4);
+  // A path that exists only on the host: the worker must never need it.
+  v1::Program* program = delta.mutable_objects(0)->mutable_program();
+  program->set_module_path("/nonexistent/host-only/worker_core_test_programs.so");
+  const std::string module = ::tessera::testing::ReadModuleFile(kModule);
+  size_t sent = 0;
+  // Slices smaller than the module: reassembled in order on the worker.
+  delta.clear_modules();
+  ::tessera::testing::AddModuleBytes(&delta, module, module.size() / 3 + 1);
+  ASSERT_EQ(delta.modules_size(), 3);
+  grpc::Status s = Apply(delta, &sent);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  EXPECT_EQ(sent, module.size());
+  std::vector<v1::TileResult> results;
+  s = Launch(21, 6, 4, &results);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  ExpectIndices(FinalOutput(results), 6, 4);
+  // Stored in the cache directory under its hash.
+  EXPECT_EQ(
+      ::tessera::testing::ReadModuleFile(module_cache_ + "/" + program->module_hash() + ".so"),
+      module);
+}
+
+TEST_F(WorkerServiceTest, ModuleAlreadyReceivedNeedsNoBytes) {
+  size_t sent = 0;
+  ASSERT_TRUE(Apply(WriteIndexDelta(31, 1, 4, 4), &sent).ok());
+  EXPECT_GT(sent, 0u);
+  // The program travels again (say its variables changed), its module does not.
+  sent = 0;
+  grpc::Status s = Apply(WriteIndexDelta(31, 2, 5, 3, /*ship_module=*/false), &sent);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  EXPECT_EQ(sent, 0u);
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(31, 5, 3, &results).ok());
+  ExpectIndices(FinalOutput(results), 5, 3);
+  // Another session of the same worker process finds the module too.
+  ASSERT_TRUE(Apply(WriteIndexDelta(32, 1, 3, 3, /*ship_module=*/false)).ok());
+  results.clear();
+  ASSERT_TRUE(Launch(32, 3, 3, &results).ok());
+  ExpectIndices(FinalOutput(results), 3, 3);
+}
+
+TEST_F(WorkerServiceTest, CorruptModuleIsRejectedAndTheWorkerStillWorks) {
+  ASSERT_TRUE(Apply(WriteIndexDelta(41, 1, 4, 4)).ok());
+  v1::StateDelta bad = WriteIndexDelta(41, 2, 8, 8);
+  ASSERT_GT(bad.modules_size(), 0);
+  std::string* data = bad.mutable_modules(0)->mutable_data();
+  (*data)[data->size() / 2] ^= 0x10;
+  const std::string hash = bad.objects(0).program().module_hash();
+  grpc::Status s = Apply(bad);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find(hash), std::string::npos) << s.error_message();
+  EXPECT_NE(s.error_message().find("'write_index'"), std::string::npos) << s.error_message();
+  // The session keeps its state and its sequence.
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(41, 4, 4, &results).ok());
+  ExpectIndices(FinalOutput(results), 4, 4);
+  ASSERT_TRUE(Apply(WriteIndexDelta(41, 2, 8, 8)).ok());
+  results.clear();
+  ASSERT_TRUE(Launch(41, 8, 8, &results).ok());
+  ExpectIndices(FinalOutput(results), 8, 8);
+
+  // A first delta with a corrupt module creates no session.
+  bad.set_session_id(42);
+  bad.set_sequence(1);
+  EXPECT_EQ(Apply(bad).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  results.clear();
+  EXPECT_EQ(Launch(42, 4, 4, &results).error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+}
+
+TEST_F(WorkerServiceTest, ProgramWhoseModuleNeverArrivedIsRefused) {
+  v1::StateDelta delta = WriteIndexDelta(51, 1, 4, 4, /*ship_module=*/false);
+  const std::string never_sent = ::tessera::testing::Sha256Hex("a module no host sent");
+  delta.mutable_objects(0)->mutable_program()->set_module_hash(never_sent);
+  grpc::Status s = Apply(delta);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_NE(s.error_message().find("program #1 'write_index'"), std::string::npos)
+      << s.error_message();
+  EXPECT_NE(s.error_message().find(never_sent), std::string::npos) << s.error_message();
+  EXPECT_NE(s.error_message().find("has not received"), std::string::npos) << s.error_message();
+  std::vector<v1::TileResult> results;
+  EXPECT_EQ(Launch(51, 4, 4, &results).error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+
+  // No hash at all is malformed.
+  delta.mutable_objects(0)->mutable_program()->clear_module_hash();
+  s = Apply(delta);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("names no module hash"), std::string::npos) << s.error_message();
+
+  ASSERT_TRUE(Apply(WriteIndexDelta(51, 1, 4, 4)).ok());
+  results.clear();
+  ASSERT_TRUE(Launch(51, 4, 4, &results).ok());
+  ExpectIndices(FinalOutput(results), 4, 4);
 }
 
 }  // namespace

@@ -202,7 +202,11 @@ class buffer {
     if (x >= v.size[0] || y >= v.size[1] || z >= v.size[2]) {
       return *static_cast<T*>(::tessera::detail::Rt()->buffer_index_error(slot_, x, y, z));
     }
-    return static_cast<T*>(v.data)[(z * v.size[1] + y) * v.size[0] + x];
+    const unsigned long long i = (z * v.size[1] + y) * v.size[0] + x;
+    // operator[] cannot tell a read from a write: any access of a gathered buffer marks the
+    // element (a relaxed byte store; concurrent marks of one element are benign).
+    if (v.written != nullptr) __atomic_store_n(&v.written[i], 1, __ATOMIC_RELAXED);
+    return static_cast<T*>(v.data)[i];
   }
 
   unsigned slot_;

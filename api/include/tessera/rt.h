@@ -1,7 +1,8 @@
 /* Tessera host API: the OptiX 3 C API (names, types, enum values, RTresult codes).
  * C99-clean. Functions return RTresult; on failure rtContextGetErrorString describes the error and
  * names the object involved. Thread-safety: one thread per context at a time (the OptiX rule);
- * rtContextCreate, rtDeviceGetDeviceCount and rtDeviceGetAttribute may be called from any thread. */
+ * rtContextCreate, rtDeviceGetDeviceCount and rtDeviceGetAttribute may be called from any thread.
+ */
 #ifndef TESSERA_RT_H_
 #define TESSERA_RT_H_
 
@@ -240,8 +241,7 @@ RTAPI RTresult rtContextSetExceptionProgram(RTcontext context, unsigned int entr
 RTAPI RTresult rtContextGetExceptionProgram(RTcontext context, unsigned int entry_point_index,
                                             RTprogram* program);
 RTAPI RTresult rtContextSetExceptionEnabled(RTcontext context, RTexception exception, int enabled);
-RTAPI RTresult rtContextGetExceptionEnabled(RTcontext context, RTexception exception,
-                                            int* enabled);
+RTAPI RTresult rtContextGetExceptionEnabled(RTcontext context, RTexception exception, int* enabled);
 RTAPI RTresult rtContextSetRayTypeCount(RTcontext context, unsigned int num_ray_types);
 RTAPI RTresult rtContextGetRayTypeCount(RTcontext context, unsigned int* num_ray_types);
 RTAPI RTresult rtContextSetMissProgram(RTcontext context, unsigned int ray_type_index,
@@ -310,8 +310,7 @@ RTAPI RTresult rtSelectorSetChildCount(RTselector selector, unsigned int count);
 RTAPI RTresult rtSelectorGetChildCount(RTselector selector, unsigned int* count);
 RTAPI RTresult rtSelectorSetChild(RTselector selector, unsigned int index, RTobject child);
 RTAPI RTresult rtSelectorGetChild(RTselector selector, unsigned int index, RTobject* child);
-RTAPI RTresult rtSelectorGetChildType(RTselector selector, unsigned int index,
-                                      RTobjecttype* type);
+RTAPI RTresult rtSelectorGetChildType(RTselector selector, unsigned int index, RTobjecttype* type);
 RTAPI RTresult rtSelectorDeclareVariable(RTselector selector, const char* name, RTvariable* v);
 RTAPI RTresult rtSelectorQueryVariable(RTselector selector, const char* name, RTvariable* v);
 RTAPI RTresult rtSelectorRemoveVariable(RTselector selector, RTvariable v);
@@ -356,8 +355,7 @@ RTAPI RTresult rtAccelerationGetContext(RTacceleration acceleration, RTcontext* 
 RTAPI RTresult rtAccelerationSetBuilder(RTacceleration acceleration, const char* builder);
 RTAPI RTresult rtAccelerationGetBuilder(RTacceleration acceleration, const char** return_string);
 RTAPI RTresult rtAccelerationSetTraverser(RTacceleration acceleration, const char* traverser);
-RTAPI RTresult rtAccelerationGetTraverser(RTacceleration acceleration,
-                                          const char** return_string);
+RTAPI RTresult rtAccelerationGetTraverser(RTacceleration acceleration, const char** return_string);
 RTAPI RTresult rtAccelerationSetProperty(RTacceleration acceleration, const char* name,
                                          const char* value);
 RTAPI RTresult rtAccelerationGetProperty(RTacceleration acceleration, const char* name,
@@ -390,8 +388,7 @@ RTAPI RTresult rtGeometryInstanceDeclareVariable(RTgeometryinstance geometryinst
                                                  const char* name, RTvariable* v);
 RTAPI RTresult rtGeometryInstanceQueryVariable(RTgeometryinstance geometryinstance,
                                                const char* name, RTvariable* v);
-RTAPI RTresult rtGeometryInstanceRemoveVariable(RTgeometryinstance geometryinstance,
-                                                RTvariable v);
+RTAPI RTresult rtGeometryInstanceRemoveVariable(RTgeometryinstance geometryinstance, RTvariable v);
 RTAPI RTresult rtGeometryInstanceGetVariableCount(RTgeometryinstance geometryinstance,
                                                   unsigned int* count);
 RTAPI RTresult rtGeometryInstanceGetVariable(RTgeometryinstance geometryinstance,
@@ -459,6 +456,16 @@ RTAPI RTresult rtBufferUnmap(RTbuffer buffer);
 RTAPI RTresult rtBufferGetId(RTbuffer buffer, int* buffer_id);
 RTAPI RTresult rtBufferMarkDirty(RTbuffer buffer);
 
+/* ---- CUDA interop (OptiX guide ch. 7) ------------------------------------------------------
+ * A device's copy of a buffer lives in its worker process; a "device pointer" is host memory
+ * standing for it (see docs/devices.md). `optix_device_number` is the device's ordinal in the
+ * device list (rtDeviceGetDeviceCount), and must be one the context runs on. */
+RTAPI RTresult rtBufferCreateForCUDA(RTcontext context, unsigned int bufferdesc, RTbuffer* buffer);
+RTAPI RTresult rtBufferGetDevicePointer(RTbuffer buffer, unsigned int optix_device_number,
+                                        void** device_pointer);
+RTAPI RTresult rtBufferSetDevicePointer(RTbuffer buffer, unsigned int optix_device_number,
+                                        void* device_pointer);
+
 /* ---- Variable ---------------------------------------------------------------------------- */
 RTAPI RTresult rtVariableSet1f(RTvariable v, float f1);
 RTAPI RTresult rtVariableSet2f(RTvariable v, float f1, float f2);
@@ -515,10 +522,9 @@ RTAPI RTresult rtVariableGet3iv(RTvariable v, int* i);
 RTAPI RTresult rtVariableGet4iv(RTvariable v, int* i);
 RTAPI RTresult rtVariableGet1ui(RTvariable v, unsigned int* u1);
 RTAPI RTresult rtVariableGet2ui(RTvariable v, unsigned int* u1, unsigned int* u2);
-RTAPI RTresult rtVariableGet3ui(RTvariable v, unsigned int* u1, unsigned int* u2,
-                                unsigned int* u3);
-RTAPI RTresult rtVariableGet4ui(RTvariable v, unsigned int* u1, unsigned int* u2,
-                                unsigned int* u3, unsigned int* u4);
+RTAPI RTresult rtVariableGet3ui(RTvariable v, unsigned int* u1, unsigned int* u2, unsigned int* u3);
+RTAPI RTresult rtVariableGet4ui(RTvariable v, unsigned int* u1, unsigned int* u2, unsigned int* u3,
+                                unsigned int* u4);
 RTAPI RTresult rtVariableGet1uiv(RTvariable v, unsigned int* u);
 RTAPI RTresult rtVariableGet2uiv(RTvariable v, unsigned int* u);
 RTAPI RTresult rtVariableGet3uiv(RTvariable v, unsigned int* u);

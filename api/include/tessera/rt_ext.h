@@ -23,6 +23,27 @@ RTAPI RTresult tesseraDeviceSpecValidate(const char* spec, const char** error);
  * launch. */
 RTAPI RTresult tesseraContextGetExceptionReportCount(RTcontext context, RTsize* count);
 
+/* Bytes of buffer contents that travelled for this context's launches since it was created:
+ * host → devices (chunks of state deltas) and devices → host (written regions of OUTPUT and
+ * INPUT_OUTPUT buffers). Either pointer may be null. */
+RTAPI RTresult tesseraContextGetTransferStats(RTcontext context, unsigned long long* bytes_sent,
+                                              unsigned long long* bytes_received);
+
+/* The tile size of later launches: `dimensionality` entries (1..3) of `size`, each > 0; a launch
+ * of other dimensionality repeats the last entry. 0 and null restore the automatic choice (from
+ * the launch size and the devices' thread count, or TESSERA_TILE_SIZE such as "32x32"). */
+RTAPI RTresult tesseraContextSetTileSize(RTcontext context, unsigned int dimensionality,
+                                         const RTsize* size);
+
+/* Race checking for multi-device launches: when on (or with TESSERA_RACE_CHECK=1 in the
+ * environment), the host reports on stderr every element of a shared OUTPUT or INPUT_OUTPUT
+ * buffer that two devices set to different values in one launch (the multi-GPU race OptiX leaves
+ * undefined), naming the buffer, the element and the devices. Costs a copy of those buffers and a
+ * comparison per gathered element. */
+RTAPI RTresult tesseraContextSetRaceCheck(RTcontext context, int enabled);
+/* How many elements the last launch found written by two devices (0 unless checking). */
+RTAPI RTresult tesseraContextGetRaceCount(RTcontext context, RTsize* count);
+
 #ifdef __cplusplus
 }
 #endif

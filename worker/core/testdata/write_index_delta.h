@@ -1,19 +1,22 @@
 // A hand-built StateDelta for transport and worker tests: the `write_index` program of
 // basic_programs.cu (worker_core_test_programs.so) writes (x, y, 2, 1) into a w×h float4 OUTPUT
-// buffer (program id 1, buffer id 2, bound as the context variable `output`).
+// buffer (program id 1, buffer id 2, bound as the context variable `output`). The module's bytes
+// travel in the delta unless `ship_module` is false (a device that has them already).
 #ifndef TESSERA_WORKER_CORE_TESTDATA_WRITE_INDEX_DELTA_H_
 #define TESSERA_WORKER_CORE_TESTDATA_WRITE_INDEX_DELTA_H_
 
 #include <cstdint>
 #include <string>
 
+#include "module_delta.h"
 #include "tessera/rt.h"
 #include "tessera/v1/state.pb.h"
 
 namespace tessera::testing {
 
 inline v1::StateDelta WriteIndexDelta(const std::string& module, uint64_t session,
-                                      uint64_t sequence, uint64_t w, uint64_t h) {
+                                      uint64_t sequence, uint64_t w, uint64_t h,
+                                      bool ship_module = true) {
   v1::StateDelta d;
   d.set_session_id(session);
   d.set_sequence(sequence);
@@ -27,6 +30,8 @@ inline v1::StateDelta WriteIndexDelta(const std::string& module, uint64_t sessio
   p->set_id(1);
   p->set_version(1);
   p->set_module_path(module);
+  const std::string bytes = ReadModuleFile(module);
+  p->set_module_hash(ship_module ? AddModuleBytes(&d, bytes) : Sha256Hex(bytes));
   p->set_function("write_index");
   v1::Buffer* b = d.add_objects()->mutable_buffer();
   b->set_id(2);

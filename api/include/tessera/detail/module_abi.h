@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 1u
+#define TESSERA_MODULE_ABI_VERSION 2u
 #define TESSERA_MAX_BUFFERS_PER_MODULE 128u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
@@ -38,6 +38,10 @@ typedef struct {
   size_t size[3]; /* unused dimensions are 1 */
   size_t element_size;
   unsigned long long id;
+  /* One byte per element, set when a program indexes the element; null for buffers that never
+   * travel back to the host (INPUT, GPU_LOCAL). The engine ships exactly the marked elements, so
+   * devices never overwrite each other's results with stale copies. */
+  unsigned char* written;
 } TesseraBufferView;
 
 typedef struct {

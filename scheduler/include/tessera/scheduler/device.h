@@ -30,17 +30,28 @@ class Device {
   // previous state and the status message names the offending object.
   virtual absl::Status Apply(const v1::StateDelta& delta) = 0;
 
-  // Runs `request.tiles()` and calls `on_result` once per tile, from any thread, in any order.
-  // After the last tile the device reports, through a TileResult with tile_index == UINT32_MAX,
-  // the final contents of every OUTPUT and INPUT_OUTPUT buffer it holds (regions), unless
-  // GPU_LOCAL. Returns when all tiles are done, or early once `cancel` becomes true.
-  // Thread-safety: one launch at a time per device.
+  // Runs `request.tiles()` (one batch of a launch; a launch may take many calls) and calls
+  // `on_result` once per tile, from any thread, in any order, with its prints, exception reports
+  // and errors. The call's last result (tile_index == kFinalTileIndex) carries every element of an
+  // OUTPUT or INPUT_OUTPUT buffer (not GPU_LOCAL) that the call's programs accessed, as regions.
+  // Returns when all tiles are done, or early once `cancel` becomes true.
+  // A device that is gone (process killed, connection lost, silent past its deadline) answers
+  // UNAVAILABLE or DEADLINE_EXCEEDED: its tiles can run elsewhere. ABORTED means the device's
+  // process crashed while running a program: running its tiles elsewhere would crash that too.
+  // Thread-safety: one call at a time per device.
   virtual absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                               const std::function<void(v1::TileResult&&)>& on_result) = 0;
 };
 
-// Marks the TileResult that carries the launch's final buffer contents.
+// Marks the TileResult that carries the written regions of a Launch call.
 inline constexpr uint32_t kFinalTileIndex = 0xFFFFFFFFu;
+// Marks an empty TileResult a worker sends while it runs long tiles, so that the host can tell a
+// busy worker from a hung one.
+inline constexpr uint32_t kHeartbeatTileIndex = 0xFFFFFFFEu;
+
+// How a worker process that a program crashed starts the line it leaves on stderr (see
+// worker/core crash_report.h); the host looks for it to name the program in the launch's error.
+inline constexpr char kCrashReportPrefix[] = "tessera-worker: crashed: ";
 
 }  // namespace tessera
 

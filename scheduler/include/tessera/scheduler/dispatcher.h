@@ -1,0 +1,109 @@
+// Runs one launch's tiles on a set of devices (DESIGN.md "scheduler/"): each device takes batches
+// of tiles, one call at a time; a batch counts only when its device finished all of it, so a
+// device that is lost mid-batch costs time, not results: its unfinished tiles run on the others.
+//
+// Assignment: dynamic (any device takes the next tiles: fast devices take more) unless the launch
+// needs stable ownership (GPU_LOCAL buffers: tile i stays on device i mod N for the same launch
+// size and device set, so per-device accumulation sees the same pixels every launch). A lost
+// device's tiles then move to the survivors, also by tile index.
+#ifndef TESSERA_SCHEDULER_DISPATCHER_H_
+#define TESSERA_SCHEDULER_DISPATCHER_H_
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "absl/base/thread_annotations.h"
+#include "absl/status/status.h"
+#include "tessera/scheduler/device.h"
+#include "tessera/v1/launch.pb.h"
+
+namespace tessera::scheduler {
+
+struct DispatchDevice {
+  Device* device = nullptr;
+  std::string name;          // for messages
+  int threads = 1;           // a batch holds up to twice this many tiles
+  v1::LaunchRequest header;  // session, launch id, entry point, dims; tiles empty
+};
+
+// The results of one finished batch: its tiles' results and the written regions (last).
+struct FinishedBatch {
+  size_t device = 0;
+  size_t tiles = 0;
+  std::vector<v1::TileResult> results;
+};
+
+// A device that stopped answering or died during the launch.
+struct LostDevice {
+  size_t device = 0;
+  absl::Status reason;
+};
+
+class Dispatcher {
+ public:
+  // Starts one thread per device at once.
+  Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
+             bool stable_ownership);
+  // Stops and joins the device threads (cancelling running calls).
+  ~Dispatcher();
+  Dispatcher(const Dispatcher&) = delete;
+  Dispatcher& operator=(const Dispatcher&) = delete;
+
+  // Launching thread: moves finished batches into `out`, waiting for one until `deadline`.
+  // Returns true once every device thread has ended and nothing is left to take.
+  bool Wait(std::chrono::steady_clock::time_point deadline, std::vector<FinishedBatch>* out);
+
+  // Stops handing out tiles and cancels running calls (the timeout callback asked to stop).
+  void Cancel();
+
+  // After Wait returned true: OK when every tile finished; CANCELLED after Cancel(); else the
+  // first failure: ABORTED (a device crashed running a program), UNAVAILABLE (every device was
+  // lost), or the error a device reported for its tiles (a program fault, a bad message).
+  // `failed_device` is the device of that failure, or -1.
+  absl::Status status() const;
+  int failed_device() const;
+  std::vector<LostDevice> lost() const;
+
+ private:
+  struct Queue {
+    std::deque<v1::Tile> tiles;
+  };
+
+  void Run(size_t d);
+  // Takes the next batch for device `d`; empty when the launch is over for it.
+  std::vector<v1::Tile> Take(size_t d) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+  // Hands the tiles of lost device `d` (its batch and, for stable ownership, its queue) on.
+  void Requeue(size_t d, std::vector<v1::Tile> batch) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+  void Fail(size_t d, absl::Status status) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+
+  std::vector<DispatchDevice> devices_;
+  const bool stable_;
+  bool build_only_ = false;        // set in the constructor, before the threads start
+  std::atomic<bool> stop_{false};  // cancels running calls: user cancel or launch failure
+
+  mutable std::mutex mu_;
+  std::condition_variable work_cv_;  // device threads: tiles available or launch over
+  std::condition_variable done_cv_;  // launching thread: a batch finished or a thread ended
+  std::vector<Queue> queues_ ABSL_GUARDED_BY(mu_);  // stable: one per device; dynamic: [0]
+  std::vector<bool> lost_ ABSL_GUARDED_BY(mu_);
+  std::vector<LostDevice> lost_reasons_ ABSL_GUARDED_BY(mu_);
+  std::vector<int> tile_losses_ ABSL_GUARDED_BY(mu_);  // by tile index: devices lost running it
+  uint64_t remaining_ ABSL_GUARDED_BY(mu_) = 0;        // tiles not yet finished
+  size_t running_threads_ ABSL_GUARDED_BY(mu_) = 0;
+  std::vector<FinishedBatch> finished_ ABSL_GUARDED_BY(mu_);
+  absl::Status status_ ABSL_GUARDED_BY(mu_);
+  int failed_device_ ABSL_GUARDED_BY(mu_) = -1;
+  bool cancelled_ ABSL_GUARDED_BY(mu_) = false;
+  std::vector<std::thread> threads_;  // last: started in the constructor body
+};
+
+}  // namespace tessera::scheduler
+
+#endif  // TESSERA_SCHEDULER_DISPATCHER_H_

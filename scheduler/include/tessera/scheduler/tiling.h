@@ -1,0 +1,34 @@
+// Splits a launch grid into tiles of its own dimensionality (OptiX guide ch. 9: work follows the
+// launch's shape), sized so that every thread of every device gets several tiles to balance.
+#ifndef TESSERA_SCHEDULER_TILING_H_
+#define TESSERA_SCHEDULER_TILING_H_
+
+#include <cstdint>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+#include "tessera/v1/launch.pb.h"
+
+namespace tessera::scheduler {
+
+// The largest tiles: 4096 (1D), 64x64 (2D), 16x16x4 (3D).
+std::vector<uint64_t> MaxTileSize(size_t dimensionality);
+
+// A tile size for `dims` on devices with `total_threads` threads in all: the largest tiles that
+// still give every thread about eight tiles, halving no further than 256 (1D), 16x16 (2D) or
+// 8x8x2 (3D) — below that, per-tile overhead outweighs balance.
+std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int total_threads);
+
+// Parses an override such as "32x32", "4096" or "16x16x4" (TESSERA_TILE_SIZE); one entry per
+// launch dimension is used, missing ones repeat the last. INVALID_ARGUMENT names the bad text.
+absl::StatusOr<std::vector<uint64_t>> ParseTileSize(absl::string_view text);
+
+// Tiles covering `dims` (1..3 entries) in x-fastest order, numbered from 0; edge tiles are
+// clipped. Empty when any dimension is 0. `tile_size` has one entry per dimension (0 reads as 1).
+std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
+                                const std::vector<uint64_t>& tile_size);
+
+}  // namespace tessera::scheduler
+
+#endif  // TESSERA_SCHEDULER_TILING_H_

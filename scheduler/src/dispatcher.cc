@@ -1,0 +1,219 @@
+#include "tessera/scheduler/dispatcher.h"
+
+#include <algorithm>
+#include <exception>
+#include <utility>
+
+#include "absl/strings/str_cat.h"
+
+namespace tessera::scheduler {
+
+Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
+                       bool stable_ownership)
+    : devices_(std::move(devices)), stable_(stable_ownership) {
+  const size_t n = devices_.size();
+  std::lock_guard<std::mutex> lock(mu_);
+  if (n == 0) {
+    status_ = absl::UnavailableError("no device to run the launch on");
+    return;
+  }
+  queues_.resize(stable_ ? n : 1);
+  lost_.assign(n, false);
+  uint32_t max_index = 0;
+  for (const v1::Tile& t : tiles) max_index = std::max(max_index, t.index());
+  tile_losses_.assign(tiles.empty() ? 0 : size_t{max_index} + 1, 0);
+  // No tiles (the all-zero launch builds accelerations only): every device gets one empty call.
+  build_only_ = tiles.empty();
+  remaining_ = build_only_ ? n : tiles.size();
+  for (v1::Tile& t : tiles) queues_[stable_ ? t.index() % n : 0].tiles.push_back(std::move(t));
+  running_threads_ = n;
+  threads_.reserve(n);
+  for (size_t d = 0; d < n; ++d) threads_.emplace_back([this, d] { Run(d); });
+}
+
+Dispatcher::~Dispatcher() {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    stop_ = true;
+  }
+  work_cv_.notify_all();
+  for (std::thread& t : threads_) t.join();
+}
+
+std::vector<v1::Tile> Dispatcher::Take(size_t d) {
+  std::deque<v1::Tile>& queue = queues_[stable_ ? d : 0].tiles;
+  size_t batch = 2 * static_cast<size_t>(std::max(devices_[d].threads, 1));
+  if (!stable_) {
+    // Shrink batches as the shared queue drains so that no device is left holding a long tail
+    // while the others idle.
+    size_t live = static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false));
+    batch = std::clamp<size_t>(queue.size() / (4 * std::max<size_t>(live, 1)), 1, batch);
+  }
+  batch = std::min(batch, queue.size());
+  std::vector<v1::Tile> tiles;
+  tiles.reserve(batch);
+  for (size_t i = 0; i < batch; ++i) {
+    tiles.push_back(std::move(queue.front()));
+    queue.pop_front();
+  }
+  return tiles;
+}
+
+void Dispatcher::Fail(size_t d, absl::Status status) {
+  if (status_.ok()) {
+    status_ = std::move(status);
+    failed_device_ = static_cast<int>(d);
+  }
+  stop_ = true;
+  work_cv_.notify_all();
+}
+
+void Dispatcher::Requeue(size_t d, std::vector<v1::Tile> batch) {
+  std::vector<size_t> survivors;
+  for (size_t i = 0; i < devices_.size(); ++i) {
+    if (!lost_[i]) survivors.push_back(i);
+  }
+  if (survivors.empty()) {
+    std::string reasons;
+    for (const LostDevice& l : lost_reasons_) {
+      absl::StrAppend(&reasons, reasons.empty() ? "" : "; ", devices_[l.device].name, ": ",
+                      l.reason.message());
+    }
+    Fail(d, absl::UnavailableError(absl::StrCat("every device was lost (", reasons, ")")));
+    return;
+  }
+  for (const v1::Tile& t : batch) {
+    if (++tile_losses_[t.index()] >= 2) {
+      Fail(d, absl::AbortedError(absl::StrCat(
+                  "tile ", t.index(), " was running on two devices that were lost (",
+                  devices_[d].name, " was the second): a program may be crashing them")));
+      return;
+    }
+  }
+  if (stable_) {
+    // Survivors take over by tile index, so the new owners are the same for every launch of this
+    // size on the reduced device set.
+    for (v1::Tile& t : queues_[d].tiles) batch.push_back(std::move(t));
+    queues_[d].tiles.clear();
+    for (v1::Tile& t : batch) {
+      queues_[survivors[t.index() % survivors.size()]].tiles.push_back(std::move(t));
+    }
+  } else {
+    for (auto it = batch.rbegin(); it != batch.rend(); ++it) {
+      queues_[0].tiles.push_front(std::move(*it));
+    }
+  }
+  work_cv_.notify_all();
+}
+
+void Dispatcher::Run(size_t d) {
+  DispatchDevice& device = devices_[d];
+  std::unique_lock<std::mutex> lock(mu_);
+  while (true) {
+    work_cv_.wait(lock, [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
+      return stop_ || remaining_ == 0 || lost_[d] || build_only_ ||
+             !queues_[stable_ ? d : 0].tiles.empty();
+    });
+    if (stop_ || remaining_ == 0 || lost_[d]) break;
+    std::vector<v1::Tile> batch = Take(d);
+    if (batch.empty() && !build_only_) continue;
+    lock.unlock();
+
+    v1::LaunchRequest request = device.header;
+    for (const v1::Tile& t : batch) *request.add_tiles() = t;
+    FinishedBatch finished;
+    finished.device = d;
+    finished.tiles = batch.size();
+    std::mutex results_mu;  // devices call back from their own threads
+    absl::Status status;
+    try {
+      status = device.device->Launch(request, stop_, [&](v1::TileResult&& result) {
+        std::lock_guard<std::mutex> results_lock(results_mu);
+        finished.results.push_back(std::move(result));
+      });
+    } catch (const std::exception& e) {
+      status = absl::InternalError(absl::StrCat("threw: ", e.what()));
+    } catch (...) {
+      status = absl::InternalError("threw a non-standard exception");
+    }
+
+    lock.lock();
+    if (status.ok()) {
+      remaining_ -= build_only_ ? 1 : batch.size();
+      finished_.push_back(std::move(finished));
+      done_cv_.notify_all();
+      if (remaining_ == 0) work_cv_.notify_all();
+      if (build_only_) break;
+      continue;
+    }
+    if (stop_) break;  // cancelled, or the launch already failed elsewhere
+    const absl::StatusCode code = status.code();
+    if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {
+      lost_[d] = true;
+      lost_reasons_.push_back({d, status});
+      if (build_only_) {
+        --remaining_;
+        if (std::count(lost_.begin(), lost_.end(), false) == 0) Requeue(d, {});
+      } else {
+        Requeue(d, std::move(batch));
+      }
+      break;
+    }
+    if (code == absl::StatusCode::kAborted) {
+      // The device crashed running a program: that program would crash the next device too.
+      lost_[d] = true;
+      lost_reasons_.push_back({d, status});
+    }
+    Fail(d, std::move(status));
+    break;
+  }
+  --running_threads_;
+  done_cv_.notify_all();
+}
+
+bool Dispatcher::Wait(std::chrono::steady_clock::time_point deadline,
+                      std::vector<FinishedBatch>* out) {
+  std::unique_lock<std::mutex> lock(mu_);
+  auto ready = [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
+    return !finished_.empty() || running_threads_ == 0;
+  };
+  if (deadline == std::chrono::steady_clock::time_point::max()) {
+    done_cv_.wait(lock, ready);
+  } else {
+    done_cv_.wait_until(lock, deadline, ready);
+  }
+  for (FinishedBatch& b : finished_) out->push_back(std::move(b));
+  finished_.clear();
+  return running_threads_ == 0;
+}
+
+void Dispatcher::Cancel() {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    cancelled_ = true;
+    stop_ = true;
+  }
+  work_cv_.notify_all();
+}
+
+absl::Status Dispatcher::status() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (!status_.ok()) return status_;
+  if (cancelled_) return absl::CancelledError("launch cancelled");
+  if (remaining_ != 0) {
+    return absl::InternalError(absl::StrCat(remaining_, " tiles were never run"));
+  }
+  return absl::OkStatus();
+}
+
+int Dispatcher::failed_device() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return failed_device_;
+}
+
+std::vector<LostDevice> Dispatcher::lost() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return lost_reasons_;
+}
+
+}  // namespace tessera::scheduler

@@ -1,0 +1,197 @@
+#include "tessera/scheduler/dispatcher.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <thread>
+
+#include "tessera/scheduler/tiling.h"
+
+namespace tessera::scheduler {
+namespace {
+
+using std::chrono::steady_clock;
+
+// Runs tiles instantly and reports each as a 4-byte region at 4 * tile index; can be told to
+// fail in several ways at its n-th call.
+class FakeDevice : public Device {
+ public:
+  enum class Fault { kNone, kUnavailable, kCrash, kProgramError, kBlockUntilCancel };
+  FakeDevice(Fault fault = Fault::kNone, int fault_at_call = 0)
+      : fault_(fault), fault_at_call_(fault_at_call) {}
+
+  DeviceInfo Info() const override { return {"fake", "fake", 1}; }
+  absl::Status Apply(const v1::StateDelta&) override { return absl::OkStatus(); }
+  absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
+                      const std::function<void(v1::TileResult&&)>& on_result) override {
+    const int call = calls_++;
+    // A little time per call, as real devices take: with instant calls, one device's thread
+    // could drain the queue before the others start.
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (fault_ != Fault::kNone && call >= fault_at_call_) {
+      switch (fault_) {
+        case Fault::kUnavailable:
+          return absl::UnavailableError("connection reset");
+        case Fault::kCrash:
+          return absl::AbortedError("crashed: signal 11 (SIGSEGV) in closest hit program 'ch'");
+        case Fault::kProgramError:
+          return absl::InvalidArgumentError("closest hit program 'ch': no such function");
+        case Fault::kBlockUntilCancel:
+          while (!cancel.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+          return absl::CancelledError("launch cancelled");
+        case Fault::kNone:
+          break;
+      }
+    }
+    v1::TileResult final_result;
+    final_result.set_tile_index(kFinalTileIndex);
+    for (const v1::Tile& t : request.tiles()) {
+      v1::TileResult r;
+      r.set_tile_index(t.index());
+      on_result(std::move(r));
+      v1::BufferRegion* region = final_result.add_regions();
+      region->set_offset(4 * uint64_t{t.index()});
+      region->set_data(std::string(4, static_cast<char>(t.index())));
+    }
+    on_result(std::move(final_result));
+    return absl::OkStatus();
+  }
+
+ private:
+  Fault fault_;
+  int fault_at_call_;
+  int calls_ = 0;
+};
+
+struct Outcome {
+  absl::Status status;
+  std::map<uint32_t, size_t> device_of_tile;  // from finished batches
+  size_t tile_reports = 0;                    // tiles counted over finished batches
+  std::vector<LostDevice> lost;
+  int failed_device = -1;
+};
+
+Outcome RunAll(std::vector<FakeDevice*> fakes, size_t tiles, bool stable, int threads = 1) {
+  std::vector<DispatchDevice> devices;
+  for (size_t i = 0; i < fakes.size(); ++i) {
+    devices.push_back({fakes[i], "fake" + std::to_string(i), threads, v1::LaunchRequest()});
+  }
+  Dispatcher dispatcher(std::move(devices), MakeTiles({tiles}, {1}), stable);
+  Outcome out;
+  std::vector<FinishedBatch> batches;
+  while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
+  }
+  for (const FinishedBatch& b : batches) {
+    out.tile_reports += b.tiles;
+    for (const v1::TileResult& r : b.results) {
+      if (r.tile_index() == kFinalTileIndex) continue;
+      EXPECT_EQ(out.device_of_tile.count(r.tile_index()), 0u) << "tile " << r.tile_index();
+      out.device_of_tile[r.tile_index()] = b.device;
+    }
+    EXPECT_EQ(b.results.back().tile_index(), kFinalTileIndex);
+  }
+  out.status = dispatcher.status();
+  out.lost = dispatcher.lost();
+  out.failed_device = dispatcher.failed_device();
+  return out;
+}
+
+TEST(DispatcherTest, DynamicAssignmentRunsEveryTileOnce) {
+  FakeDevice a, b, c;
+  Outcome out = RunAll({&a, &b, &c}, 100, /*stable=*/false);
+  ASSERT_TRUE(out.status.ok()) << out.status;
+  EXPECT_EQ(out.device_of_tile.size(), 100u);
+  EXPECT_EQ(out.tile_reports, 100u);
+  EXPECT_TRUE(out.lost.empty());
+}
+
+TEST(DispatcherTest, StableOwnershipKeepsTileIOnDeviceIModN) {
+  FakeDevice a, b, c;
+  Outcome out = RunAll({&a, &b, &c}, 50, /*stable=*/true, /*threads=*/4);
+  ASSERT_TRUE(out.status.ok()) << out.status;
+  ASSERT_EQ(out.device_of_tile.size(), 50u);
+  for (const auto& [tile, device] : out.device_of_tile) EXPECT_EQ(device, tile % 3) << tile;
+}
+
+TEST(DispatcherTest, LostDeviceTilesRunOnTheOthers) {
+  for (bool stable : {false, true}) {
+    // Dynamic: lost at its first call (fast fakes may leave it no second one); stable: at its
+    // second, after it finished one batch.
+    FakeDevice a, b(FakeDevice::Fault::kUnavailable, /*fault_at_call=*/stable ? 1 : 0), c;
+    Outcome out = RunAll({&a, &b, &c}, 60, stable);
+    ASSERT_TRUE(out.status.ok()) << out.status;
+    EXPECT_EQ(out.device_of_tile.size(), 60u);
+    EXPECT_EQ(out.tile_reports, 60u);
+    ASSERT_EQ(out.lost.size(), 1u);
+    EXPECT_EQ(out.lost[0].device, 1u);
+    EXPECT_NE(out.lost[0].reason.message().find("connection reset"), std::string::npos);
+    if (stable) {
+      // Device 1 finished its first batch (2 tiles: 1 and 4); the rest moved by index over the
+      // survivors {0, 2}.
+      for (const auto& [tile, device] : out.device_of_tile) {
+        if (tile % 3 != 1) {
+          EXPECT_EQ(device, tile % 3);
+        } else if (device != 1) {
+          EXPECT_EQ(device, tile % 2 == 0 ? 0u : 2u) << tile;
+        }
+      }
+    }
+  }
+}
+
+TEST(DispatcherTest, EveryDeviceLostIsUnavailable) {
+  FakeDevice a(FakeDevice::Fault::kUnavailable), b(FakeDevice::Fault::kUnavailable);
+  Outcome out = RunAll({&a, &b}, 10, false);
+  EXPECT_EQ(out.status.code(), absl::StatusCode::kUnavailable);
+  EXPECT_NE(out.status.message().find("every device was lost"), std::string::npos);
+  EXPECT_NE(out.status.message().find("fake0"), std::string::npos);
+}
+
+TEST(DispatcherTest, CrashFailsTheLaunchNamingTheProgram) {
+  FakeDevice a, b(FakeDevice::Fault::kCrash);
+  Outcome out = RunAll({&a, &b}, 40, false);
+  EXPECT_EQ(out.status.code(), absl::StatusCode::kAborted);
+  EXPECT_NE(out.status.message().find("closest hit program"), std::string::npos);
+  EXPECT_EQ(out.failed_device, 1);
+  ASSERT_EQ(out.lost.size(), 1u);
+}
+
+TEST(DispatcherTest, ProgramErrorFailsWithoutRetrying) {
+  FakeDevice a(FakeDevice::Fault::kProgramError), b(FakeDevice::Fault::kProgramError);
+  Outcome out = RunAll({&a, &b}, 40, false);
+  EXPECT_EQ(out.status.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_TRUE(out.lost.empty());
+}
+
+TEST(DispatcherTest, TileLosingTwoDevicesFailsTheLaunch) {
+  // Every device is lost at its first call: the one tile hops to a second device, loses that one
+  // too, and the rule stops it there (a program that kills workers would kill them all).
+  FakeDevice a(FakeDevice::Fault::kUnavailable), b(FakeDevice::Fault::kUnavailable),
+      c(FakeDevice::Fault::kUnavailable);
+  std::vector<DispatchDevice> devices = {{&a, "a", 1, {}}, {&b, "b", 1, {}}, {&c, "c", 1, {}}};
+  Dispatcher dispatcher(std::move(devices), MakeTiles({1}, {1}), /*stable_ownership=*/false);
+  std::vector<FinishedBatch> batches;
+  while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
+  }
+  EXPECT_EQ(dispatcher.status().code(), absl::StatusCode::kAborted);
+  EXPECT_NE(dispatcher.status().message().find("two devices"), std::string::npos);
+  EXPECT_EQ(dispatcher.lost().size(), 2u);
+}
+
+TEST(DispatcherTest, CancelStopsRunningCallsPromptly) {
+  FakeDevice a(FakeDevice::Fault::kBlockUntilCancel), b(FakeDevice::Fault::kBlockUntilCancel);
+  std::vector<DispatchDevice> devices = {{&a, "a", 1, {}}, {&b, "b", 1, {}}};
+  Dispatcher dispatcher(std::move(devices), MakeTiles({100}, {1}), false);
+  std::vector<FinishedBatch> batches;
+  EXPECT_FALSE(dispatcher.Wait(steady_clock::now() + std::chrono::milliseconds(20), &batches));
+  const auto start = steady_clock::now();
+  dispatcher.Cancel();
+  while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
+  }
+  EXPECT_LT(steady_clock::now() - start, std::chrono::seconds(2));
+  EXPECT_EQ(dispatcher.status().code(), absl::StatusCode::kCancelled);
+  EXPECT_TRUE(batches.empty());
+}
+
+}  // namespace
+}  // namespace tessera::scheduler

@@ -1,0 +1,105 @@
+#include "tessera/scheduler/tiling.h"
+
+#include <algorithm>
+
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+
+namespace tessera::scheduler {
+
+std::vector<uint64_t> MaxTileSize(size_t dimensionality) {
+  switch (dimensionality) {
+    case 1:
+      return {4096};
+    case 2:
+      return {64, 64};
+    default:
+      return {16, 16, 4};
+  }
+}
+
+namespace {
+
+uint64_t TileCount(const std::vector<uint64_t>& dims, const std::vector<uint64_t>& size) {
+  uint64_t count = 1;
+  for (size_t d = 0; d < dims.size() && d < size.size(); ++d) {
+    count *= (dims[d] + size[d] - 1) / size[d];
+  }
+  return count;
+}
+
+}  // namespace
+
+std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int total_threads) {
+  std::vector<uint64_t> size = MaxTileSize(dims.size());
+  const std::vector<uint64_t> smallest =
+      dims.size() == 1
+          ? std::vector<uint64_t>{256}
+          : (dims.size() == 2 ? std::vector<uint64_t>{16, 16} : std::vector<uint64_t>{8, 8, 2});
+  const uint64_t wanted = 8 * static_cast<uint64_t>(std::max(total_threads, 1));
+  while (TileCount(dims, size) < wanted) {
+    bool halved = false;
+    for (size_t d = 0; d < size.size(); ++d) {
+      if (size[d] / 2 >= smallest[d]) {
+        size[d] /= 2;
+        halved = true;
+      }
+    }
+    if (!halved) break;
+  }
+  return size;
+}
+
+absl::StatusOr<std::vector<uint64_t>> ParseTileSize(absl::string_view text) {
+  std::vector<uint64_t> size;
+  for (absl::string_view part : absl::StrSplit(text, 'x')) {
+    uint64_t n = 0;
+    if (!absl::SimpleAtoi(part, &n) || n == 0 || n > (uint64_t{1} << 31)) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "tile size '", text, "' is not of the form W, WxH or WxHxD with positive integers"));
+    }
+    size.push_back(n);
+  }
+  if (size.size() > 3) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("tile size '", text, "' has more than three dimensions"));
+  }
+  return size;
+}
+
+std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
+                                const std::vector<uint64_t>& tile_size) {
+  std::vector<v1::Tile> tiles;
+  const size_t n = dims.size();
+  if (n == 0 || n > 3) return tiles;
+  uint64_t size[3] = {1, 1, 1};
+  uint64_t extent[3] = {1, 1, 1};
+  uint64_t count[3] = {1, 1, 1};
+  for (size_t d = 0; d < n; ++d) {
+    if (dims[d] == 0) return tiles;
+    extent[d] = dims[d];
+    size[d] = std::max<uint64_t>(1, d < tile_size.size() ? tile_size[d] : 1);
+    count[d] = (extent[d] + size[d] - 1) / size[d];
+  }
+  tiles.reserve(count[0] * count[1] * count[2]);
+  uint32_t index = 0;
+  for (uint64_t tz = 0; tz < count[2]; ++tz) {
+    for (uint64_t ty = 0; ty < count[1]; ++ty) {
+      for (uint64_t tx = 0; tx < count[0]; ++tx) {
+        const uint64_t t[3] = {tx, ty, tz};
+        v1::Tile tile;
+        tile.set_index(index++);
+        for (size_t d = 0; d < n; ++d) {
+          uint64_t origin = t[d] * size[d];
+          tile.add_origin(origin);
+          tile.add_size(std::min(size[d], extent[d] - origin));
+        }
+        tiles.push_back(std::move(tile));
+      }
+    }
+  }
+  return tiles;
+}
+
+}  // namespace tessera::scheduler

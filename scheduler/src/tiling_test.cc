@@ -1,0 +1,65 @@
+#include "tessera/scheduler/tiling.h"
+
+#include <gtest/gtest.h>
+
+namespace tessera::scheduler {
+namespace {
+
+TEST(TilingTest, SplitsGridsOfEachDimensionality) {
+  EXPECT_EQ(MaxTileSize(1), std::vector<uint64_t>({4096}));
+  EXPECT_EQ(MaxTileSize(2), std::vector<uint64_t>({64, 64}));
+  EXPECT_EQ(MaxTileSize(3), std::vector<uint64_t>({16, 16, 4}));
+
+  auto tiles = MakeTiles({100, 70}, {64, 64});
+  ASSERT_EQ(tiles.size(), 4u);
+  EXPECT_EQ(tiles[1].origin(0), 64u);
+  EXPECT_EQ(tiles[1].size(0), 36u);
+  EXPECT_EQ(tiles[2].origin(1), 64u);
+  EXPECT_EQ(tiles[2].size(1), 6u);
+  uint64_t covered = 0;
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    EXPECT_EQ(tiles[i].index(), i);
+    covered += tiles[i].size(0) * tiles[i].size(1);
+  }
+  EXPECT_EQ(covered, 100u * 70u);
+
+  auto one = MakeTiles({10000}, {4096});
+  ASSERT_EQ(one.size(), 3u);
+  EXPECT_EQ(one[2].size(0), 10000u - 8192u);
+  EXPECT_EQ(one[2].origin_size(), 1);
+
+  auto three = MakeTiles({17, 16, 9}, {16, 16, 4});
+  EXPECT_EQ(three.size(), 2u * 1u * 3u);
+  EXPECT_EQ(three.back().size(2), 1u);
+
+  EXPECT_TRUE(MakeTiles({0, 5}, {64, 64}).empty());
+  EXPECT_TRUE(MakeTiles({}, {}).empty());
+  EXPECT_EQ(MakeTiles({3, 3}, {0, 0}).size(), 9u);  // tile size 0 reads as 1
+}
+
+TEST(TilingTest, ChoosesSmallerTilesForManyThreads) {
+  // 1920x1080 has 510 tiles of 64x64: enough for 16 threads (8 each), not for 128.
+  EXPECT_EQ(ChooseTileSize({1920, 1080}, 16), std::vector<uint64_t>({64, 64}));
+  EXPECT_EQ(ChooseTileSize({1920, 1080}, 128), std::vector<uint64_t>({32, 32}));
+  // Never below 16x16, however small the launch.
+  EXPECT_EQ(ChooseTileSize({20, 20}, 64), std::vector<uint64_t>({16, 16}));
+  EXPECT_EQ(ChooseTileSize({100000}, 2), std::vector<uint64_t>({4096}));
+  EXPECT_EQ(ChooseTileSize({1000}, 4), std::vector<uint64_t>({256}));
+  EXPECT_EQ(ChooseTileSize({64, 64, 64}, 1024), std::vector<uint64_t>({8, 8, 2}));
+}
+
+TEST(TilingTest, ParsesOverrides) {
+  EXPECT_EQ(*ParseTileSize("32x16"), std::vector<uint64_t>({32, 16}));
+  EXPECT_EQ(*ParseTileSize("7"), std::vector<uint64_t>({7}));
+  EXPECT_EQ(*ParseTileSize("4x4x2"), std::vector<uint64_t>({4, 4, 2}));
+  for (const char* bad : {"", "0", "x", "3x", "-1", "1x2x3x4", "abc"}) {
+    absl::StatusOr<std::vector<uint64_t>> parsed = ParseTileSize(bad);
+    EXPECT_FALSE(parsed.ok()) << bad;
+    if (!parsed.ok()) {
+      EXPECT_NE(parsed.status().message().find("tile size"), std::string::npos);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tessera::scheduler

@@ -1,0 +1,170 @@
+// Faults (issue 3 point 8) with real worker processes: a worker killed or stopped mid-launch costs
+// time, not results; a program that crashes its worker fails the launch with a message naming the
+// device and the program, and the next launch works on a respawned worker; every device lost is
+// RT_ERROR_CONNECTION_FAILED, never a hang.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+
+#include <atomic>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "e2e_scene.h"
+#include "process_util.h"
+#include "tessera/rt_ext.h"
+#include "transport/worker_process.h"
+
+namespace tessera::e2e {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr char kWorker[] = "tessera-worker";
+constexpr unsigned kW = 96, kH = 64;
+// render_slow traces this many rays per launch index: long enough (a second or so on two cores)
+// for a fault to land in the middle of the launch.
+constexpr int kIterations = 300;
+
+class FaultTest : public ::testing::Test {
+ protected:
+  void TearDown() override {
+    if (ctx_ != nullptr) rtContextDestroy(ctx_);
+  }
+  void Ok(RTresult code) { ASSERT_EQ(code, RT_SUCCESS) << ErrorText(ctx_, code); }
+  void Create(const std::string& spec) {
+    if (ctx_ != nullptr) rtContextDestroy(ctx_);
+    ctx_ = nullptr;
+    Ok(rtContextCreate(&ctx_));
+    Ok(tesseraContextSetDeviceSpec(ctx_, spec.c_str()));
+    std::string error;
+    ASSERT_EQ(BuildScene(ctx_, kW, kH, &scene_, &error), RT_SUCCESS) << error;
+    Ok(rtVariableSet1i(scene_.iterations, kIterations));
+  }
+  // The image of render_slow on one in-process device: what every fault-free run must give.
+  std::string Reference() {
+    Create("inproc");
+    Ok(rtContextLaunch2D(ctx_, 1, kW, kH));
+    return ReadBytes(scene_.image);
+  }
+
+  RTcontext ctx_ = nullptr;
+  Scene scene_;
+};
+
+// The timeout callback runs on the launching thread during the launch: the fault lands there.
+std::atomic<int> g_signal{0};
+std::atomic<int> g_faults{0};
+int SignalOneWorker() {
+  if (g_faults.load() == 0) {
+    std::vector<pid_t> workers = ChildrenNamed(getpid(), kWorker);
+    if (!workers.empty() && kill(workers.front(), g_signal.load()) == 0) ++g_faults;
+  }
+  return 0;
+}
+
+TEST_F(FaultTest, KilledWorkerCostsTimeNotResults) {
+  const std::string reference = Reference();
+  Create("local:3");
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));  // workers up and synced
+  g_signal = SIGKILL;
+  g_faults = 0;
+  Ok(rtContextSetTimeoutCallback(ctx_, &SignalOneWorker, 0.05));
+  testing::internal::CaptureStderr();
+  RTresult r = rtContextLaunch2D(ctx_, 1, kW, kH);
+  std::string warning = testing::internal::GetCapturedStderr();
+  ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
+  ASSERT_EQ(g_faults.load(), 1);
+  EXPECT_TRUE(ReadBytes(scene_.image) == reference) << "the image differs from a fault-free run";
+  EXPECT_NE(warning.find("was lost"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("killed by signal 9"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("GPU_LOCAL"), std::string::npos) << warning;
+
+  // The next launch runs on a respawned third worker.
+  Ok(rtContextSetTimeoutCallback(ctx_, nullptr, 0));
+  Ok(rtContextLaunch2D(ctx_, 1, kW, kH));
+  EXPECT_TRUE(ReadBytes(scene_.image) == reference);
+  EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), 3u);
+}
+
+TEST_F(FaultTest, StoppedWorkerMissesItsDeadline) {
+  const std::string reference = Reference();
+  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  Create("local:2");
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
+  g_signal = SIGSTOP;
+  g_faults = 0;
+  Ok(rtContextSetTimeoutCallback(ctx_, &SignalOneWorker, 0.05));
+  testing::internal::CaptureStderr();
+  const auto start = Clock::now();
+  RTresult r = rtContextLaunch2D(ctx_, 1, kW, kH);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  std::string warning = testing::internal::GetCapturedStderr();
+  unsetenv("TESSERA_WORKER_TIMEOUT");
+  ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
+  ASSERT_EQ(g_faults.load(), 1);
+  EXPECT_TRUE(ReadBytes(scene_.image) == reference) << "the image differs from a fault-free run";
+  EXPECT_NE(warning.find("sent nothing for 1s"), std::string::npos) << warning;
+  EXPECT_LT(seconds, 30.0);
+}
+
+TEST_F(FaultTest, CrashingProgramNamesDeviceAndProgram) {
+  Create("local:2");
+  RTprogram crash;
+  Ok(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render_crash", &crash));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, crash));
+  testing::internal::CaptureStderr();
+  RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
+  testing::internal::GetCapturedStderr();
+  ASSERT_EQ(r, RT_ERROR_LAUNCH_FAILED);
+  const std::string message = ErrorText(ctx_, r);
+  EXPECT_NE(message.find("Tessera local worker"), std::string::npos) << message;
+  EXPECT_NE(message.find("SIGSEGV"), std::string::npos) << message;
+  EXPECT_NE(message.find("ray generation program 'render_crash'"), std::string::npos) << message;
+
+  // The host keeps running, and the next launch works on the respawned worker.
+  RTprogram render;
+  Ok(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render", &render));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, render));
+  testing::internal::CaptureStderr();
+  r = rtContextLaunch2D(ctx_, 0, kW, kH);
+  testing::internal::GetCapturedStderr();
+  Ok(r);
+  EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), 2u);
+}
+
+TEST_F(FaultTest, EveryDeviceLostIsConnectionFailed) {
+  // Workers this test runs itself, so that the host cannot start them again.
+  std::vector<std::unique_ptr<transport::WorkerProcess>> workers;
+  std::string spec;
+  for (int i = 0; i < 2; ++i) {
+    transport::WorkerProcess::Options options;
+    options.listen = "127.0.0.1:0";
+    options.index = i;
+    auto worker = transport::WorkerProcess::Spawn(options);
+    ASSERT_TRUE(worker.ok()) << worker.status();
+    spec += (spec.empty() ? "" : ",") + (*worker)->address();
+    workers.push_back(*std::move(worker));
+  }
+  Create(spec);
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
+  for (auto& worker : workers) {
+    ASSERT_EQ(kill(worker->pid(), SIGKILL), 0);
+    bool crashed = false;
+    EXPECT_FALSE(worker->WaitForExit(absl::Seconds(10), &crashed).empty());
+  }
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const auto start = Clock::now();
+    testing::internal::CaptureStderr();
+    RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
+    testing::internal::GetCapturedStderr();
+    EXPECT_EQ(r, RT_ERROR_CONNECTION_FAILED) << ErrorText(ctx_, r);
+    EXPECT_NE(ErrorText(ctx_, r).find("every device was lost"), std::string::npos)
+        << ErrorText(ctx_, r);
+    EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 30.0);
+  }
+}
+
+}  // namespace
+}  // namespace tessera::e2e

@@ -1,0 +1,179 @@
+// Device pointers (OptiX guide ch. 7, "Multi-GPU considerations") and the race-checking mode,
+// run on every device set of kRuleDeviceCases. A "device pointer" is host memory standing for one
+// device's copy: what the application writes there before a launch is that device's data.
+#include <string>
+#include <vector>
+
+#include "multi_device_fixture.h"
+
+namespace tessera::testing {
+namespace {
+
+constexpr RTsize kCount = 64;
+constexpr RTsize kTile = 8;  // 8 tiles: with pinned tiles, tile t runs on device t mod N
+
+class DevicePointerTest : public MultiDeviceParamTest {
+ protected:
+  void SetUp() override {
+    MultiDeviceParamTest::SetUp();
+    RayGen("copy_from_pointer");
+    copied_ = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "copied");
+    TileSize({kTile});
+  }
+  // A buffer for `from_pointer` and the pointer for device 0 (the first of every device set).
+  unsigned* PointerOnDevice0(unsigned type) {
+    input_ = Buffer(type, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
+    void* p = nullptr;
+    EXPECT_EQ(rtBufferGetDevicePointer(input_, 0, &p), RT_SUCCESS);
+    return static_cast<unsigned*>(p);
+  }
+  static std::vector<unsigned> Values(unsigned base) {
+    std::vector<unsigned> v(kCount);
+    for (RTsize i = 0; i < kCount; ++i) v[i] = base + static_cast<unsigned>(i);
+    return v;
+  }
+
+  RTbuffer copied_ = nullptr;
+  RTbuffer input_ = nullptr;
+};
+
+TEST_P(DevicePointerTest, OnePointerReachesEveryDeviceAtEveryLaunch) {
+  unsigned* p = PointerOnDevice0(RT_BUFFER_INPUT);
+  ASSERT_NE(p, nullptr);
+  for (unsigned base : {100u, 200u}) {
+    const std::vector<unsigned> values = Values(base);
+    std::copy(values.begin(), values.end(), p);
+    Launch1D(kCount);
+    EXPECT_EQ(Contents<unsigned>(copied_), values) << "base " << base;
+  }
+}
+
+TEST_P(DevicePointerTest, CopyOnDirtyCopiesOnlyAfterThePointerOrMarkDirty) {
+  PinTilesToDevices();
+  unsigned* p = PointerOnDevice0(RT_BUFFER_INPUT | RT_BUFFER_COPY_ON_DIRTY);
+  const std::vector<unsigned> first = Values(100), second = Values(200);
+  std::copy(first.begin(), first.end(), p);
+  Launch1D(kCount);  // the first launch after the pointer was taken copies
+  EXPECT_EQ(Contents<unsigned>(copied_), first);
+
+  // Not dirty: device 0 runs on its own memory, the others keep their old copy.
+  std::copy(second.begin(), second.end(), p);
+  Launch1D(kCount);
+  std::vector<unsigned> seen = Contents<unsigned>(copied_);
+  for (RTsize i = 0; i < kCount; ++i) {
+    const bool device0 = (i / kTile) % devices() == 0;
+    EXPECT_EQ(seen[i], device0 ? second[i] : first[i]) << "element " << i;
+  }
+
+  Ok(rtBufferMarkDirty(input_));
+  Launch1D(kCount);
+  EXPECT_EQ(Contents<unsigned>(copied_), second);
+}
+
+TEST_P(DevicePointerTest, PointersForEveryDeviceGiveEachItsOwnData) {
+  input_ = Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_UNSIGNED_INT, {kCount},
+                  "from_pointer");
+  for (unsigned d = 0; d < devices(); ++d) {
+    void* p = nullptr;
+    Ok(rtBufferGetDevicePointer(input_, d, &p));
+    const std::vector<unsigned> values = Values(1000 * (d + 1));
+    std::copy(values.begin(), values.end(), static_cast<unsigned*>(p));
+  }
+  Launch1D(kCount);  // GPU_LOCAL: tile t stays on device t mod N
+  std::vector<unsigned> seen = Contents<unsigned>(copied_);
+  for (RTsize i = 0; i < kCount; ++i) {
+    const unsigned device = static_cast<unsigned>((i / kTile) % devices());
+    EXPECT_EQ(seen[i], 1000 * (device + 1) + i) << "element " << i;
+  }
+}
+
+TEST_P(DevicePointerTest, DeviceNumbersMustBeDevicesOfTheContext) {
+  input_ = Buffer(RT_BUFFER_INPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
+  void* p = nullptr;
+  RTresult r = rtBufferGetDevicePointer(input_, 99, &p);
+  EXPECT_EQ(r, RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(Error(r).find("device number 99"), std::string::npos) << Error(r);
+}
+
+TEST_P(DevicePointerTest, BufferForCudaRunsOnTheApplicationsMemory) {
+  RTbuffer b = nullptr;
+  Ok(rtBufferCreateForCUDA(ctx_, RT_BUFFER_INPUT, &b));
+  Ok(rtBufferSetFormat(b, RT_FORMAT_UNSIGNED_INT));
+  Ok(rtBufferSetSize1D(b, kCount));
+  Ok(rtVariableSetObject(ContextVar("from_pointer"), b));
+  RTresult r = rtContextLaunch1D(ctx_, 0, kCount);
+  EXPECT_EQ(r, RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(Error(r).find("rtBufferSetDevicePointer"), std::string::npos) << Error(r);
+
+  std::vector<unsigned> memory = Values(7);
+  Ok(rtBufferSetDevicePointer(b, 0, memory.data()));
+  Launch1D(kCount);
+  EXPECT_EQ(Contents<unsigned>(copied_), memory);
+}
+
+TEST_P(DevicePointerTest, OutputPointerShowsTheMergedResultAfterALaunch) {
+  input_ = Buffer(RT_BUFFER_INPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
+  Write(input_, Values(5));
+  void* p = nullptr;
+  Ok(rtBufferGetDevicePointer(copied_, 0, &p));
+  Launch1D(kCount);
+  const unsigned* out = static_cast<const unsigned*>(p);
+  EXPECT_EQ(std::vector<unsigned>(out, out + kCount), Values(5));
+}
+
+TEST_P(DevicePointerTest, RaceCheckNamesTheBufferTheElementAndTheDevices) {
+  RayGen("race_on_first");
+  RTbuffer contested = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "contested");
+  (void)contested;
+  PinTilesToDevices();  // every device runs tiles, so each writes element 0
+  RTsize races = 0;
+  Launch1D(kCount);  // checking off: the race goes unreported
+  Ok(tesseraContextGetRaceCount(ctx_, &races));
+  EXPECT_EQ(races, 0u);
+
+  Ok(tesseraContextSetRaceCheck(ctx_, 1));
+  ::testing::internal::CaptureStderr();
+  Launch1D(kCount);
+  const std::string report = ::testing::internal::GetCapturedStderr();
+  Ok(tesseraContextGetRaceCount(ctx_, &races));
+  if (devices() == 1) {
+    EXPECT_EQ(races, 0u);  // one device cannot race with itself
+    EXPECT_EQ(report, "");
+    return;
+  }
+  EXPECT_EQ(races, 1u) << report;  // element 0, reported once
+  EXPECT_NE(report.find("buffer 'contested' element (0, 0, 0)"), std::string::npos) << report;
+  EXPECT_NE(report.find("Tessera local worker"), std::string::npos) << report;
+
+  // Writes that do not collide report nothing.
+  RayGen("copy_from_pointer");
+  input_ = Buffer(RT_BUFFER_INPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
+  Launch1D(kCount);
+  Ok(tesseraContextGetRaceCount(ctx_, &races));
+  EXPECT_EQ(races, 0u);
+}
+
+// Needs three devices or more: one of several, or all, is fine; two of three is not.
+using DevicePointerCountTest = MultiDeviceFixture;
+TEST_F(DevicePointerCountTest, PointersForSomeButNotAllDevicesAreAnError) {
+  UseDevices("local:3");
+  RayGen("copy_from_pointer");
+  Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "copied");
+  RTbuffer input = Buffer(RT_BUFFER_INPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
+  void* p = nullptr;
+  Ok(rtBufferGetDevicePointer(input, 0, &p));
+  Launch1D(kCount);  // one pointer: fine
+  Ok(rtBufferGetDevicePointer(input, 1, &p));
+  RTresult r = rtContextLaunch1D(ctx_, 0, kCount);
+  EXPECT_EQ(r, RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(Error(r).find("device pointers for 2 of the context's 3 devices"), std::string::npos)
+      << Error(r);
+  Ok(rtBufferGetDevicePointer(input, 2, &p));
+  Launch1D(kCount);  // every device: fine again
+}
+
+INSTANTIATE_TEST_SUITE_P(Devices, DevicePointerTest, ::testing::ValuesIn(kRuleDeviceCases),
+                         DeviceCaseName);
+
+}  // namespace
+}  // namespace tessera::testing

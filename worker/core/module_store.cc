@@ -1,0 +1,170 @@
+#include "module_store.h"
+
+#include <openssl/evp.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+
+#include "absl/strings/escaping.h"
+#include "absl/strings/str_cat.h"
+
+namespace tessera::worker {
+namespace fs = std::filesystem;
+namespace {
+
+const char* Env(const char* name) {
+  const char* value = std::getenv(name);
+  return value != nullptr && *value != '\0' ? value : nullptr;
+}
+
+bool ReadWholeFile(const std::string& path, std::string* out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return !in.bad();
+}
+
+}  // namespace
+
+std::string ModuleHash(absl::string_view bytes) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int size = 0;
+  // EVP_Digest fails only when it cannot allocate: nothing a caller could handle.
+  if (EVP_Digest(bytes.data(), bytes.size(), digest, &size, EVP_sha256(), nullptr) != 1) {
+    std::fprintf(stderr, "tessera: SHA-256 failed (out of memory?)\n");
+    std::abort();
+  }
+  return absl::BytesToHexString(absl::string_view(reinterpret_cast<const char*>(digest), size));
+}
+
+bool IsModuleHash(absl::string_view hash) {
+  if (hash.size() != 64) return false;
+  for (char c : hash) {
+    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
+  }
+  return true;
+}
+
+std::string DefaultModuleCacheDir() {
+  if (const char* dir = Env("TESSERA_MODULE_CACHE")) return dir;
+  if (const char* dir = Env("TESSERA_CACHE_DIR")) return dir;
+  if (const char* xdg = Env("XDG_CACHE_HOME")) return absl::StrCat(xdg, "/tessera/modules");
+  const char* home = Env("HOME");
+  return absl::StrCat(home != nullptr ? home : "/tmp", "/.cache/tessera/modules");
+}
+
+std::string PrepareModuleCacheDir(const std::string& dir) {
+  std::error_code ec;
+  std::string why;
+  if (dir.empty()) {
+    why = "no directory given";
+  } else if (fs::create_directories(dir, ec); ec) {
+    why = ec.message();
+  } else if (access(dir.c_str(), W_OK | X_OK) != 0) {
+    why = std::strerror(errno);
+  } else {
+    return dir;
+  }
+  fs::path temp_root = fs::temp_directory_path(ec);
+  if (ec) temp_root = "/tmp";
+  std::string temp = (temp_root / "tessera-modules-XXXXXX").string();
+  if (mkdtemp(temp.data()) == nullptr) {
+    std::fprintf(stderr, "tessera: module cache %s is not usable (%s), nor is a temporary one\n",
+                 dir.c_str(), why.c_str());
+    return dir;  // storing a module then fails with a message naming the directory
+  }
+  std::fprintf(stderr, "tessera: module cache %s is not usable (%s); using %s instead\n",
+               dir.c_str(), why.c_str(), temp.c_str());
+  return temp;
+}
+
+std::string ModuleFilePath(const std::string& dir, const std::string& hash) {
+  return absl::StrCat(dir, "/", hash, ".so");
+}
+
+bool HasModuleFile(const std::string& dir, const std::string& hash) {
+  std::string bytes;
+  return ReadWholeFile(ModuleFilePath(dir, hash), &bytes) && ModuleHash(bytes) == hash;
+}
+
+absl::Status WriteModuleFile(const std::string& dir, const std::string& hash,
+                             absl::string_view bytes) {
+  // A file that does not match its name (a write cut short by a crash) is replaced below.
+  if (HasModuleFile(dir, hash)) return absl::OkStatus();
+  std::error_code ec;
+  // Again here: a cache directory may be cleaned away while a process runs.
+  fs::create_directories(dir, ec);
+  const std::string path = ModuleFilePath(dir, hash);
+  const std::string temp = absl::StrCat(path, ".", getpid(), "-", std::random_device()(), ".tmp");
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) {
+      const int error = errno;
+      fs::remove(temp, ec);
+      return absl::InternalError(absl::StrCat("cannot store program module ", hash, " in ", dir,
+                                              ": ", std::strerror(error)));
+    }
+  }
+  fs::rename(temp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    return absl::InternalError(
+        absl::StrCat("cannot store program module ", path, ": ", ec.message()));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::map<std::string, std::string>> AssembleModules(
+    const google::protobuf::RepeatedPtrField<v1::ModuleChunk>& chunks) {
+  std::map<std::string, std::string> modules;
+  std::map<std::string, uint64_t> totals;
+  for (const v1::ModuleChunk& c : chunks) {
+    const std::string& hash = c.module_hash();
+    if (!IsModuleHash(hash)) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "program module slice names no module hash ('", absl::CEscape(hash.substr(0, 80)),
+          "'; expected 64 lowercase hex digits of SHA-256)"));
+    }
+    auto [total, first] = totals.emplace(hash, c.total_size());
+    std::string& bytes = modules[hash];
+    if (first) {
+      if (c.total_size() == 0 || c.total_size() > kMaxModuleBytes) {
+        return absl::InvalidArgumentError(absl::StrCat("program module ", hash, " is ",
+                                                       c.total_size(), " bytes (1 byte to ",
+                                                       kMaxModuleBytes, " bytes)"));
+      }
+      bytes.reserve(c.total_size());
+    }
+    if (c.total_size() != total->second) {
+      return absl::InvalidArgumentError(absl::StrCat("slices of program module ", hash,
+                                                     " disagree on its size (", total->second,
+                                                     " and ", c.total_size(), " bytes)"));
+    }
+    if (c.offset() != bytes.size() || c.data().size() > total->second - bytes.size()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "program module ", hash, ": slice [", c.offset(), ", +", c.data().size(),
+          ") does not continue the ", bytes.size(), " of ", total->second, " bytes received"));
+    }
+    bytes.append(c.data());
+  }
+  for (const auto& [hash, bytes] : modules) {
+    if (bytes.size() != totals[hash]) {
+      return absl::InvalidArgumentError(absl::StrCat("program module ", hash, ": only ",
+                                                     bytes.size(), " of ", totals[hash],
+                                                     " bytes arrived"));
+    }
+  }
+  return modules;
+}
+
+}  // namespace tessera::worker
