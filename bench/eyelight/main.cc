@@ -26,6 +26,8 @@ struct Options {
   std::string module = TESSERA_BENCH_MODULE_DIR "/bench_eyelight.so";
   std::string viewer = "viewer";
   std::string out;
+  // One in-process device on every core is the like-for-like comparison with Embree's viewer.
+  std::string devices = "inproc";
   unsigned width = 1024, height = 1024;
   int warmup = 5, runs = 20;
   bool check = false;
@@ -42,7 +44,7 @@ double LoadAverage() {
 }
 
 int RunCheck(const Options& o, const Mesh& mesh, const Camera& camera) {
-  EyelightScene scene(mesh, camera, kCheckSize, kCheckSize, o.module);
+  EyelightScene scene(mesh, camera, kCheckSize, kCheckSize, o.module, o.devices);
   scene.Launch();
   Image image = scene.ReadImage();
   if (!o.out.empty()) WriteImage(image, o.out);
@@ -67,7 +69,7 @@ int RunBenchmark(const Options& o, const Mesh& mesh, const Camera& camera) {
   double ours = 0, utilization = 0;
   int threads = 0;
   {
-    EyelightScene scene(mesh, camera, o.width, o.height, o.module);
+    EyelightScene scene(mesh, camera, o.width, o.height, o.module, o.devices);
     LaunchTimes times = TimeLaunches([&] { scene.Launch(); }, o.warmup, o.runs);
     ours = rays / times.Median() / 1e6;
     utilization = times.Utilization();
@@ -132,6 +134,8 @@ int main(int argc, char** argv) {
   app.add_option("--module", o.module, "program module built from eyelight.cu")
       ->capture_default_str();
   app.add_option("--viewer", o.viewer, "Embree's viewer executable")->capture_default_str();
+  app.add_option("--devices", o.devices, "Tessera device spec (inproc, local:N, ...)")
+      ->capture_default_str();
   app.add_flag("--check", o.check,
                "render 128x128 and verify the image (no timing); exit 1 when it is wrong");
   CLI11_PARSE(app, argc, argv);

@@ -4,6 +4,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "tessera/rt_ext.h"
+
 namespace tessera::bench {
 namespace {
 
@@ -64,12 +66,14 @@ RTprogram EyelightScene::Program(const char* function) {
 }
 
 EyelightScene::EyelightScene(const Mesh& mesh, const Camera& camera, unsigned width,
-                             unsigned height, const std::string& module_path)
+                             unsigned height, const std::string& module_path,
+                             const std::string& devices)
     : width_(width), height_(height), module_path_(module_path) {
   if (RTresult r = rtContextCreate(&context_); r != RT_SUCCESS) {
     context_ = nullptr;
     Check(r, "rtContextCreate");
   }
+  Check(tesseraContextSetDeviceSpec(context_, devices.c_str()), "tesseraContextSetDeviceSpec");
   Check(rtContextSetRayTypeCount(context_, 1), "rtContextSetRayTypeCount");
   Check(rtContextSetEntryPointCount(context_, 1), "rtContextSetEntryPointCount");
   Check(rtContextSetRayGenerationProgram(context_, 0, Program("pinhole_camera")),

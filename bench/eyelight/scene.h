@@ -42,10 +42,11 @@ struct Image {
 
 class EyelightScene {
  public:
-  // Builds the whole context; `module_path` is the bench_eyelight program module.
-  // Throws std::runtime_error with rtContextGetErrorString's message on any failure.
+  // Builds the whole context on `devices` (a device spec); `module_path` is the bench_eyelight
+  // program module. Throws std::runtime_error with rtContextGetErrorString's message on any
+  // failure.
   EyelightScene(const Mesh& mesh, const Camera& camera, unsigned width, unsigned height,
-                const std::string& module_path);
+                const std::string& module_path, const std::string& devices);
   ~EyelightScene();
   EyelightScene(const EyelightScene&) = delete;
   EyelightScene& operator=(const EyelightScene&) = delete;

@@ -1,9 +1,11 @@
 #include "replica.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
 #include "module.h"
+#include "tessera/detail/module_abi.h"
 #include "tessera/rt.h"
 
 namespace tessera::worker {
@@ -70,38 +72,54 @@ void AddRegion(uint64_t id, const BufferRec& b, size_t begin, size_t end, v1::Ti
 }  // namespace
 
 void Replica::TakeWrittenRegions(v1::TileResult* out) {
+  constexpr size_t kBlock = size_t{1} << TESSERA_WRITTEN_BLOCK_SHIFT;
   for (auto& [id, b] : buffers) {
     if (b.written.empty()) continue;
     unsigned char* marks = b.written.data();
+    unsigned char* blocks = b.written_blocks.data();
     const size_t n = b.written.size();
+    const size_t block_count = b.written_blocks.size();
     const size_t size = b.element_size;
     const bool compare = b.before.size() == b.data.size();
-    size_t i = 0;
-    while (i < n) {
-      // memchr is vectorised: an unwritten buffer costs a fast scan, not a loop per element.
-      auto* first = static_cast<unsigned char*>(std::memchr(marks + i, 1, n - i));
-      if (first == nullptr) break;
-      size_t begin = first - marks, end = begin;
-      while (end < n && marks[end] != 0) ++end;
-      std::memset(marks + begin, 0, end - begin);
-      if (!compare) {
-        AddRegion(id, b, begin, end, out);
-      } else {
-        // Only elements that changed since the launch began: the rest were read, or rewritten
-        // with the value every device already has.
-        auto changed = [&](size_t e) {
-          return std::memcmp(b.data.data() + e * size, b.before.data() + e * size, size) != 0;
-        };
-        size_t e = begin;
-        while (e < end) {
-          while (e < end && !changed(e)) ++e;
-          size_t run = e;
-          while (run < end && changed(run)) ++run;
-          if (run > e) AddRegion(id, b, e, run, out);
-          e = run;
+    // Spans of touched blocks first (a batch touches a small part of a large buffer), then runs
+    // of marked elements inside them; a run never leaves its span.
+    size_t next_block = 0;
+    while (next_block < block_count) {
+      auto* hit = static_cast<unsigned char*>(
+          std::memchr(blocks + next_block, 1, block_count - next_block));
+      if (hit == nullptr) break;
+      const size_t first_block = hit - blocks;
+      size_t last_block = first_block;
+      while (last_block < block_count && blocks[last_block] != 0) ++last_block;
+      std::memset(blocks + first_block, 0, last_block - first_block);
+      next_block = last_block;
+      const size_t span_end = std::min(n, last_block * kBlock);
+      size_t i = first_block * kBlock;
+      while (i < span_end) {
+        auto* first = static_cast<unsigned char*>(std::memchr(marks + i, 1, span_end - i));
+        if (first == nullptr) break;
+        size_t begin = first - marks, end = begin;
+        while (end < span_end && marks[end] != 0) ++end;
+        std::memset(marks + begin, 0, end - begin);
+        if (!compare) {
+          AddRegion(id, b, begin, end, out);
+        } else {
+          // Only elements that changed since the launch began: the rest were read, or
+          // rewritten with the value every device already has.
+          auto changed = [&](size_t e) {
+            return std::memcmp(b.data.data() + e * size, b.before.data() + e * size, size) != 0;
+          };
+          size_t e = begin;
+          while (e < end) {
+            while (e < end && !changed(e)) ++e;
+            size_t run = e;
+            while (run < end && changed(run)) ++run;
+            if (run > e) AddRegion(id, b, e, run, out);
+            e = run;
+          }
         }
+        i = end;
       }
-      i = end;
     }
   }
 }
@@ -211,7 +229,11 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
           r.data.assign(r.Bytes(), 0);
         }
         if (r.written.size() != (r.Gathered() ? r.Elements() : 0)) {
-          r.written.assign(r.Gathered() ? r.Elements() : 0, 0);
+          const uint64_t elements = r.Gathered() ? r.Elements() : 0;
+          r.written.assign(elements, 0);
+          r.written_blocks.assign((elements + (uint64_t{1} << TESSERA_WRITTEN_BLOCK_SHIFT) - 1) >>
+                                      TESSERA_WRITTEN_BLOCK_SHIFT,
+                                  0);
         }
         break;
       }

@@ -40,6 +40,7 @@ struct BufferRec {
   // Gathered buffers (OUTPUT or INPUT_OUTPUT, not GPU_LOCAL): one byte per element that programs
   // set on access (TesseraBufferView::written); TakeWrittenRegions collects and clears them.
   std::vector<unsigned char> written;
+  std::vector<unsigned char> written_blocks;  // per 2^TESSERA_WRITTEN_BLOCK_SHIFT elements
   // INPUT_OUTPUT: the contents when the launch began. Programs mark the elements they read too,
   // and an element that still holds its old value must not travel back: it would undo another
   // device's write of it.

@@ -205,7 +205,10 @@ class buffer {
     const unsigned long long i = (z * v.size[1] + y) * v.size[0] + x;
     // operator[] cannot tell a read from a write: any access of a gathered buffer marks the
     // element (a relaxed byte store; concurrent marks of one element are benign).
-    if (v.written != nullptr) __atomic_store_n(&v.written[i], 1, __ATOMIC_RELAXED);
+    if (v.written != nullptr) {
+      __atomic_store_n(&v.written[i], 1, __ATOMIC_RELAXED);
+      __atomic_store_n(&v.written_blocks[i >> TESSERA_WRITTEN_BLOCK_SHIFT], 1, __ATOMIC_RELAXED);
+    }
     return static_cast<T*>(v.data)[i];
   }
 

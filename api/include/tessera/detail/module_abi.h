@@ -42,7 +42,12 @@ typedef struct {
    * travel back to the host (INPUT, GPU_LOCAL). The engine ships exactly the marked elements, so
    * devices never overwrite each other's results with stale copies. */
   unsigned char* written;
+  /* One byte per block of 2^TESSERA_WRITTEN_BLOCK_SHIFT elements, set with `written`: the engine
+   * scans only the blocks programs touched, not the whole buffer, after every batch of tiles. */
+  unsigned char* written_blocks;
 } TesseraBufferView;
+
+#define TESSERA_WRITTEN_BLOCK_SHIFT 12
 
 typedef struct {
   unsigned abi_version;

@@ -1,0 +1,185 @@
+// tessera-bench-scaling: the tutorial's last step rendered by local:1, local:2, local:4, … worker
+// processes up to the core count, against one in-process device with one thread. Each
+// configuration gets a warm-up launch (spawning workers, shipping the state, building the
+// accelerations), then the median of --repeats timed launches. Every image must be bit-identical
+// to the baseline's (tiles land on different devices, pixels must not care). The last line is
+// parallel_efficiency=<speedup / N at N = cores>. --check renders a tiny image with N up to 2 and
+// exits 1 when an image differs.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "common/rt_util.h"
+#include "common/tutorial_context.h"
+
+namespace tessera::bench {
+namespace {
+
+struct Options {
+  int width = 1920, height = 1080;
+  int repeats = 3;
+  int max_devices = 0;  // 0: the core count
+  std::string module_dir;
+  bool check = false;
+};
+
+struct Config {
+  std::string devices;
+  int num_threads = 0;  // CPU_NUM_THREADS to set, 0 for the devices' default
+  int threads = 0;      // threads tracing, summed over devices
+  std::unique_ptr<TutorialContext> scene;
+  double warmup_seconds = 0;
+  std::vector<double> seconds;
+  size_t differing_floats = 0;
+};
+
+Config MakeConfig(std::string devices, int num_threads, int threads) {
+  Config c;
+  c.devices = std::move(devices);
+  c.num_threads = num_threads;
+  c.threads = threads;
+  return c;
+}
+
+// local:N worker counts: powers of two below `max`, then `max` itself.
+std::vector<int> WorkerCounts(int max) {
+  std::vector<int> counts;
+  for (int n = 1; n < max; n *= 2) counts.push_back(n);
+  counts.push_back(max);
+  return counts;
+}
+
+double TimeLaunch(TutorialContext& scene) {
+  const double start = NowSeconds();
+  scene.Launch();
+  return NowSeconds() - start;
+}
+
+// Floats whose bits differ: NaN pixels must match too, and -0 must stay -0.
+size_t DifferingFloats(const std::vector<float>& a, const std::vector<float>& b) {
+  size_t n = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    uint32_t x, y;
+    std::memcpy(&x, &a[i], sizeof(x));
+    std::memcpy(&y, &b[i], sizeof(y));
+    n += x != y;
+  }
+  return n;
+}
+
+int Run(const Options& o) {
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int max_devices = o.check ? 2 : (o.max_devices > 0 ? o.max_devices : cores);
+  const double pixels = static_cast<double>(o.width) * o.height;
+  std::printf(
+      "tutorial step %d at %dx%d, %d cores, median of %d launches after one warm-up, "
+      "load average before: %.2f\n",
+      tutorial::kLastStep, o.width, o.height, cores, o.repeats, LoadAverage());
+
+  std::vector<Config> configs;
+  configs.push_back(MakeConfig("inproc", 1, 1));
+  // A reference, not part of the headline: threads without processes or the wire, which also
+  // shows how much parallelism the machine gives right now (other load takes cores away).
+  configs.push_back(MakeConfig("inproc", cores, cores));
+  for (int n : WorkerCounts(max_devices)) {
+    // Each local worker gets its share of the cores, at least one thread (worker_factory.cc).
+    configs.push_back(MakeConfig("local:" + std::to_string(n), 0, n * std::max(1, cores / n)));
+  }
+
+  for (Config& c : configs) {
+    TutorialOptions scene_options;
+    scene_options.devices = c.devices;
+    scene_options.num_threads = c.num_threads;
+    scene_options.width = o.width;
+    scene_options.height = o.height;
+    scene_options.module_dir = o.module_dir;
+    c.scene = std::make_unique<TutorialContext>(scene_options);
+    c.warmup_seconds = TimeLaunch(*c.scene);
+  }
+  // Rounds of one launch per configuration rather than one configuration after another: on a
+  // machine shared with other work, a change of load then skews every configuration alike.
+  // Idle workers of the other contexts wait in gRPC and take no CPU.
+  for (int round = 0; round < o.repeats; ++round) {
+    for (Config& c : configs) c.seconds.push_back(TimeLaunch(*c.scene));
+  }
+  const std::vector<float> baseline_image = configs.front().scene->ReadOutput();
+  for (Config& c : configs) {
+    c.differing_floats = DifferingFloats(baseline_image, c.scene->ReadOutput());
+    c.scene.reset();  // stops its workers
+  }
+
+  const double base = Median(configs.front().seconds);
+  std::printf("%-10s %7s %10s %10s %10s %8s %10s  %s\n", "devices", "threads", "warm-up s",
+              "median s", "Mpixels/s", "speedup", "efficiency", "image");
+  bool identical = true;
+  double efficiency_at_cores = 0;
+  for (const Config& c : configs) {
+    const double seconds = Median(c.seconds);
+    const double speedup = base / seconds;
+    // Per thread tracing: at N = cores this is speedup / N.
+    const double efficiency = speedup / c.threads;
+    if (c.devices == "local:" + std::to_string(max_devices)) efficiency_at_cores = efficiency;
+    identical = identical && c.differing_floats == 0;
+    std::printf("%-10s %7d %10.3f %10.3f %10.3f %8.2f %10.2f  %s\n", c.devices.c_str(), c.threads,
+                c.warmup_seconds, seconds, pixels / seconds / 1e6, speedup, efficiency,
+                &c == &configs.front()    ? "baseline"
+                : c.differing_floats == 0 ? "identical"
+                                          : "DIFFERS");
+    if (c.differing_floats != 0) {
+      std::printf("FAILED: %s with %d threads: %zu of %zu floats differ from the baseline image\n",
+                  c.devices.c_str(), c.threads, c.differing_floats, baseline_image.size());
+    }
+  }
+  std::printf(
+      "baseline: one inproc device, CPU_NUM_THREADS=1; second row: inproc with %d threads "
+      "(reference); local:N: N tessera-worker processes with their default share of the "
+      "%d cores. Timed launches alternate between configurations. Load average after: "
+      "%.2f\n",
+      cores, cores, LoadAverage());
+  std::printf("parallel_efficiency=%.3f\n", efficiency_at_cores);
+  return identical ? 0 : 1;
+}
+
+}  // namespace
+}  // namespace tessera::bench
+
+int main(int argc, char** argv) {
+  using namespace tessera::bench;
+  Options o;
+  CLI::App app{"Scaling of the tutorial's last step over local worker processes"};
+  app.add_option("--width", o.width, "image width")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--height", o.height, "image height")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--repeats", o.repeats, "timed launches per configuration (median)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-devices", o.max_devices,
+                 "largest local:N (default: the core count, which the headline figure needs)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--modules", o.module_dir, "directory of the tutorial_*.so modules");
+  app.add_flag("--check", o.check,
+               "96x64, local:1 and local:2, one timed launch; exit 1 unless images are identical");
+  CLI11_PARSE(app, argc, argv);
+  if (o.check) {
+    o.width = 96;
+    o.height = 64;
+    o.repeats = 1;
+  }
+  try {
+    return Run(o);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tessera-bench-scaling: %s\n", e.what());
+    return 1;
+  }
+}

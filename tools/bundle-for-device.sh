@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Packs a build for a machine without Tessera's Debian libraries (the 16-core device machine of
+# the `run` tool): the given executables, tessera-worker, every program module, and every shared
+# library they load, Debian's glibc and loader included, into one compressed tarball.
+#
+#   tools/bundle-for-device.sh BUILD_DIR OUT.tar.xz EXECUTABLE...
+#
+# Build outputs keep their absolute paths (program module paths are baked into the benchmarks);
+# the libraries land in /opt/tessera-libs. On the other machine:
+#   tar xJf OUT.tar.xz -C / && /opt/tessera-libs/run EXECUTABLE ARGS...
+# where `run` starts the executable with the packed loader and libraries, and spawned workers
+# (TESSERA_WORKER) get the same.
+set -euo pipefail
+build="$(cd "$1" && pwd)"
+out="$2"
+shift 2
+stage="$(mktemp -d)"
+trap 'rm -rf "$stage"' EXIT
+libs="$stage/opt/tessera-libs"
+mkdir -p "$libs"
+
+worker="$build/worker/service/tessera-worker"
+files=("$worker" "$@")
+mapfile -t modules < <(find "$build" -name '*.so' -path '*modules*' -o -name 'libtessera*.so*')
+files+=("${modules[@]}")
+
+for f in "${files[@]}"; do
+  mkdir -p "$stage$(dirname "$f")"
+  cp -L "$f" "$stage$f"
+  ldd "$f" | awk '/=>/ && $3 ~ /^\// {print $3} /^\t\/lib64/ {print $1}' | while read -r lib; do
+    cp -Ln "$lib" "$libs/" 2>/dev/null || true
+  done
+done
+cp -L /lib64/ld-linux-x86-64.so.2 "$libs/"
+
+cat >"$libs/run" <<'SCRIPT'
+#!/bin/sh
+# Runs a packed executable with the packed loader and libraries; workers it spawns do the same.
+export TESSERA_WORKER=/opt/tessera-libs/worker
+exec /opt/tessera-libs/ld-linux-x86-64.so.2 --library-path /opt/tessera-libs "$@"
+SCRIPT
+cat >"$libs/worker" <<SCRIPT
+#!/bin/sh
+exec /opt/tessera-libs/ld-linux-x86-64.so.2 --library-path /opt/tessera-libs $worker "\$@"
+SCRIPT
+chmod +x "$libs/run" "$libs/worker"
+tar -C "$stage" -cJf "$out" .
+echo "packed $(du -h "$out" | cut -f1) into $out"
