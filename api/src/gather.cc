@@ -69,7 +69,7 @@ LaunchGather::LaunchGather(Context& context, std::vector<DeviceSlot*> slots)
 }
 
 void LaunchGather::CheckRaces(size_t device, const Buffer& b, uint64_t offset,
-                              const std::string& data) {
+                              absl::string_view data) {
   auto it = race_state_.find(b.id());
   if (it == race_state_.end()) return;
   RaceState& state = it->second;
@@ -123,23 +123,42 @@ void LaunchGather::ApplyRegion(size_t device, const v1::BufferRegion& region) {
   auto* b = static_cast<Buffer*>(object);
   // INPUT and GPU_LOCAL buffers never come back to the host (DESIGN.md buffer table).
   if (!b->gathers_content()) return;
-  const std::string& data = region.data();
-  const uint64_t offset = region.offset();
-  if (offset > b->byte_size() || data.size() > b->byte_size() - offset) {
+  const absl::string_view data = region.data();
+  if (region.run_offsets_size() == 0) {
+    ApplyRun(device, *b, region.offset(), data);
+    return;
+  }
+  uint64_t at = 0;
+  for (int r = 0; r < region.run_offsets_size(); ++r) {
+    const uint64_t size = r < region.run_sizes_size() ? region.run_sizes(r) : 0;
+    if (r >= region.run_sizes_size() || size > data.size() - at) {
+      RecordError(
+          RtError(RT_ERROR_LAUNCH_FAILED,
+                  absl::StrCat("device '", slots_[device]->desc.name, "' sent packed runs of ",
+                               b->Describe(), " that do not add up to their data")));
+      return;
+    }
+    ApplyRun(device, *b, region.run_offsets(r), data.substr(at, size));
+    at += size;
+  }
+}
+
+void LaunchGather::ApplyRun(size_t device, Buffer& b, uint64_t offset, absl::string_view data) {
+  if (offset > b.byte_size() || data.size() > b.byte_size() - offset) {
     RecordError(RtError(RT_ERROR_LAUNCH_FAILED,
                         absl::StrCat("device '", slots_[device]->desc.name, "' wrote bytes [",
-                                     offset, ", ", offset + data.size(), ") outside ",
-                                     b->Describe(), " (", b->byte_size(), " bytes)")));
+                                     offset, ", ", offset + data.size(), ") outside ", b.Describe(),
+                                     " (", b.byte_size(), " bytes)")));
     return;
   }
   if (data.empty()) return;
-  if (check_races_) CheckRaces(device, *b, offset, data);
-  // Regions hold exactly the elements the device's programs touched: applying them in any order
+  if (check_races_) CheckRaces(device, b, offset, data);
+  // Runs hold exactly the elements the device's programs touched: applying them in any order
   // merges the devices' work (two devices writing one element is a race, as in OptiX).
-  b->WriteRegion(offset, data).IgnoreError();  // bounds checked above
+  b.WriteRegion(offset, data).IgnoreError();  // bounds checked above
   context_.CountReceived(data.size());
-  std::vector<int>& writers = chunk_writers_[b->id()];
-  writers.resize((b->byte_size() + kChunkBytes - 1) / kChunkBytes, kNoWriter);
+  std::vector<int>& writers = chunk_writers_[b.id()];
+  writers.resize((b.byte_size() + kChunkBytes - 1) / kChunkBytes, kNoWriter);
   const int d = static_cast<int>(device);
   for (uint64_t c = offset / kChunkBytes; c <= (offset + data.size() - 1) / kChunkBytes; ++c) {
     if (writers[c] == kNoWriter) {

@@ -10,6 +10,7 @@
 
 #include "absl/container/flat_hash_map.h"
 #include "absl/status/status.h"
+#include "absl/strings/string_view.h"
 #include "device_sync.h"
 #include "tessera/scheduler/dispatcher.h"
 #include "tessera/v1/launch.pb.h"
@@ -38,9 +39,11 @@ class LaunchGather {
   static constexpr int kSeveralWriters = -2;
 
   void ApplyRegion(size_t device, const v1::BufferRegion& region);
+  // One written byte range of `b`, bounds-checked.
+  void ApplyRun(size_t device, Buffer& b, uint64_t offset, absl::string_view data);
   // Race checking (tesseraContextSetRaceCheck): records who wrote each element and reports two
   // devices writing different values to one element. Returns false for bytes to leave alone.
-  void CheckRaces(size_t device, const Buffer& b, uint64_t offset, const std::string& data);
+  void CheckRaces(size_t device, const Buffer& b, uint64_t offset, absl::string_view data);
   void RecordError(absl::Status status);
   void ReportExceptions();
 

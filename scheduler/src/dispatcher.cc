@@ -7,6 +7,15 @@
 #include "absl/strings/str_cat.h"
 
 namespace tessera::scheduler {
+namespace {
+
+// Calls a device runs back to back; more only queue up on the device.
+constexpr int kCallsInFlight = 2;
+// A batch's tiles per device thread: enough that a thread rarely waits at the end of a batch for
+// the slowest tile of another, few enough that devices share the tail of a launch.
+constexpr size_t kTilesPerThread = 4;
+
+}  // namespace
 
 Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
                        bool stable_ownership)
@@ -26,9 +35,14 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   build_only_ = tiles.empty();
   remaining_ = build_only_ ? n : tiles.size();
   for (v1::Tile& t : tiles) queues_[stable_ ? t.index() % n : 0].tiles.push_back(std::move(t));
-  running_threads_ = n;
-  threads_.reserve(n);
-  for (size_t d = 0; d < n; ++d) threads_.emplace_back([this, d] { Run(d); });
+  // Two calls in flight per device (one for the all-zero launch): the device runs them one after
+  // the other, so the next batch is waiting there when one ends, instead of a round trip later.
+  const int calls = build_only_ ? 1 : kCallsInFlight;
+  running_threads_ = n * calls;
+  threads_.reserve(n * calls);
+  for (int c = 0; c < calls; ++c) {
+    for (size_t d = 0; d < n; ++d) threads_.emplace_back([this, d] { Run(d); });
+  }
 }
 
 Dispatcher::~Dispatcher() {
@@ -42,8 +56,12 @@ Dispatcher::~Dispatcher() {
 
 std::vector<v1::Tile> Dispatcher::Take(size_t d) {
   std::deque<v1::Tile>& queue = queues_[stable_ ? d : 0].tiles;
-  size_t batch = 2 * static_cast<size_t>(std::max(devices_[d].threads, 1));
-  if (!stable_) {
+  size_t batch = kTilesPerThread * static_cast<size_t>(std::max(devices_[d].threads, 1));
+  if (devices_.size() == 1) {
+    // Nothing to balance with: one call takes everything, and the device's own thread pool
+    // balances its tiles without a barrier between batches.
+    batch = queue.size();
+  } else if (!stable_) {
     // Shrink batches as the shared queue drains so that no device is left holding a long tail
     // while the others idle.
     size_t live = static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false));
@@ -149,8 +167,8 @@ void Dispatcher::Run(size_t d) {
     if (stop_) break;  // cancelled, or the launch already failed elsewhere
     const absl::StatusCode code = status.code();
     if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {
+      if (!lost_[d]) lost_reasons_.push_back({d, status});
       lost_[d] = true;
-      lost_reasons_.push_back({d, status});
       if (build_only_) {
         --remaining_;
         if (std::count(lost_.begin(), lost_.end(), false) == 0) Requeue(d, {});
@@ -161,8 +179,8 @@ void Dispatcher::Run(size_t d) {
     }
     if (code == absl::StatusCode::kAborted) {
       // The device crashed running a program: that program would crash the next device too.
+      if (!lost_[d]) lost_reasons_.push_back({d, status});
       lost_[d] = true;
-      lost_reasons_.push_back({d, status});
     }
     Fail(d, std::move(status));
     break;

@@ -97,6 +97,29 @@ std::vector<v1::TileResult> SplitTileResult(v1::TileResult&& result, size_t max_
       *piece_for(data.size()).add_regions() = std::move(region);
       continue;
     }
+    if (region.run_offsets_size() > 0) {
+      // Packed runs: each piece takes whole runs, or slices of one larger than a piece.
+      v1::BufferRegion* slice = nullptr;
+      size_t slice_piece = 0;  // index: `pieces` may reallocate
+      size_t at = 0;
+      for (int r = 0; r < region.run_offsets_size() && r < region.run_sizes_size(); ++r) {
+        for (uint64_t done = 0; done < region.run_sizes(r);) {
+          const size_t n = std::min<uint64_t>(max_bytes, region.run_sizes(r) - done);
+          v1::TileResult& piece = piece_for(n);
+          if (slice == nullptr || slice_piece != pieces.size() - 1) {
+            slice = piece.add_regions();
+            slice->set_buffer_id(region.buffer_id());
+            slice_piece = pieces.size() - 1;
+          }
+          slice->add_run_offsets(region.run_offsets(r) + done);
+          slice->add_run_sizes(n);
+          slice->mutable_data()->append(data, at, n);
+          at += n;
+          done += n;
+        }
+      }
+      continue;
+    }
     for (size_t begin = 0; begin < data.size(); begin += max_bytes) {
       size_t n = std::min(max_bytes, data.size() - begin);
       v1::BufferRegion* slice = piece_for(n).add_regions();
@@ -127,8 +150,8 @@ void FinalResultJoiner::Add(v1::TileResult&& piece) {
   for (v1::BufferRegion& region : *piece.mutable_regions()) {
     if (result_.regions_size() > 0) {
       v1::BufferRegion& last = *result_.mutable_regions(result_.regions_size() - 1);
-      if (last.buffer_id() == region.buffer_id() &&
-          last.offset() + last.data().size() == region.offset()) {
+      if (last.buffer_id() == region.buffer_id() && last.run_offsets_size() == 0 &&
+          region.run_offsets_size() == 0 && last.offset() + last.data().size() == region.offset()) {
         last.mutable_data()->append(region.data());
         continue;
       }

@@ -173,6 +173,42 @@ TEST(WorkerWireTest, LargeTileResultsAreSplitIntoBoundedMessages) {
   EXPECT_EQ(pieces[0].error_code(), 42u);
 }
 
+TEST(WorkerWireTest, PackedRunsAreSplitByRunAndKeepTheirOffsets) {
+  v1::TileResult result;
+  result.set_tile_index(kFinalTileIndex);
+  v1::BufferRegion* region = result.add_regions();
+  region->set_buffer_id(7);
+  // Runs of 4, 9 and 2 bytes at scattered offsets, packed.
+  const std::vector<std::pair<uint64_t, std::string>> runs = {
+      {100, "abcd"}, {300, "efghijklm"}, {40, "no"}};
+  for (const auto& [offset, bytes] : runs) {
+    region->add_run_offsets(offset);
+    region->add_run_sizes(bytes.size());
+    region->mutable_data()->append(bytes);
+  }
+  std::vector<v1::TileResult> pieces = SplitTileResult(std::move(result), /*max_bytes=*/5);
+  std::string rebuilt(400, '.'), expected(400, '.');
+  for (const auto& [offset, bytes] : runs) expected.replace(offset, bytes.size(), bytes);
+  for (const v1::TileResult& piece : pieces) {
+    EXPECT_EQ(piece.tile_index(), kFinalTileIndex);
+    size_t bytes_in_piece = 0;
+    for (const v1::BufferRegion& r : piece.regions()) {
+      EXPECT_EQ(r.buffer_id(), 7u);
+      bytes_in_piece += r.data().size();
+      size_t at = 0;
+      ASSERT_EQ(r.run_offsets_size(), r.run_sizes_size());
+      for (int i = 0; i < r.run_offsets_size(); ++i) {
+        rebuilt.replace(r.run_offsets(i), r.run_sizes(i), r.data().substr(at, r.run_sizes(i)));
+        at += r.run_sizes(i);
+      }
+      EXPECT_EQ(at, r.data().size());
+    }
+    EXPECT_LE(bytes_in_piece, 5u);
+  }
+  EXPECT_GE(pieces.size(), 3u);
+  EXPECT_EQ(rebuilt, expected);
+}
+
 TEST(WorkerWireTest, SmallResultsTravelWhole) {
   v1::TileResult result;
   result.set_tile_index(2);

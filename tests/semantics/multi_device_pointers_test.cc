@@ -127,11 +127,13 @@ TEST_P(DevicePointerTest, RaceCheckNamesTheBufferTheElementAndTheDevices) {
   (void)contested;
   PinTilesToDevices();  // every device runs tiles, so each writes element 0
   RTsize races = 0;
+  SetUint("salt", 1);
   Launch1D(kCount);  // checking off: the race goes unreported
   Ok(tesseraContextGetRaceCount(ctx_, &races));
   EXPECT_EQ(races, 0u);
 
   Ok(tesseraContextSetRaceCheck(ctx_, 1));
+  SetUint("salt", 2);
   ::testing::internal::CaptureStderr();
   Launch1D(kCount);
   const std::string report = ::testing::internal::GetCapturedStderr();

@@ -230,8 +230,10 @@ rtBuffer<unsigned int, 1> copied;        // OUTPUT
 RT_PROGRAM void copy_from_pointer() { copied[index1] = from_pointer[index1]; }
 
 rtBuffer<unsigned int, 1> contested;  // OUTPUT
-// Every launch index writes element 0 (a race between devices) and its own element (none).
+// Every launch index writes element 0 (a race between devices) and its own element (none). The
+// salt makes every launch's values new: the race check takes an element that still holds its value
+// from before the launch for one the device only read.
 RT_PROGRAM void race_on_first() {
-  contested[0] = index1 + 1u;
+  contested[0] = index1 + 1u + 1000u * salt;
   if (index1 != 0) contested[index1] = index1;
 }

@@ -35,12 +35,16 @@ class InprocDevice : public Device {
   DeviceInfo Info() const override { return DeviceInfo{"inproc", "inproc", num_threads_}; }
 
   absl::Status Apply(const v1::StateDelta& delta) override {
+    std::lock_guard<std::mutex> call_lock(call_mu_);
     plan_.reset();  // bound programs point into the replica
     return replica_.Apply(delta);
   }
 
   absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                       const std::function<void(v1::TileResult&&)>& on_result) override {
+    // Calls run one after the other: each call's written regions are the marks it collects.
+    std::lock_guard<std::mutex> call_lock(call_mu_);
+    if (cancel.load()) return absl::CancelledError("launch cancelled");
     if (request.dims_size() < 1 || request.dims_size() > 3) {
       return absl::InvalidArgumentError(
           absl::StrCat("launch with ", request.dims_size(), " dimensions"));
@@ -131,6 +135,7 @@ class InprocDevice : public Device {
   worker::Replica replica_;
   worker::SceneCache scenes_;
   std::unique_ptr<worker::LaunchPlan> plan_;
+  std::mutex call_mu_;               // Apply and Launch calls, one at a time
   uint64_t snapshot_launch_id_ = 0;  // the launch whose start the replica's snapshots record
 };
 

@@ -61,13 +61,38 @@ void Replica::SnapshotForLaunch() {
 
 namespace {
 
-// Adds the elements [begin, end) of `b` to `out` as one region.
-void AddRegion(uint64_t id, const BufferRec& b, size_t begin, size_t end, v1::TileResult* out) {
-  v1::BufferRegion* region = out->add_regions();
-  region->set_buffer_id(id);
-  region->set_offset(begin * b.element_size);
-  region->set_data(b.data.data() + begin * b.element_size, (end - begin) * b.element_size);
-}
+// Packs runs of written elements into regions of at most this many data bytes, which the worker
+// service sends as one message each (scheduler/transport/worker_wire.h kMaxRegionBytes).
+constexpr size_t kPackedRegionBytes = size_t{4} << 20;
+
+// Collects the runs of one buffer into packed regions.
+class RegionPacker {
+ public:
+  RegionPacker(uint64_t id, const BufferRec& b, v1::TileResult* out) : id_(id), b_(b), out_(out) {}
+  // Adds the elements [begin, end).
+  void Add(size_t begin, size_t end) {
+    uint64_t offset = begin * b_.element_size;
+    uint64_t bytes = (end - begin) * b_.element_size;
+    while (bytes > 0) {
+      if (region_ == nullptr || region_->data().size() >= kPackedRegionBytes) {
+        region_ = out_->add_regions();
+        region_->set_buffer_id(id_);
+      }
+      const uint64_t n = std::min<uint64_t>(bytes, kPackedRegionBytes - region_->data().size());
+      region_->add_run_offsets(offset);
+      region_->add_run_sizes(n);
+      region_->mutable_data()->append(reinterpret_cast<const char*>(b_.data.data()) + offset, n);
+      offset += n;
+      bytes -= n;
+    }
+  }
+
+ private:
+  const uint64_t id_;
+  const BufferRec& b_;
+  v1::TileResult* const out_;
+  v1::BufferRegion* region_ = nullptr;
+};
 
 }  // namespace
 
@@ -81,6 +106,7 @@ void Replica::TakeWrittenRegions(v1::TileResult* out) {
     const size_t block_count = b.written_blocks.size();
     const size_t size = b.element_size;
     const bool compare = b.before.size() == b.data.size();
+    RegionPacker packer(id, b, out);
     // Spans of touched blocks first (a batch touches a small part of a large buffer), then runs
     // of marked elements inside them; a run never leaves its span.
     size_t next_block = 0;
@@ -102,7 +128,7 @@ void Replica::TakeWrittenRegions(v1::TileResult* out) {
         while (end < span_end && marks[end] != 0) ++end;
         std::memset(marks + begin, 0, end - begin);
         if (!compare) {
-          AddRegion(id, b, begin, end, out);
+          packer.Add(begin, end);
         } else {
           // Only elements that changed since the launch began: the rest were read, or
           // rewritten with the value every device already has.
@@ -114,7 +140,7 @@ void Replica::TakeWrittenRegions(v1::TileResult* out) {
             while (e < end && !changed(e)) ++e;
             size_t run = e;
             while (run < end && changed(run)) ++run;
-            if (run > e) AddRegion(id, b, e, run, out);
+            if (run > e) packer.Add(e, run);
             e = run;
           }
         }

@@ -152,7 +152,28 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
                         absl::StrCat("no state for session ", request->session_id(),
                                      " on this worker: a state delta must come first"));
   }
-  absl::MutexLock lock(&session->mu);
+  // The host keeps a second call queued behind the running one; it says it is alive while it
+  // waits, or the host would take the wait for a hung worker.
+  auto last_write = std::chrono::steady_clock::now();
+  while (!session->mu.TryLock()) {
+    if (context->IsCancelled()) {
+      return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");
+    }
+    if (std::chrono::steady_clock::now() - last_write >= kHeartbeatInterval) {
+      v1::TileResult heartbeat;
+      heartbeat.set_launch_id(request->launch_id());
+      heartbeat.set_tile_index(kHeartbeatTileIndex);
+      if (!writer->Write(heartbeat)) {
+        return grpc::Status(grpc::StatusCode::CANCELLED, "the host went away");
+      }
+      last_write = std::chrono::steady_clock::now();
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+  struct Unlock {
+    absl::Mutex* mu;
+    ~Unlock() { mu->Unlock(); }
+  } unlock{&session->mu};
   if (session->device == nullptr) {
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                         absl::StrCat("no state for session ", request->session_id()));
@@ -175,7 +196,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
   });
   bool done = false;
   bool writable = true;
-  auto last_write = std::chrono::steady_clock::now();
+  last_write = std::chrono::steady_clock::now();
   while (!done) {
     std::deque<v1::TileResult> batch = results.Take(kCancelPoll, &done);
     if (context->IsCancelled()) cancel = true;

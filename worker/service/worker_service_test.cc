@@ -102,11 +102,7 @@ class WorkerServiceTest : public ::testing::Test {
     for (const v1::TileResult& r : results) {
       if (r.tile_index() != kFinalTileIndex) continue;
       for (const v1::BufferRegion& region : r.regions()) {
-        if (region.buffer_id() != 2) continue;
-        if (out.size() < region.offset() + region.data().size()) {
-          out.resize(region.offset() + region.data().size());
-        }
-        out.replace(region.offset(), region.data().size(), region.data());
+        ::tessera::testing::ApplyRegion(region, 2, &out);
       }
     }
     return out;

@@ -10,6 +10,7 @@
 
 #include "module_delta.h"
 #include "tessera/rt.h"
+#include "tessera/v1/launch.pb.h"
 #include "tessera/v1/state.pb.h"
 
 namespace tessera::testing {
@@ -46,6 +47,25 @@ inline v1::StateDelta WriteIndexDelta(const std::string& module, uint64_t sessio
   v->set_type(RT_OBJECTTYPE_BUFFER);
   v->set_object_id(2);
   return d;
+}
+
+// Writes the bytes `region` carries for `buffer_id` into `out` (grown as needed): one range, or
+// packed runs.
+inline void ApplyRegion(const v1::BufferRegion& region, uint64_t buffer_id, std::string* out) {
+  if (region.buffer_id() != buffer_id) return;
+  auto put = [&](uint64_t offset, const char* data, uint64_t size) {
+    if (out->size() < offset + size) out->resize(offset + size);
+    out->replace(offset, size, data, size);
+  };
+  if (region.run_offsets_size() == 0) {
+    put(region.offset(), region.data().data(), region.data().size());
+    return;
+  }
+  uint64_t at = 0;
+  for (int r = 0; r < region.run_offsets_size(); ++r) {
+    put(region.run_offsets(r), region.data().data() + at, region.run_sizes(r));
+    at += region.run_sizes(r);
+  }
 }
 
 }  // namespace tessera::testing

@@ -38,7 +38,8 @@ class Device {
   // A device that is gone (process killed, connection lost, silent past its deadline) answers
   // UNAVAILABLE or DEADLINE_EXCEEDED: its tiles can run elsewhere. ABORTED means the device's
   // process crashed while running a program: running its tiles elsewhere would crash that too.
-  // Thread-safety: one call at a time per device.
+  // Thread-safety: callable from several threads; a device runs the calls one after the other
+  // (its written regions belong to one call), so a second call waits inside the device.
   virtual absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                               const std::function<void(v1::TileResult&&)>& on_result) = 0;
 };

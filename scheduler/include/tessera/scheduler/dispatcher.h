@@ -1,5 +1,5 @@
 // Runs one launch's tiles on a set of devices (DESIGN.md "scheduler/"): each device takes batches
-// of tiles, one call at a time; a batch counts only when its device finished all of it, so a
+// of tiles, two calls in flight; a batch counts only when its device finished all of it, so a
 // device that is lost mid-batch costs time, not results: its unfinished tiles run on the others.
 //
 // Assignment: dynamic (any device takes the next tiles: fast devices take more) unless the launch
@@ -48,7 +48,7 @@ struct LostDevice {
 
 class Dispatcher {
  public:
-  // Starts one thread per device at once.
+  // Starts two threads per device at once.
   Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
              bool stable_ownership);
   // Stops and joins the device threads (cancelling running calls).
