@@ -27,7 +27,7 @@ files+=("${modules[@]}")
 for f in "${files[@]}"; do
   mkdir -p "$stage$(dirname "$f")"
   cp -L "$f" "$stage$f"
-  ldd "$f" | awk '/=>/ && $3 ~ /^\// {print $3} /^\t\/lib64/ {print $1}' | while read -r lib; do
+  { ldd "$f" 2>/dev/null || true; } | awk '/=>/ && $3 ~ /^\// {print $3} /^\t\/lib64/ {print $1}' | while read -r lib; do
     cp -Ln "$lib" "$libs/" 2>/dev/null || true
   done
 done

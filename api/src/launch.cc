@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "acceleration.h"
 #include "buffer.h"
 #include "context.h"
@@ -46,6 +47,37 @@ void WarnLost(const DeviceSlot& slot, uint64_t launch_id, const absl::Status& re
                slot.desc.name.c_str(), slot.desc.address.c_str(),
                static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str());
 }
+
+// TESSERA_LAUNCH_TIMING=1: one line per launch on stderr with where the host's time went, to tell
+// device work from host work when a launch scales worse than expected.
+class LaunchTiming {
+ public:
+  LaunchTiming() : enabled_(Enabled()), last_(std::chrono::steady_clock::now()) {}
+  void Mark(const char* phase) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    absl::StrAppend(&line_, " ", phase, "=", Ms(now - last_), "ms");
+    last_ = now;
+  }
+  void Report(uint64_t launch_id) {
+    if (!enabled_) return;
+    std::fprintf(stderr, "tessera: launch %llu:%s (of which applying results %sms)\n",
+                 static_cast<unsigned long long>(launch_id), line_.c_str(), Ms(apply).c_str());
+  }
+  std::chrono::steady_clock::duration apply{};
+
+ private:
+  static bool Enabled() {
+    const char* env = std::getenv("TESSERA_LAUNCH_TIMING");
+    return env != nullptr && *env != '\0' && *env != '0';
+  }
+  static std::string Ms(std::chrono::steady_clock::duration d) {
+    return absl::StrFormat("%.1f", std::chrono::duration<double, std::milli>(d).count());
+  }
+  const bool enabled_;
+  std::chrono::steady_clock::time_point last_;
+  std::string line_;
+};
 
 // Sets the running flag for the duration of a launch.
 class RunningScope {
@@ -160,7 +192,9 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   TS_RETURN_IF_ERROR(SyncDevicePointers(*this));
   RunningScope running_scope(*this);
   const uint64_t launch_id = NextLaunchId();
+  LaunchTiming timing;
   TS_RETURN_IF_ERROR(ApplyDeltas(*this, launch_id));
+  timing.Mark("deltas");
 
   v1::LaunchRequest common;
   common.set_launch_id(launch_id);
@@ -205,7 +239,11 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     const bool polling = callback != nullptr && !cancelled;
     const bool done = dispatcher.Wait(
         polling ? next_poll : std::chrono::steady_clock::time_point::max(), &batches);
-    for (scheduler::FinishedBatch& batch : batches) gather.Apply(batch);
+    for (scheduler::FinishedBatch& batch : batches) {
+      const auto start = std::chrono::steady_clock::now();
+      gather.Apply(batch);
+      timing.apply += std::chrono::steady_clock::now() - start;
+    }
     batches.clear();
     if (done) break;
     if (polling && std::chrono::steady_clock::now() >= next_poll) {
@@ -220,7 +258,10 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   for (const scheduler::LostDevice& lost : dispatcher.lost()) {
     WarnLost(*slots[lost.device], launch_id, lost.reason);
   }
+  timing.Mark("devices");
   absl::Status tile_status = gather.Finish();
+  timing.Mark("finish");
+  timing.Report(launch_id);
   for (const scheduler::LostDevice& lost : dispatcher.lost()) LoseDevice(*slots[lost.device]);
 
   for (const auto& [id, object] : objects()) {

@@ -26,7 +26,8 @@ namespace {
 struct Options {
   int width = 1920, height = 1080;
   int repeats = 3;
-  int max_devices = 0;  // 0: the core count
+  int max_devices = 0;        // 0: the core count
+  bool thread_sweep = false;  // inproc rows for 2, 4, 8 … threads too
   std::string module_dir;
   bool check = false;
 };
@@ -88,6 +89,10 @@ int Run(const Options& o) {
   configs.push_back(MakeConfig("inproc", 1, 1));
   // A reference, not part of the headline: threads without processes or the wire, which also
   // shows how much parallelism the machine gives right now (other load takes cores away).
+  if (o.thread_sweep) {
+    // How one process scales with threads alone, to tell the engine's limits from the wire's.
+    for (int t = 2; t < cores; t *= 2) configs.push_back(MakeConfig("inproc", t, t));
+  }
   configs.push_back(MakeConfig("inproc", cores, cores));
   for (int n : WorkerCounts(max_devices)) {
     // Each local worker gets its share of the cores, at least one thread (worker_factory.cc).
@@ -164,6 +169,8 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", o.repeats, "timed launches per configuration (median)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_flag("--thread-sweep", o.thread_sweep,
+               "also one inproc device with 2, 4, 8 … threads (reference rows)");
   app.add_option("--max-devices", o.max_devices,
                  "largest local:N (default: the core count, which the headline figure needs)")
       ->check(CLI::PositiveNumber);

@@ -4,6 +4,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <mutex>
 #include <thread>
 
@@ -44,6 +47,7 @@ class InprocDevice : public Device {
                       const std::function<void(v1::TileResult&&)>& on_result) override {
     // Calls run one after the other: each call's written regions are the marks it collects.
     std::lock_guard<std::mutex> call_lock(call_mu_);
+    const auto started = std::chrono::steady_clock::now();
     if (cancel.load()) return absl::CancelledError("launch cancelled");
     if (request.dims_size() < 1 || request.dims_size() > 3) {
       return absl::InvalidArgumentError(
@@ -117,12 +121,21 @@ class InprocDevice : public Device {
         tbb::parallel_for(0, request.tiles_size(), 1, [&](int i) { run_tile(request.tiles(i)); });
       });
     }
+    const auto traced = std::chrono::steady_clock::now();
     v1::TileResult final_result;
     final_result.set_launch_id(request.launch_id());
     final_result.set_tile_index(kFinalTileIndex);
     // Taken even when the call failed, so that marks of unfinished tiles do not leak into the
     // next call's regions.
     replica_.TakeWrittenRegions(&final_result);
+    if (timing_) {
+      auto ms = [](std::chrono::steady_clock::duration d) {
+        return std::chrono::duration<double, std::milli>(d).count();
+      };
+      std::fprintf(stderr, "tessera: device call of launch %llu: %d tiles %.1fms, regions %.1fms\n",
+                   static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
+                   ms(traced - started), ms(std::chrono::steady_clock::now() - traced));
+    }
     if (!failure.ok()) return failure;
     if (cancel.load()) return absl::CancelledError("launch cancelled");
     on_result(std::move(final_result));
@@ -135,7 +148,12 @@ class InprocDevice : public Device {
   worker::Replica replica_;
   worker::SceneCache scenes_;
   std::unique_ptr<worker::LaunchPlan> plan_;
-  std::mutex call_mu_;               // Apply and Launch calls, one at a time
+  std::mutex call_mu_;  // Apply and Launch calls, one at a time
+  // TESSERA_LAUNCH_TIMING: where a call's time went, on stderr (api/src/launch.cc).
+  const bool timing_ = [] {
+    const char* env = std::getenv("TESSERA_LAUNCH_TIMING");
+    return env != nullptr && *env != '\0' && *env != '0';
+  }();
   uint64_t snapshot_launch_id_ = 0;  // the launch whose start the replica's snapshots record
 };
 

@@ -206,8 +206,14 @@ class buffer {
     // operator[] cannot tell a read from a write: any access of a gathered buffer marks the
     // element (a relaxed byte store; concurrent marks of one element are benign).
     if (v.written != nullptr) {
-      __atomic_store_n(&v.written[i], 1, __ATOMIC_RELAXED);
-      __atomic_store_n(&v.written_blocks[i >> TESSERA_WRITTEN_BLOCK_SHIFT], 1, __ATOMIC_RELAXED);
+      // Set only when clear: threads working on one block would otherwise take turns owning
+      // its cache line with every access.
+      unsigned char* mark = &v.written[i];
+      unsigned char* block = &v.written_blocks[i >> TESSERA_WRITTEN_BLOCK_SHIFT];
+      if (__atomic_load_n(mark, __ATOMIC_RELAXED) == 0) __atomic_store_n(mark, 1, __ATOMIC_RELAXED);
+      if (__atomic_load_n(block, __ATOMIC_RELAXED) == 0) {
+        __atomic_store_n(block, 1, __ATOMIC_RELAXED);
+      }
     }
     return static_cast<T*>(v.data)[i];
   }
