@@ -115,8 +115,10 @@ class InprocDevice : public Device {
     int threads = replica_.context().num_threads > 0
                       ? static_cast<int>(replica_.context().num_threads)
                       : num_threads_;
+    // Everything parallel in this call runs in an arena of the device's threads: a worker
+    // process started with --threads 1 must not wake TBB threads for the other cores.
+    tbb::task_arena arena(threads);
     if (!empty) {  // the all-zero launch only builds accelerations
-      tbb::task_arena arena(threads);
       arena.execute([&] {
         tbb::parallel_for(0, request.tiles_size(), 1, [&](int i) { run_tile(request.tiles(i)); });
       });
@@ -127,7 +129,7 @@ class InprocDevice : public Device {
     final_result.set_tile_index(kFinalTileIndex);
     // Taken even when the call failed, so that marks of unfinished tiles do not leak into the
     // next call's regions.
-    replica_.TakeWrittenRegions(&final_result);
+    arena.execute([&] { replica_.TakeWrittenRegions(&final_result); });
     if (timing_) {
       auto ms = [](std::chrono::steady_clock::duration d) {
         return std::chrono::duration<double, std::milli>(d).count();

@@ -168,7 +168,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
       }
       last_write = std::chrono::steady_clock::now();
     }
-    std::this_thread::sleep_for(std::chrono::microseconds(100));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   struct Unlock {
     absl::Mutex* mu;
