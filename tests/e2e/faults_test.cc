@@ -67,6 +67,9 @@ int SignalOneWorker() {
 TEST_F(FaultTest, KilledWorkerCostsTimeNotResults) {
   const std::string reference = Reference();
   Create("local:3");
+  // Many small tiles: every worker has a batch in flight whenever the fault lands.
+  const RTsize tile[2] = {8, 8};
+  Ok(tesseraContextSetTileSize(ctx_, 2, tile));
   Ok(rtContextLaunch2D(ctx_, 0, kW, kH));  // workers up and synced
   g_signal = SIGKILL;
   g_faults = 0;
