@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "common/rt_util.h"  // LoadAverage
 #include "embree_viewer.h"
 #include "image_check.h"
 #include "mesh.h"
@@ -32,16 +33,6 @@ struct Options {
   int warmup = 5, runs = 20;
   bool check = false;
 };
-
-// The 1-minute load average: other work on the machine skews both sides of the comparison.
-double LoadAverage() {
-  double load = -1;
-  if (FILE* f = std::fopen("/proc/loadavg", "r")) {
-    if (std::fscanf(f, "%lf", &load) != 1) load = -1;
-    std::fclose(f);
-  }
-  return load;
-}
 
 int RunCheck(const Options& o, const Mesh& mesh, const Camera& camera) {
   EyelightScene scene(mesh, camera, kCheckSize, kCheckSize, o.module, o.devices);
