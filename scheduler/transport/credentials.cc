@@ -26,37 +26,6 @@ std::string Env(const char* name) {
   return value == nullptr ? "" : value;
 }
 
-// `what` names the setting in messages ("TESSERA_TLS_CA"), so the user knows which one to fix.
-absl::StatusOr<std::string> ReadWholeFile(const std::string& path, absl::string_view what) {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("cannot read ", what, " file ", path, ": ", std::strerror(errno)));
-  }
-  std::string contents;
-  char block[4096];
-  size_t n;
-  while ((n = std::fread(block, 1, sizeof block, file)) > 0) contents.append(block, n);
-  const bool failed = std::ferror(file) != 0;
-  std::fclose(file);
-  if (failed) {
-    return absl::FailedPreconditionError(absl::StrCat("cannot read ", what, " file ", path));
-  }
-  return contents;
-}
-
-// gRPC reports a malformed PEM file only as a failed handshake, much later and without naming the
-// file; a look for the PEM header here names it.
-absl::StatusOr<std::string> ReadPemFile(const std::string& path, absl::string_view what,
-                                        absl::string_view label) {
-  absl::StatusOr<std::string> pem = ReadWholeFile(path, what);
-  if (pem.ok() && !absl::StrContains(*pem, label)) {
-    return absl::FailedPreconditionError(
-        absl::StrCat(what, " file ", path, " holds no PEM \"", label, "\""));
-  }
-  return pem;
-}
-
 absl::StatusOr<std::string> TokenFromEnvironment() {
   const std::string token = Env(kTokenEnv);
   const std::string file = Env(kTokenFileEnv);
@@ -104,6 +73,34 @@ class TokenInterceptorFactory final : public grpc::experimental::ClientIntercept
 };
 
 }  // namespace
+
+absl::StatusOr<std::string> ReadWholeFile(const std::string& path, absl::string_view what) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("cannot read ", what, " file ", path, ": ", std::strerror(errno)));
+  }
+  std::string contents;
+  char block[4096];
+  size_t n;
+  while ((n = std::fread(block, 1, sizeof block, file)) > 0) contents.append(block, n);
+  const bool failed = std::ferror(file) != 0;
+  std::fclose(file);
+  if (failed) {
+    return absl::FailedPreconditionError(absl::StrCat("cannot read ", what, " file ", path));
+  }
+  return contents;
+}
+
+absl::StatusOr<std::string> ReadPemFile(const std::string& path, absl::string_view what,
+                                        absl::string_view label) {
+  absl::StatusOr<std::string> pem = ReadWholeFile(path, what);
+  if (pem.ok() && !absl::StrContains(*pem, label)) {
+    return absl::FailedPreconditionError(
+        absl::StrCat(what, " file ", path, " holds no PEM \"", label, "\""));
+  }
+  return pem;
+}
 
 absl::Status ValidateToken(absl::string_view token) {
   if (token.empty()) return absl::FailedPreconditionError("the token is empty");

@@ -29,6 +29,15 @@ inline constexpr char kTlsServerNameEnv[] = "TESSERA_TLS_SERVER_NAME";  // name 
 inline constexpr char kTokenEnv[] = "TESSERA_TOKEN";
 inline constexpr char kTokenFileEnv[] = "TESSERA_TOKEN_FILE";
 
+// The contents of a file; FAILED_PRECONDITION naming `what` (the setting or flag, so the user
+// knows which one to fix) and `path` when it cannot be read.
+absl::StatusOr<std::string> ReadWholeFile(const std::string& path, absl::string_view what);
+
+// A PEM file, which must hold `label` (e.g. "-----BEGIN CERTIFICATE"): gRPC reports a malformed
+// one only as a failed handshake, much later and without naming the file.
+absl::StatusOr<std::string> ReadPemFile(const std::string& path, absl::string_view what,
+                                        absl::string_view label);
+
 // A token as both ends read it from a file: the first line, surrounding whitespace trimmed.
 // FAILED_PRECONDITION, naming `path`, if the file cannot be read or the token is not valid.
 absl::StatusOr<std::string> ReadTokenFile(const std::string& path);

@@ -15,31 +15,6 @@
 #include "transport/credentials.h"
 
 namespace tessera::worker {
-namespace {
-
-absl::StatusOr<std::string> ReadPemFile(const std::string& path, absl::string_view flag,
-                                        absl::string_view label) {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("cannot read ", flag, " ", path, ": ", std::strerror(errno)));
-  }
-  std::string pem;
-  char block[4096];
-  size_t n;
-  while ((n = std::fread(block, 1, sizeof block, file)) > 0) pem.append(block, n);
-  const bool failed = std::ferror(file) != 0;
-  std::fclose(file);
-  if (failed) return absl::FailedPreconditionError(absl::StrCat("cannot read ", flag, " ", path));
-  // gRPC would report a wrong file only as failing to listen, without naming it.
-  if (!absl::StrContains(pem, label)) {
-    return absl::FailedPreconditionError(
-        absl::StrCat(flag, " ", path, " holds no PEM \"", label, "\""));
-  }
-  return pem;
-}
-
-}  // namespace
 
 absl::StatusOr<std::string> ResolveToken(const std::string& token_file, const char* env_token) {
   const bool from_env = env_token != nullptr && *env_token != '\0';
@@ -87,18 +62,18 @@ absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> MakeServerCredentials(
     return absl::FailedPreconditionError("--tls-cert and --tls-key go together; one is missing");
   }
   absl::StatusOr<std::string> cert =
-      ReadPemFile(options.tls_cert_file, "--tls-cert", "-----BEGIN CERTIFICATE");
+      transport::ReadPemFile(options.tls_cert_file, "--tls-cert", "-----BEGIN CERTIFICATE");
   if (!cert.ok()) return cert.status();
   absl::StatusOr<std::string> key =
-      ReadPemFile(options.tls_key_file, "--tls-key", "PRIVATE KEY-----");
+      transport::ReadPemFile(options.tls_key_file, "--tls-key", "PRIVATE KEY-----");
   if (!key.ok()) return key.status();
   const bool verify_clients = !options.tls_client_ca_file.empty();
   grpc::SslServerCredentialsOptions ssl(
       verify_clients ? GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY
                      : GRPC_SSL_DONT_REQUEST_CLIENT_CERTIFICATE);
   if (verify_clients) {
-    absl::StatusOr<std::string> roots =
-        ReadPemFile(options.tls_client_ca_file, "--tls-client-ca", "-----BEGIN CERTIFICATE");
+    absl::StatusOr<std::string> roots = transport::ReadPemFile(
+        options.tls_client_ca_file, "--tls-client-ca", "-----BEGIN CERTIFICATE");
     if (!roots.ok()) return roots.status();
     ssl.pem_root_certs = *std::move(roots);
   }

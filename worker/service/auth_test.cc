@@ -133,7 +133,7 @@ TEST(WorkerAuthTest, ServerCredentialsNeedBothTlsFiles) {
   wrong.tls_key_file = not_pem.path();
   absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> bad = MakeServerCredentials(wrong);
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.status().message().find("--tls-cert " + not_pem.path()), std::string::npos)
+  EXPECT_NE(bad.status().message().find("--tls-cert file " + not_pem.path()), std::string::npos)
       << bad.status();
 
   SecurityOptions unreadable;
