@@ -167,7 +167,6 @@ absl::Status Buffer::SetDevicePointer(int ordinal, void* pointer) {
 }
 
 absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordinals) {
-  per_device_ = false;
   if (views_.empty()) {
     if (for_cuda_ && !data_.empty()) {
       return RtError(RT_ERROR_INVALID_VALUE,
@@ -191,8 +190,7 @@ absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordi
                                 " devices; give one device a pointer, or every device"));
   }
   if (!ships_content()) return absl::OkStatus();
-  // A device with a pointer runs on its own view, as a GPU runs on its own memory.
-  per_device_ = true;
+  // A device with a pointer runs on its own view (PerDeviceBytes), as a GPU on its own memory.
   if (k == 1 && ((desc_ & RT_BUFFER_COPY_ON_DIRTY) == 0 || views_dirty_)) {
     // One device's view reaches every device through the host contents.
     const unsigned char* source = views_.begin()->second.data();
@@ -206,7 +204,7 @@ absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordi
 }
 
 const unsigned char* Buffer::PerDeviceBytes(int ordinal) const {
-  if (!per_device_) return nullptr;
+  if (!ships_content()) return nullptr;
   auto it = views_.find(ordinal);
   return it == views_.end() ? nullptr : it->second.data();
 }

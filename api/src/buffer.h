@@ -119,7 +119,6 @@ class Buffer : public Object {
   bool for_cuda_ = false;
   std::map<int, View> views_;
   bool views_dirty_ = false;  // a pointer taken or set, or rtBufferMarkDirty, since a launch
-  bool per_device_ = false;   // this launch: devices with a view get it (INPUT buffers)
 };
 
 }  // namespace tessera::api

@@ -64,7 +64,7 @@ RTbuffer CreateLights(RTcontext context) {
 }
 
 void SetUpContext(RTcontext context, const StepConfig& step, const RenderOptions& options,
-                  ProgramLoader& programs, RTbuffer output) {
+                  ProgramLoader& programs, RTbuffer output, RTbuffer lights) {
   RT_CHECK(context, rtContextSetRayTypeCount(context, 2));
   RT_CHECK(context, rtContextSetEntryPointCount(context, 1));
   RT_CHECK(context, rtContextSetStackSize(context, kStackSize));
@@ -74,7 +74,7 @@ void SetUpContext(RTcontext context, const StepConfig& step, const RenderOptions
 
   Variables vars(context, context, rtContextDeclareVariable, "context");
   vars.Object("output_buffer", output);
-  vars.Object("lights", CreateLights(context));
+  vars.Object("lights", lights);
   vars.Int("max_depth", kMaxDepth);
   vars.Uint("radiance_ray_type", kRadianceRayType);
   vars.Uint("shadow_ray_type", kShadowRayType);
@@ -127,25 +127,30 @@ std::string ResolveModuleDir(const std::string& flag) {
   return TESSERA_TUTORIAL_MODULE_DIR;
 }
 
-Image RenderStep(const RenderOptions& options) {
+StepBuffers SetUpStep(RTcontext context, const RenderOptions& options) {
   const StepConfig& step = GetStep(options.step);
   if (options.width <= 0 || options.height <= 0) {
     throw TutorialError("image size must be positive, got " + std::to_string(options.width) + "x" +
                         std::to_string(options.height));
   }
-  ContextHolder holder;
-  RTcontext context = holder.get();
   ProgramLoader programs(context, options.module_dir);
-  RTbuffer output = CreateOutputBuffer(context, options.width, options.height);
-
-  SetUpContext(context, step, options, programs, output);
+  StepBuffers buffers;
+  buffers.output = CreateOutputBuffer(context, options.width, options.height);
+  buffers.lights = CreateLights(context);
+  SetUpContext(context, step, options, programs, buffers.output, buffers.lights);
   BuildScene(context, step, programs);
-
   RT_CHECK(context, rtContextValidate(context));
   RT_CHECK(context, rtContextCompile(context));
+  return buffers;
+}
+
+Image RenderStep(const RenderOptions& options) {
+  ContextHolder holder;
+  RTcontext context = holder.get();
+  const StepBuffers buffers = SetUpStep(context, options);
   RT_CHECK(context, rtContextLaunch2D(context, 0, static_cast<RTsize>(options.width),
                                       static_cast<RTsize>(options.height)));
-  return ReadOutput(context, output, options.width, options.height);
+  return ReadOutput(context, buffers.output, options.width, options.height);
 }
 
 }  // namespace tessera::tutorial

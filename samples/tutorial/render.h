@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "tessera/rt.h"
 #include "tutorial/image.h"
 
 namespace tessera::tutorial {
@@ -23,7 +24,18 @@ inline constexpr float kBadColor[3] = {1.0f, 0.0f, 1.0f};            // exceptio
 // The module directory: `flag` if not empty, else $TESSERA_MODULE_DIR, else the build's.
 std::string ResolveModuleDir(const std::string& flag);
 
-// Renders `options.step`. Throws TutorialError (with the rt* error message) on failure.
+// What SetUpStep made that a host may want to touch between launches.
+struct StepBuffers {
+  RTbuffer output = nullptr;  // float4, width x height, launch row 0 at the bottom
+  RTbuffer lights = nullptr;  // INPUT, one BasicLight
+};
+
+// Sets `context` up for `options.step`: ray types, stack, variables, camera, programs from
+// `options.module_dir`, the scene; validated and compiled, ready to launch at the options' size.
+// Throws TutorialError (with the rt* error message) on failure.
+StepBuffers SetUpStep(RTcontext context, const RenderOptions& options);
+
+// Renders `options.step` in a context of its own. Throws TutorialError on failure.
 Image RenderStep(const RenderOptions& options);
 
 }  // namespace tessera::tutorial

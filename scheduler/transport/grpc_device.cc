@@ -178,7 +178,6 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
   grpc::ClientContext context;
   std::unique_ptr<grpc::ClientReader<v1::TileResult>> reader =
       stub_->worker->Launch(&context, request);
-  FinalResultJoiner final_result;
   grpc::Status status;
   bool silent = false;
   {
@@ -186,11 +185,9 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
     v1::TileResult result;
     while (reader->Read(&result)) {
       watcher.Heard();
-      if (result.tile_index() == kFinalTileIndex) {
-        final_result.Add(std::move(result));
-      } else if (result.tile_index() != kHeartbeatTileIndex) {
-        on_result(std::move(result));
-      }
+      // Heartbeats only say the worker is alive. The written regions come as several results
+      // with kFinalTileIndex; whoever called collects the whole call before applying any of it.
+      if (result.tile_index() != kHeartbeatTileIndex) on_result(std::move(result));
       result.Clear();
     }
     status = reader->Finish();
@@ -203,8 +200,6 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
         " (hung or unreachable; TESSERA_WORKER_TIMEOUT sets the limit)"));
   }
   if (!status.ok()) return LostOrFailed(FromGrpcStatus(status, address_));
-  // The written regions, reassembled, come last as they do from an in-process device.
-  if (!final_result.empty()) on_result(std::move(final_result).Take());
   return absl::OkStatus();
 }
 

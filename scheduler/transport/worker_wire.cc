@@ -137,35 +137,6 @@ std::vector<v1::TileResult> SplitTileResult(v1::TileResult&& result, size_t max_
   return pieces;
 }
 
-void FinalResultJoiner::Add(v1::TileResult&& piece) {
-  if (!has_result_) {
-    has_result_ = true;
-    result_.set_launch_id(piece.launch_id());
-    result_.set_tile_index(piece.tile_index());
-  }
-  if (!piece.error().empty() && result_.error().empty()) {
-    result_.set_error(std::move(*piece.mutable_error()));
-    result_.set_error_code(piece.error_code());
-  }
-  for (v1::BufferRegion& region : *piece.mutable_regions()) {
-    if (result_.regions_size() > 0) {
-      v1::BufferRegion& last = *result_.mutable_regions(result_.regions_size() - 1);
-      if (last.buffer_id() == region.buffer_id() && last.run_offsets_size() == 0 &&
-          region.run_offsets_size() == 0 && last.offset() + last.data().size() == region.offset()) {
-        last.mutable_data()->append(region.data());
-        continue;
-      }
-    }
-    *result_.add_regions() = std::move(region);
-  }
-  for (v1::PrintRecord& print : *piece.mutable_prints()) *result_.add_prints() = std::move(print);
-  for (v1::ExceptionReport& report : *piece.mutable_exceptions()) {
-    *result_.add_exceptions() = std::move(report);
-  }
-}
-
-v1::TileResult FinalResultJoiner::Take() && { return std::move(result_); }
-
 grpc::Status ToGrpcStatus(const absl::Status& status) {
   if (status.ok()) return grpc::Status::OK;
   return grpc::Status(static_cast<grpc::StatusCode>(status.code()), std::string(status.message()));

@@ -52,21 +52,6 @@ class DeltaAssembler {
 std::vector<v1::TileResult> SplitTileResult(v1::TileResult&& result,
                                             size_t max_bytes = kMaxRegionBytes);
 
-// Joins the pieces of the final TileResult (tile_index == kFinalTileIndex) back into one, with
-// adjacent regions of a buffer merged. The host treats a final region covering a whole buffer as
-// an exact record of what the device holds (so the next launch resends nothing); splitting for the
-// wire must not change what it sees.
-class FinalResultJoiner {
- public:
-  void Add(v1::TileResult&& piece);
-  bool empty() const { return !has_result_; }
-  v1::TileResult Take() &&;
-
- private:
-  bool has_result_ = false;
-  v1::TileResult result_;
-};
-
 // Status codes are the same numbers in Abseil and gRPC.
 grpc::Status ToGrpcStatus(const absl::Status& status);
 // The message names the worker: "worker unix:/tmp/w0.sock: <message>".

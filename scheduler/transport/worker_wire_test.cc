@@ -218,29 +218,6 @@ TEST(WorkerWireTest, SmallResultsTravelWhole) {
   EXPECT_EQ(pieces[0].SerializeAsString(), result.SerializeAsString());
 }
 
-TEST(WorkerWireTest, FinalResultIsJoinedBackIntoWholeBuffers) {
-  v1::TileResult final_result;
-  final_result.set_launch_id(3);
-  final_result.set_tile_index(kFinalTileIndex);
-  std::string a(1000, 'a'), b(300, 'b');
-  for (size_t i = 0; i < a.size(); ++i) a[i] = static_cast<char>(i * 7);
-  v1::BufferRegion* ra = final_result.add_regions();
-  ra->set_buffer_id(1);
-  ra->set_data(a);
-  v1::BufferRegion* rb = final_result.add_regions();
-  rb->set_buffer_id(2);
-  rb->set_data(b);
-
-  FinalResultJoiner joiner;
-  EXPECT_TRUE(joiner.empty());
-  for (v1::TileResult& piece : SplitTileResult(v1::TileResult(final_result), 128)) {
-    joiner.Add(std::move(piece));
-  }
-  ASSERT_FALSE(joiner.empty());
-  v1::TileResult joined = std::move(joiner).Take();
-  EXPECT_EQ(joined.SerializeAsString(), final_result.SerializeAsString());
-}
-
 TEST(WorkerWireTest, StatusesKeepTheirCodeAndNameTheWorker) {
   absl::Status device = absl::FailedPreconditionError("state delta 3 out of order (expected 2)");
   grpc::Status wire = ToGrpcStatus(device);

@@ -32,6 +32,13 @@ constexpr std::chrono::milliseconds kCancelPoll{2};
 // silence deadline (GrpcDevice, TESSERA_WORKER_TIMEOUT).
 constexpr std::chrono::milliseconds kHeartbeatInterval{500};
 
+v1::TileResult Heartbeat(const v1::LaunchRequest& request) {
+  v1::TileResult heartbeat;
+  heartbeat.set_launch_id(request.launch_id());
+  heartbeat.set_tile_index(kHeartbeatTileIndex);
+  return heartbeat;
+}
+
 int ResolveThreads(int threads) {
   if (threads > 0) return threads;
   unsigned cores = std::thread::hardware_concurrency();
@@ -160,10 +167,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
       return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");
     }
     if (std::chrono::steady_clock::now() - last_write >= kHeartbeatInterval) {
-      v1::TileResult heartbeat;
-      heartbeat.set_launch_id(request->launch_id());
-      heartbeat.set_tile_index(kHeartbeatTileIndex);
-      if (!writer->Write(heartbeat)) {
+      if (!writer->Write(Heartbeat(*request))) {
         return grpc::Status(grpc::StatusCode::CANCELLED, "the host went away");
       }
       last_write = std::chrono::steady_clock::now();
@@ -202,10 +206,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     if (context->IsCancelled()) cancel = true;
     if (batch.empty() && !done && writable &&
         std::chrono::steady_clock::now() - last_write >= kHeartbeatInterval) {
-      v1::TileResult heartbeat;
-      heartbeat.set_launch_id(request->launch_id());
-      heartbeat.set_tile_index(kHeartbeatTileIndex);
-      batch.push_back(std::move(heartbeat));
+      batch.push_back(Heartbeat(*request));
     }
     if (!batch.empty()) last_write = std::chrono::steady_clock::now();
     for (v1::TileResult& result : batch) {
