@@ -188,7 +188,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
         }
       }
     }
-    b.views.push_back({slot, view});
+    b.table.push_back(view);
   }
   return b;
 }

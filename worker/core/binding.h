@@ -59,7 +59,9 @@ struct BoundProgram {
   void* function = nullptr;
   // What this binding sets in the module's slots beyond the module's plan-wide invariants.
   std::vector<Copy> copies;
-  std::vector<std::pair<unsigned, TesseraBufferView>> views;
+  // A view per rtBuffer slot of the module; a thread running the program points the module at
+  // it, so switching programs copies no views.
+  std::vector<TesseraBufferView> table;
   std::vector<Attribute> attributes;
   // Variables declared with each semantic (a module may declare one several times, e.g. a
   // radiance and a shadow payload).

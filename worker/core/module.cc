@@ -202,12 +202,6 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
     return absl::FailedPreconditionError(
         absl::StrCat("program module ", path, " was built for another Tessera module ABI"));
   }
-  if (info->buffer_count > TESSERA_MAX_BUFFERS_PER_MODULE) {
-    dlclose(handle);
-    return absl::ResourceExhaustedError(absl::StrCat("program module ", path, " declares ",
-                                                     info->buffer_count, " rtBuffers; at most ",
-                                                     TESSERA_MAX_BUFFERS_PER_MODULE));
-  }
   auto module = std::make_unique<Module>();
   // Process-wide, not per cache: the index selects this module's per-thread slot tables.
   static std::atomic<int> next_index{0};

@@ -56,7 +56,6 @@ class Module {
   size_t per_call_bytes() const { return per_call_bytes_; }
   // The calling thread's slot addresses, one per variable (cached per thread).
   void* const* Slots() const;
-  TesseraBufferView* Views() const { return info_->buffer_views(); }
   // Null if the module has no such exported function.
   void* Function(const std::string& name) const;
 

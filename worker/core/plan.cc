@@ -45,32 +45,14 @@ void SplitInvariants(LaunchPlan& plan) {
       }
       if (same) inv.copies.push_back(c);
     }
-    for (size_t i = 0; i < first.views.size(); ++i) {
-      const auto& v = first.views[i];
-      bool same = true;
-      for (const BoundProgram* b : bindings) {
-        const auto& o = b->views[i];
-        same = same && o.first == v.first && o.second.data == v.second.data &&
-               o.second.id == v.second.id &&
-               std::memcmp(o.second.size, v.second.size, sizeof(v.second.size)) == 0;
-      }
-      if (same) inv.views.push_back(v);
-    }
     auto is_invariant_copy = [&](const BoundProgram::Copy& c) {
       for (const auto& i : inv.copies)
         if (i.var == c.var) return true;
       return false;
     };
-    auto is_invariant_view = [&](const std::pair<unsigned, TesseraBufferView>& v) {
-      for (const auto& i : inv.views)
-        if (i.first == v.first) return true;
-      return false;
-    };
     for (BoundProgram* b : bindings) {
       b->copies.erase(std::remove_if(b->copies.begin(), b->copies.end(), is_invariant_copy),
                       b->copies.end());
-      b->views.erase(std::remove_if(b->views.begin(), b->views.end(), is_invariant_view),
-                     b->views.end());
     }
   }
 }

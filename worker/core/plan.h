@@ -58,10 +58,9 @@ struct SceneEntry {
 class SceneCache;
 
 // Slot values every binding of one module agrees on in a plan (context variables, static
-// initializers, buffers bound at the context): loaded once per thread and plan, not per program.
+// initializers): loaded once per thread and plan, not per program.
 struct ModuleInvariants {
   std::vector<BoundProgram::Copy> copies;
-  std::vector<std::pair<unsigned, TesseraBufferView>> views;
 };
 
 // A graph node as traversal needs it.

@@ -41,7 +41,6 @@ void SaveSlots(SuspendedSlots& s) {
 
 void Apply(ModuleState& ms, const BoundProgram& p) {
   for (const auto& c : p.copies) CopyBytes(ms.slots[c.var], c.src, c.size);
-  for (const auto& [slot, view] : p.views) ms.views[slot] = view;
   ms.loaded = &p;
 }
 
@@ -61,6 +60,8 @@ void RestoreSlots(const SuspendedSlots& s) {
 }  // namespace
 
 __attribute__((tls_model("initial-exec"))) thread_local ThreadState* t_state = nullptr;
+__attribute__((tls_model("initial-exec"))) thread_local const TesseraBufferView* t_buffer_table =
+    nullptr;
 
 ThreadState& CreateThreadState() {
   t_owner = std::make_unique<ThreadState>();
@@ -88,7 +89,6 @@ ModuleState& StateOf(ThreadState& ts, const Module* m) {
   if (ms.module == nullptr) {
     ms.module = m;
     ms.slots = m->Slots();
-    ms.views = m->Views();
   }
   return ms;
 }
@@ -96,14 +96,11 @@ ModuleState& StateOf(ThreadState& ts, const Module* m) {
 void Enter(ThreadState& ts, const BoundProgram& p) {
   ModuleState& ms = StateOf(ts, p.module);
   if (ms.suspended != nullptr && !ms.suspended->saved) SaveSlots(*ms.suspended);
-  ts.kind = p.kind;
-  ts.current = &p;
-  ts.current_module = &ms;
+  ReturnTo(ts, p, ms);
   const LaunchPlan& plan = *ts.plan;
   if (ms.invariants_plan != plan.serial) {
     const ModuleInvariants& inv = plan.invariants[p.module->index()];
     for (const auto& c : inv.copies) std::memcpy(ms.slots[c.var], c.src, c.size);
-    for (const auto& [slot, view] : inv.views) ms.views[slot] = view;
     ms.invariants_plan = plan.serial;
     ms.loaded = nullptr;
   }
@@ -128,7 +125,6 @@ SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
 void Resume(ThreadState& ts, SuspendedSlots& s) {
   if (s.saved) RestoreSlots(s);
   s.module->suspended = s.outer;
-  ts.current_module = s.module;
 }
 
 void Raise(unsigned code, std::string details) {
@@ -270,7 +266,7 @@ void* RtBufferIndexError(unsigned slot, unsigned long long x, unsigned long long
                          unsigned long long z) {
   ThreadState& ts = TS();
   const Module* m = ts.current->module;
-  const TesseraBufferView& v = ts.current_module->views[slot];
+  const TesseraBufferView& v = ts.current->table[slot];
   std::string name = slot < m->buffers().size() ? m->buffers()[slot].name : "?";
   Raise(RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS,
         absl::StrCat("buffer '", name, "' index (", x, ", ", y, ", ", z, ") outside size (",
@@ -285,7 +281,8 @@ void RtIntersectChild(unsigned index) {
   throw FatalError{absl::UnimplementedError("selectors are not supported yet")};
 }
 
-const TesseraRuntime kRuntime = {
+TesseraRuntime MakeRuntime() {
+  TesseraRuntime r = {
     TESSERA_MODULE_ABI_VERSION,
     &RtTrace,
     &RtPotentialIntersection,
@@ -301,11 +298,20 @@ const TesseraRuntime kRuntime = {
     &RtGetTransform,
     &RtBufferIndexError,
     &RtIntersectChild,
-};
+    0,
+  };
+  // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
+  r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -
+                          static_cast<const char*>(__builtin_thread_pointer());
+  return r;
+}
 
 }  // namespace
 
-const TesseraRuntime* EngineRuntime() { return &kRuntime; }
+const TesseraRuntime* EngineRuntime() {
+  static const TesseraRuntime runtime = MakeRuntime();
+  return &runtime;
+}
 
 void RunLaunchIndex(const LaunchPlan& plan, unsigned entry, const Index3& index, const Index3& dims,
                     v1::TileResult& out) {

@@ -94,7 +94,6 @@ struct SuspendedSlots {
 struct ModuleState {
   const Module* module = nullptr;
   void* const* slots = nullptr;
-  TesseraBufferView* views = nullptr;
   const BoundProgram* loaded = nullptr;  // whose copies the slots hold
   uint64_t invariants_plan = 0;          // serial of the plan whose invariants are loaded
   uint64_t index_written = 0;            // launch-index serial whose index/dim the slots hold
@@ -132,6 +131,19 @@ struct ThreadState {
 // startup), so an access is one load and no wrapper call.
 extern __attribute__((tls_model("initial-exec"))) thread_local ThreadState* t_state;
 ThreadState& CreateThreadState();
+
+// The running program's buffer views, which modules read at a fixed offset from the thread
+// pointer (TesseraRuntime::buffer_table_offset): set whenever control passes to a program.
+extern __attribute__((tls_model("initial-exec"))) thread_local const TesseraBufferView*
+    t_buffer_table;
+
+// Makes `p` (of module state `ms`) the running program again after a nested program returned.
+inline void ReturnTo(ThreadState& ts, const BoundProgram& p, ModuleState& ms) {
+  ts.kind = p.kind;
+  ts.current = &p;
+  ts.current_module = &ms;
+  t_buffer_table = p.table.data();
+}
 inline ThreadState& TS() {
   if (__builtin_expect(t_state == nullptr, 0)) return CreateThreadState();
   return *t_state;

@@ -278,8 +278,7 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   }
   --ts.depth;
   Resume(ts, suspended);
-  ts.current = caller;
-  ts.kind = caller->kind;
+  ReturnTo(ts, *caller, *suspended.module);
 }
 
 int RtPotentialIntersection(float t) {
@@ -347,9 +346,7 @@ int RtReportIntersection(unsigned material) {
   bool accepted = !ts.ah_ignore;
   bool terminate = ts.ah_terminate;
   Resume(ts, suspended);
-  ts.kind = isp.kind;
-  ts.current = &isp;
-  ts.current_module = &is_module;
+  ReturnTo(ts, isp, is_module);
   if (!accepted) return 0;
   Commit(ts, f, c, terminate);
   return 1;

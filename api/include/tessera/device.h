@@ -5,8 +5,13 @@
 // How it works: every rtDeclareVariable is a thread_local object registered (name, semantic,
 // size, slot address) with the module's registry; before a program runs the engine copies the
 // value resolved through the program's scope chain into the calling thread's slot. rtBuffer
-// objects hold a slot index into a per-thread table of buffer views. Everything else calls the
-// engine through the TesseraRuntime table handed over when the module is loaded.
+// objects hold a slot index into the running program's table of buffer views, found through a
+// thread-local pointer of the engine at a fixed offset from the thread pointer. Everything else
+// calls the engine through the TesseraRuntime table handed over when the module is loaded.
+//
+// Module variables use the local-dynamic TLS model: a program finds the module's thread-local
+// block once (one __tls_get_addr call) and reaches every variable at a fixed offset from it,
+// where the default model for -fPIC code pays one call per variable access.
 #ifndef TESSERA_DEVICE_H_
 #define TESSERA_DEVICE_H_
 
@@ -50,8 +55,22 @@ inline ModuleRegistry& Registry() {
 inline const TesseraRuntime* g_runtime = nullptr;
 inline const TesseraRuntime* Rt() { return g_runtime; }
 
-inline thread_local TesseraBufferView t_buffer_views[TESSERA_MAX_BUFFERS_PER_MODULE];
-inline TesseraBufferView* BufferViews() { return t_buffer_views; }
+#define TESSERA_TLS __attribute__((tls_model("local-dynamic")))
+
+inline long long g_buffer_table_offset = 0;
+
+// The running program's buffer views. Not volatile: the table stays the same for the whole run
+// of a program (nested programs restore it before control returns), so the compiler may keep it.
+inline const TesseraBufferView* BufferTable() {
+  const TesseraBufferView* table;
+#if defined(__x86_64__)
+  __asm__("movq %%fs:(%1), %0" : "=r"(table) : "r"(g_buffer_table_offset));
+#else
+  table = *reinterpret_cast<const TesseraBufferView* const*>(
+      static_cast<const char*>(__builtin_thread_pointer()) + g_buffer_table_offset);
+#endif
+  return table;
+}
 
 struct VariableRegistration {
   VariableRegistration(const char* name, const char* semantic, const char* annotation,
@@ -63,7 +82,6 @@ struct VariableRegistration {
 inline unsigned RegisterBuffer(const void* object, size_t element_size, unsigned dim) {
   auto& buffers = Registry().buffers;
   buffers.push_back({object, element_size, dim});
-  // Slots past the table are reported by the engine when it loads the module.
   return static_cast<unsigned>(buffers.size() - 1);
 }
 
@@ -92,22 +110,22 @@ tessera_module_init(const TesseraRuntime* runtime, unsigned abi_version) {
   if (abi_version != TESSERA_MODULE_ABI_VERSION || runtime == nullptr) return nullptr;
   auto& r = tessera::detail::Registry();
   tessera::detail::g_runtime = runtime;
+  tessera::detail::g_buffer_table_offset = runtime->buffer_table_offset;
   r.info.abi_version = TESSERA_MODULE_ABI_VERSION;
   r.info.variable_count = static_cast<unsigned>(r.variables.size());
   r.info.variables = r.variables.data();
   r.info.buffer_count = static_cast<unsigned>(r.buffers.size());
   r.info.buffers = r.buffers.data();
-  r.info.buffer_views = &tessera::detail::BufferViews;
   return &r.info;
 }
 
 // rtDeclareVariable(type, name, semantic, annotation) [= initializer];
 #define rtDeclareVariable(type, name, semantic, annotation)                          \
-  extern __attribute__((visibility("hidden"))) thread_local type name;               \
+  extern __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name;   \
   static ::tessera::detail::VariableRegistration tessera_variable_##name(            \
       #name, #semantic, #annotation, #type, sizeof(type),                            \
       []() -> void* { return const_cast<void*>(static_cast<const void*>(&name)); }); \
-  __attribute__((visibility("hidden"))) thread_local type name
+  __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name
 
 #define rtDeclareAnnotation(variable, annotation)
 
@@ -196,7 +214,7 @@ class buffer {
 
  private:
   static unsigned long long Idx(int i) { return static_cast<unsigned long long>(i); }
-  const TesseraBufferView& View() const { return ::tessera::detail::t_buffer_views[slot_]; }
+  const TesseraBufferView& View() const { return ::tessera::detail::BufferTable()[slot_]; }
   T& At(unsigned long long x, unsigned long long y, unsigned long long z) const {
     const TesseraBufferView& v = View();
     if (x >= v.size[0] || y >= v.size[1] || z >= v.size[2]) {

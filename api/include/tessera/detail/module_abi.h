@@ -11,8 +11,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 2u
-#define TESSERA_MAX_BUFFERS_PER_MODULE 128u
+#define TESSERA_MODULE_ABI_VERSION 3u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -32,7 +31,9 @@ typedef struct {
   unsigned dimensionality;
 } TesseraBufferDecl;
 
-/* What a program sees of a buffer bound to one of its rtBuffer declarations, per thread. */
+/* What a program sees of a buffer bound to one of its rtBuffer declarations. The engine keeps one
+ * table of views per bound program; a thread-local pointer of the engine names the running
+ * program's table (TesseraRuntime::buffer_table_offset). */
 typedef struct {
   void* data;
   size_t size[3]; /* unused dimensions are 1 */
@@ -55,7 +56,6 @@ typedef struct {
   const TesseraVariableDecl* variables;
   unsigned buffer_count;
   const TesseraBufferDecl* buffers;
-  TesseraBufferView* (*buffer_views)(void); /* the calling thread's views, indexed by slot */
 } TesseraModuleInfo;
 
 /* Geometry kinds for TesseraRuntime::transform. */
@@ -81,6 +81,10 @@ typedef struct {
   void* (*buffer_index_error)(unsigned slot, unsigned long long x, unsigned long long y,
                               unsigned long long z);
   void (*intersect_child)(unsigned index);
+  /* Where the running program's buffer views are: a `const TesseraBufferView*` (indexed by
+   * rtBuffer slot) at this offset from the thread pointer. The engine keeps it in static TLS, so
+   * the offset is the same on every thread and a module reads it without a call. */
+  long long buffer_table_offset;
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
