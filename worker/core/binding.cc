@@ -1,5 +1,6 @@
 #include "binding.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
@@ -22,6 +23,14 @@ const Value* Lookup(const std::vector<const Scope*>& scopes, const std::string& 
   }
   return nullptr;
 }
+
+// Bytes of a semantic value a variable receives: the value's size, or less for a smaller
+// declaration (a uint2 launch index of a 3D index).
+unsigned CopySize(size_t declared, size_t value) {
+  return static_cast<unsigned>(std::min(declared, value));
+}
+
+constexpr size_t kRayBytes = 36;  // optix::Ray
 
 }  // namespace
 
@@ -83,6 +92,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
   b.kind = kind;
   b.id = program_id;
   b.module = *module;
+  b.module_index = static_cast<unsigned>(b.module->index());
   b.name =
       absl::StrCat(KindName(kind), " program '", program->function, "' in ", program->module_path);
   b.function = b.module->Function(program->function);
@@ -98,19 +108,19 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
     const ModuleVariable& v = vars[i];
     switch (v.semantic) {
       case Semantic::kLaunchIndex:
-        b.launch_index.push_back(i);
+        b.launch_index.push_back({i, CopySize(v.size, 3 * sizeof(uint32_t))});
         continue;
       case Semantic::kLaunchDim:
-        b.launch_dim.push_back(i);
+        b.launch_dim.push_back({i, CopySize(v.size, 3 * sizeof(uint32_t))});
         continue;
       case Semantic::kCurrentRay:
-        b.ray.push_back(i);
+        b.ray.push_back({i, CopySize(v.size, kRayBytes)});
         continue;
       case Semantic::kPayload:
-        b.payload.push_back(i);
+        b.payload.push_back({i, static_cast<unsigned>(v.size)});
         continue;
       case Semantic::kDistance:
-        b.distance.push_back(i);
+        b.distance.push_back({i, CopySize(v.size, sizeof(float))});
         continue;
       case Semantic::kAttribute: {
         absl::StatusOr<size_t> offset = attributes.Offset(v.attribute, v.size, b.name);

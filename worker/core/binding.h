@@ -52,10 +52,17 @@ struct BoundProgram {
     size_t offset;
     size_t size;
   };
+  // A variable of the module that receives a semantic value, and how many bytes it takes: its
+  // declared size (payload), or that clipped to the value's size (launch index, ray, distance).
+  struct SlotRef {
+    unsigned var;
+    unsigned size;
+  };
   ProgramKind kind = ProgramKind::kRayGeneration;
   uint64_t id = 0;
   std::string name;  // "function in module" for messages
   const Module* module = nullptr;
+  unsigned module_index = 0;  // module->index(), kept here for the per-call path
   void* function = nullptr;
   // What this binding sets in the module's slots beyond the module's plan-wide invariants.
   std::vector<Copy> copies;
@@ -65,7 +72,7 @@ struct BoundProgram {
   std::vector<Attribute> attributes;
   // Variables declared with each semantic (a module may declare one several times, e.g. a
   // radiance and a shadow payload).
-  std::vector<unsigned> launch_index, launch_dim, ray, payload, distance;
+  std::vector<SlotRef> launch_index, launch_dim, ray, payload, distance;
 };
 
 // Binds `program_id` with scopes searched in order (the program's own scope comes first).

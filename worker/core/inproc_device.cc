@@ -90,16 +90,9 @@ class InprocDevice : public Device {
       for (int i = 0; i < tile.origin_size() && i < 3; ++i) origin[i] = tile.origin(i);
       for (int i = 0; i < tile.size_size() && i < 3; ++i) size[i] = tile.size(i);
       try {
-        for (uint32_t z = origin[2]; z < origin[2] + size[2] && z < dims[2]; ++z) {
-          for (uint32_t y = origin[1]; y < origin[1] + size[1] && y < dims[1]; ++y) {
-            for (uint32_t x = origin[0]; x < origin[0] + size[0] && x < dims[0]; ++x) {
-              // Checked per launch index so a cancel stops even long-running programs promptly.
-              if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
-                return;
-              }
-              worker::RunLaunchIndex(*plan_, request.entry_point(), {x, y, z}, dims, result);
-            }
-          }
+        if (!worker::RunTile(*plan_, request.entry_point(), origin, size, dims, cancel, stop,
+                             result)) {
+          return;
         }
       } catch (const FatalError& e) {
         std::lock_guard<std::mutex> lock(result_mu);

@@ -22,6 +22,8 @@ std::string IndexText(const Index3& i) {
   return absl::StrCat("(", i[0], ", ", i[1], ", ", i[2], ")");
 }
 
+}  // namespace
+
 // A suspended program needs back only its per-call values (ray, payload, distance, attributes);
 // launch index and dim do not change within a launch index, invariants never change, and its
 // binding's own values are re-applied from the binding.
@@ -39,10 +41,7 @@ void SaveSlots(SuspendedSlots& s) {
   }
 }
 
-void Apply(ModuleState& ms, const BoundProgram& p) {
-  for (const auto& c : p.copies) CopyBytes(ms.slots[c.var], c.src, c.size);
-  ms.loaded = &p;
-}
+namespace {
 
 void RestoreSlots(const SuspendedSlots& s) {
   ModuleState& ms = *s.module;
@@ -59,8 +58,8 @@ void RestoreSlots(const SuspendedSlots& s) {
 
 }  // namespace
 
-__attribute__((tls_model("initial-exec"))) thread_local ThreadState* t_state = nullptr;
-__attribute__((tls_model("initial-exec"))) thread_local const TesseraBufferView* t_buffer_table =
+__thread ThreadState* t_state __attribute__((tls_model("initial-exec"))) = nullptr;
+__thread const TesseraBufferView* t_buffer_table __attribute__((tls_model("initial-exec"))) =
     nullptr;
 
 ThreadState& CreateThreadState() {
@@ -84,32 +83,18 @@ void UsePlan(ThreadState& ts, const LaunchPlan& plan) {
   ts.last_node_id = 0;
 }
 
-ModuleState& StateOf(ThreadState& ts, const Module* m) {
-  ModuleState& ms = ts.modules[m->index()];
-  if (ms.module == nullptr) {
-    ms.module = m;
-    ms.slots = m->Slots();
-  }
-  return ms;
+void InitModuleState(ModuleState& ms, const Module* m) {
+  ms.module = m;
+  ms.slots = m->Slots();
 }
 
-void Enter(ThreadState& ts, const BoundProgram& p) {
-  ModuleState& ms = StateOf(ts, p.module);
-  if (ms.suspended != nullptr && !ms.suspended->saved) SaveSlots(*ms.suspended);
-  ReturnTo(ts, p, ms);
+void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_index) {
   const LaunchPlan& plan = *ts.plan;
-  if (ms.invariants_plan != plan.serial) {
-    const ModuleInvariants& inv = plan.invariants[p.module->index()];
-    for (const auto& c : inv.copies) std::memcpy(ms.slots[c.var], c.src, c.size);
-    ms.invariants_plan = plan.serial;
-    ms.loaded = nullptr;
+  for (const auto& c : plan.invariants[module_index].copies) {
+    std::memcpy(ms.slots[c.var], c.src, c.size);
   }
-  if (ms.loaded != &p) Apply(ms, p);
-  if (ms.index_written != ts.index_serial && p.kind != ProgramKind::kBoundingBox) {
-    WriteSlots(ms, p.launch_index, ts.index.data(), sizeof(ts.index));
-    WriteSlots(ms, p.launch_dim, ts.dims.data(), sizeof(ts.dims));
-    ms.index_written = ts.index_serial;
-  }
+  ms.invariants_plan = plan.serial;
+  ms.loaded = nullptr;
 }
 
 SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
@@ -313,48 +298,84 @@ const TesseraRuntime* EngineRuntime() {
   return &runtime;
 }
 
-void RunLaunchIndex(const LaunchPlan& plan, unsigned entry, const Index3& index, const Index3& dims,
-                    v1::TileResult& out) {
-  ThreadState& ts = TS();
-  UsePlan(ts, plan);
-  ts.index = index;
-  ts.dims = dims;
-  ++ts.index_serial;
-  ts.out = &out;
-  ts.print_sequence = 0;
+namespace {
+
+// An exception raised at the current launch index: the entry's exception program runs, or the
+// report goes to the host.
+__attribute__((noinline)) void HandleException(ThreadState& ts, const LaunchPlan& plan,
+                                               unsigned entry, ExceptionSignal& e) {
   ts.depth = 0;
-  ts.pending = nullptr;
   for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
+  ts.exception_code = e.code;
+  ts.exception_details = std::move(e.details);
+  const BoundProgram* ex = entry < plan.exception.size() ? plan.exception[entry] : nullptr;
+  if (ex != nullptr) {
+    try {
+      Enter(ts, *ex);
+      reinterpret_cast<void (*)()>(ex->function)();
+    } catch (ExceptionSignal&) {
+      // An exception inside the exception program ends this launch index.
+    }
+  } else {
+    v1::ExceptionReport* r = ts.out->add_exceptions();
+    for (uint32_t i : ts.index) r->add_launch_index(i);
+    r->set_code(ts.exception_code);
+    r->set_details(ExceptionText());
+  }
+}
+
+// Runs the ray generation program at ts.index on a thread set up for the launch (RunTile).
+inline void RunIndex(ThreadState& ts, const LaunchPlan& plan, unsigned entry,
+                     const BoundProgram& rg) {
+  ++ts.index_serial;
+  ts.print_sequence = 0;
+  if (__builtin_expect(ts.depth != 0, 0)) {  // the previous launch index failed mid-trace
+    ts.depth = 0;
+    for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
+  }
+  if (__builtin_expect(static_cast<bool>(ts.pending), 0)) ts.pending = nullptr;
+  try {
+    Enter(ts, rg);
+    reinterpret_cast<void (*)()>(rg.function)();
+  } catch (ExceptionSignal& e) {
+    HandleException(ts, plan, entry, e);
+  }
+}
+
+}  // namespace
+
+bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const Index3& size,
+             const Index3& dims, const std::atomic<bool>& cancel, const std::atomic<bool>& stop,
+             v1::TileResult& out) {
   const BoundProgram* rg =
       entry < plan.ray_generation.size() ? plan.ray_generation[entry] : nullptr;
   if (rg == nullptr) {
     throw FatalError{absl::FailedPreconditionError(
         absl::StrCat("entry point ", entry, " has no ray generation program"))};
   }
-  try {
-    Enter(ts, *rg);
-    reinterpret_cast<void (*)()>(rg->function)();
-  } catch (ExceptionSignal& e) {
-    ts.depth = 0;
-    for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
-    ts.exception_code = e.code;
-    ts.exception_details = std::move(e.details);
-    const BoundProgram* ex = entry < plan.exception.size() ? plan.exception[entry] : nullptr;
-    if (ex != nullptr) {
-      try {
-        Enter(ts, *ex);
-        reinterpret_cast<void (*)()>(ex->function)();
-      } catch (ExceptionSignal&) {
-        // An exception inside the exception program ends this launch index.
+  ThreadState& ts = TS();
+  UsePlan(ts, plan);
+  ts.dims = dims;
+  ts.out = &out;
+  struct ClearOut {  // prints after the tile (say from a bounds program) have nowhere to go
+    ThreadState& ts;
+    ~ClearOut() { ts.out = nullptr; }
+  } clear_out{ts};
+  const Index3 end{std::min(origin[0] + size[0], dims[0]), std::min(origin[1] + size[1], dims[1]),
+                   std::min(origin[2] + size[2], dims[2])};
+  for (uint32_t z = origin[2]; z < end[2]; ++z) {
+    for (uint32_t y = origin[1]; y < end[1]; ++y) {
+      for (uint32_t x = origin[0]; x < end[0]; ++x) {
+        // Checked per launch index so a cancel stops even long-running programs promptly.
+        if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
+          return false;
+        }
+        ts.index = {x, y, z};
+        RunIndex(ts, plan, entry, *rg);
       }
-    } else {
-      v1::ExceptionReport* r = out.add_exceptions();
-      for (uint32_t i : index) r->add_launch_index(i);
-      r->set_code(ts.exception_code);
-      r->set_details(ExceptionText());
     }
   }
-  ts.out = nullptr;
+  return true;
 }
 
 void RunBoundsProgram(const LaunchPlan& plan, const BoundProgram& program, unsigned primitive,

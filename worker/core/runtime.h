@@ -4,6 +4,7 @@
 #define TESSERA_WORKER_CORE_RUNTIME_H_
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <string>
 
@@ -25,11 +26,14 @@ struct FatalError {
 
 using Index3 = std::array<uint32_t, 3>;
 
-// Runs the entry point's ray generation program at one launch index; exceptions raised inside go
-// to the exception program. Prints and exception reports are appended to `out`.
+// Runs the entry point's ray generation program at every launch index of the box
+// [origin, origin + size) within [0, dims), x fastest; exceptions raised inside go to the
+// exception program. Prints and exception reports are appended to `out`. Returns false, having
+// stopped, when `cancel` or `stop` is set (checked before every launch index).
 // Throws FatalError.
-void RunLaunchIndex(const LaunchPlan& plan, unsigned entry, const Index3& index, const Index3& dims,
-                    v1::TileResult& out);
+bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const Index3& size,
+             const Index3& dims, const std::atomic<bool>& cancel, const std::atomic<bool>& stop,
+             v1::TileResult& out);
 
 // Runs a bounding box program for one primitive (at scene build time). Throws FatalError.
 void RunBoundsProgram(const LaunchPlan& plan, const BoundProgram& program, unsigned primitive,

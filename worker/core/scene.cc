@@ -279,8 +279,14 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
     rtcSetGeometryUserData(geom, info.get());
     rtcSetGeometryBuildQuality(geom, quality);
     rtcCommitGeometry(geom);
-    rtcAttachGeometry(entry->scene, geom);
+    // Traversal finds a hit's GeometryInfo as geometries[geomID]: ids count from 0 in a new scene.
+    const unsigned geom_id = rtcAttachGeometry(entry->scene, geom);
     rtcReleaseGeometry(geom);
+    if (geom_id != entry->geometries.size()) {
+      return absl::InternalError(absl::StrCat("Embree gave geometry group #", id, " geometry id ",
+                                              geom_id, " for its geometry ",
+                                              entry->geometries.size()));
+    }
     entry->geometries.push_back(std::move(info));
   }
   rtcCommitScene(entry->scene);

@@ -127,15 +127,15 @@ struct ThreadState {
   Frame& top() { return frames[depth - 1]; }
 };
 
-// The calling thread's state: a plain pointer in initial-exec TLS (libtessera is loaded at
-// startup), so an access is one load and no wrapper call.
-extern __attribute__((tls_model("initial-exec"))) thread_local ThreadState* t_state;
+// The calling thread's state: a plain pointer in initial-exec TLS, so an access is one load.
+// __thread, not thread_local: a thread_local declared extern gets a call to its (possible)
+// dynamic initializer before every access.
+extern __thread ThreadState* t_state __attribute__((tls_model("initial-exec")));
 ThreadState& CreateThreadState();
 
 // The running program's buffer views, which modules read at a fixed offset from the thread
 // pointer (TesseraRuntime::buffer_table_offset): set whenever control passes to a program.
-extern __attribute__((tls_model("initial-exec"))) thread_local const TesseraBufferView*
-    t_buffer_table;
+extern __thread const TesseraBufferView* t_buffer_table __attribute__((tls_model("initial-exec")));
 
 // Makes `p` (of module state `ms`) the running program again after a nested program returned.
 inline void ReturnTo(ThreadState& ts, const BoundProgram& p, ModuleState& ms) {
@@ -152,11 +152,10 @@ inline ThreadState& TS() {
 // Binds the calling thread to `plan`.
 void UsePlan(ThreadState& ts, const LaunchPlan& plan);
 
-ModuleState& StateOf(ThreadState& ts, const Module* m);
-
-// Makes `p` the running program: saves a suspended caller's slots if `p` would overwrite them,
-// loads `p`'s bindings and the launch index/dim semantics.
-void Enter(ThreadState& ts, const BoundProgram& p);
+// Cold paths of Enter (runtime.cc).
+void InitModuleState(ModuleState& ms, const Module* m);
+void SaveSlots(SuspendedSlots& s);
+void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_index);
 
 // Suspends the running program's module across a nested call; Resume restores it if needed.
 SuspendedSlots& Suspend(ThreadState& ts, size_t level);
@@ -185,10 +184,53 @@ inline void CopyBytes(void* dst, const void* src, size_t n) {
   }
 }
 
-inline void WriteSlots(const ModuleState& ms, const std::vector<unsigned>& vars, const void* src,
-                       size_t size) {
-  for (unsigned var : vars) {
-    CopyBytes(ms.slots[var], src, std::min(size, ms.module->variables()[var].size));
+inline void WriteSlots(const ModuleState& ms, const std::vector<BoundProgram::SlotRef>& refs,
+                       const void* src, size_t size) {
+  for (const BoundProgram::SlotRef& r : refs) {
+    CopyBytes(ms.slots[r.var], src, std::min<size_t>(size, r.size));
+  }
+}
+
+// The same for values of a fixed size N (ray, distance, launch index), whose SlotRefs hold the
+// bytes to copy: a constant-size copy when the declaration takes all N.
+template <size_t N>
+inline void WriteSlots(const ModuleState& ms, const std::vector<BoundProgram::SlotRef>& refs,
+                       const void* src) {
+  for (const BoundProgram::SlotRef& r : refs) {
+    if (r.size == N) {
+      std::memcpy(ms.slots[r.var], src, N);
+    } else {
+      CopyBytes(ms.slots[r.var], src, r.size);
+    }
+  }
+}
+
+inline ModuleState& StateOf(ThreadState& ts, const BoundProgram& p) {
+  ModuleState& ms = ts.modules[p.module_index];
+  if (__builtin_expect(ms.module == nullptr, 0)) InitModuleState(ms, p.module);
+  return ms;
+}
+
+// Loads `p`'s own values into its module's slots (beyond the module's invariants).
+inline void Apply(ModuleState& ms, const BoundProgram& p) {
+  for (const BoundProgram::Copy& c : p.copies) CopyBytes(ms.slots[c.var], c.src, c.size);
+  ms.loaded = &p;
+}
+
+// Makes `p` the running program: saves a suspended caller's slots if `p` would overwrite them,
+// loads `p`'s bindings and the launch index/dim semantics. Inline: it runs for every program.
+inline void Enter(ThreadState& ts, const BoundProgram& p) {
+  ModuleState& ms = StateOf(ts, p);
+  if (ms.suspended != nullptr && !ms.suspended->saved) SaveSlots(*ms.suspended);
+  ReturnTo(ts, p, ms);
+  if (__builtin_expect(ms.invariants_plan != ts.plan_serial, 0)) {
+    LoadInvariants(ts, ms, p.module_index);
+  }
+  if (ms.loaded != &p) Apply(ms, p);
+  if (ms.index_written != ts.index_serial && p.kind != ProgramKind::kBoundingBox) {
+    WriteSlots<sizeof(ts.index)>(ms, p.launch_index, ts.index.data());
+    WriteSlots<sizeof(ts.dims)>(ms, p.launch_dim, ts.dims.data());
+    ms.index_written = ts.index_serial;
   }
 }
 

@@ -75,29 +75,31 @@ void StoreAttributes(const ModuleState& ms, const BoundProgram& p, unsigned char
 // Copies the payload back from the program's payload variable. With several payload variables
 // (radiance and shadow, say) the one of the traced payload's size that the program changed wins.
 void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst, size_t size) {
-  const unsigned* chosen = nullptr;
-  for (const unsigned& var : p.payload) {
-    if (ms.module->variables()[var].size != size) continue;
-    if (chosen == nullptr) chosen = &var;
+  const BoundProgram::SlotRef* chosen = nullptr;
+  for (const BoundProgram::SlotRef& r : p.payload) {
+    if (r.size != size) continue;
+    if (chosen == nullptr) chosen = &r;
     if (p.payload.size() == 1) break;
-    if (std::memcmp(ms.slots[var], dst, size) != 0) {
-      chosen = &var;
+    if (std::memcmp(ms.slots[r.var], dst, size) != 0) {
+      chosen = &r;
       break;
     }
   }
-  if (chosen == nullptr && !p.payload.empty()) chosen = &p.payload.front();
-  if (chosen == nullptr) return;
-  std::memcpy(dst, ms.slots[*chosen], std::min(size, ms.module->variables()[*chosen].size));
+  if (chosen == nullptr) {
+    if (p.payload.empty()) return;
+    chosen = &p.payload.front();
+  }
+  CopyBytes(dst, ms.slots[chosen->var], std::min<size_t>(size, chosen->size));
 }
 
 // Runs a closest-hit or miss program on the current frame's payload.
 void Shade(ThreadState& ts, const BoundProgram& p, Frame& f) {
   Enter(ts, p);
   const ModuleState& ms = *ts.current_module;
-  WriteSlots(ms, p.ray, &f.ray, sizeof(RayData));
+  WriteSlots<sizeof(RayData)>(ms, p.ray, &f.ray);
   WriteSlots(ms, p.payload, f.payload, f.payload_size);
   if (p.kind == ProgramKind::kClosestHit) {
-    WriteSlots(ms, p.distance, &f.hit.t, sizeof(float));
+    WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
     LoadAttributes(ms, p, f.hit.attributes);
   }
   reinterpret_cast<void (*)()>(p.function)();
@@ -112,16 +114,16 @@ void CopyXform(Xform& to, const Xform& from) {
   }
 }
 
-void IntersectScene(ThreadState& ts, RTCScene scene, const RayData& ray, bool geometry_group) {
+void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
+                    bool geometry_group) {
   Frame& f = ts.top();
   RTCRayHit rh = ToEmbree(ray);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
-  rtcIntersect1(scene, &ctx, &rh);
+  rtcIntersect1(scene.scene, &ctx, &rh);
   RethrowPending(ts);
   if (!geometry_group || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || f.terminated) return;
-  auto* info =
-      static_cast<GeometryInfo*>(rtcGetGeometryUserData(rtcGetGeometry(scene, rh.hit.geomID)));
+  const GeometryInfo* info = scene.geometries[rh.hit.geomID].get();
   if (!info->triangles || info->filter || !(rh.ray.tfar < f.hit.t)) return;
   // A native triangle is the closest so far: its attributes come after traversal.
   f.hit.t = rh.ray.tfar;
@@ -147,7 +149,7 @@ void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, RayData ra
         throw FatalError{absl::FailedPreconditionError(
             absl::StrCat("node #", id, " has no acceleration structure on the device"))};
       }
-      IntersectScene(ts, node->scene->scene, ray, node->type == RT_OBJECTTYPE_GEOMETRY_GROUP);
+      IntersectScene(ts, *node->scene, ray, node->type == RT_OBJECTTYPE_GEOMETRY_GROUP);
       return;
     case RT_OBJECTTYPE_TRANSFORM: {
       const TransformRec& t = *node->transform;
@@ -177,8 +179,8 @@ bool RunIntersection(ThreadState& ts, const InstancePlan* instance, unsigned pri
   ts.is.candidate_ok = false;
   ts.is.committed = false;
   Enter(ts, p);
-  WriteSlots(*ts.current_module, p.ray, &ray, sizeof(RayData));
-  WriteSlots(*ts.current_module, p.distance, &ts.top().hit.t, sizeof(float));
+  WriteSlots<sizeof(RayData)>(*ts.current_module, p.ray, &ray);
+  WriteSlots<sizeof(float)>(*ts.current_module, p.distance, &ts.top().hit.t);
   reinterpret_cast<void (*)(int)>(p.function)(static_cast<int>(primitive));
   return ts.is.committed;
 }
@@ -336,8 +338,8 @@ int RtReportIntersection(unsigned material) {
   Enter(ts, *ah);
   const ModuleState& ms = *ts.current_module;
   RayData object_ray = is.ray;
-  WriteSlots(ms, ah->ray, &object_ray, sizeof(RayData));
-  WriteSlots(ms, ah->distance, &c.t, sizeof(float));
+  WriteSlots<sizeof(RayData)>(ms, ah->ray, &object_ray);
+  WriteSlots<sizeof(float)>(ms, ah->distance, &c.t);
   WriteSlots(ms, ah->payload, f.payload, f.payload_size);
   LoadAttributes(ms, *ah, c.attributes);
   ts.ah_ignore = ts.ah_terminate = false;
