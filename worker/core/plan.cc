@@ -101,6 +101,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   plan->scenes = &scenes;
   const ContextRec& ctx = replica.context();
   plan->max_depth = std::max<uint64_t>(1, ctx.stack_size / kStackBytesPerTrace);
+  plan->ray_type_count = ctx.ray_type_count;
   plan->exception_mask = ctx.exception_mask;
   plan->user_exceptions = ctx.user_exceptions;
   plan->print_enabled = ctx.print_enabled;

@@ -84,6 +84,7 @@ struct LaunchPlan {
   std::unordered_map<uint64_t, NodeInfo> nodes;  // every graph node (stable addresses)
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;
+  uint32_t ray_type_count = 0;
   uint32_t exception_mask = 0;
   bool user_exceptions = false;
   bool print_enabled = false;

@@ -208,6 +208,35 @@ void Guard(ThreadState& ts, F&& f) {
   }
 }
 
+// Whether a ray may be traced: finite origin and direction, 0 <= tmin <= tmax (a NaN fails).
+inline bool ValidRay(const RayData& r) {
+  // x - x is 0 for a finite x and NaN for an infinite or NaN one.
+  float z = 0.f;
+  for (int i = 0; i < 3; ++i) z += (r.origin[i] - r.origin[i]) + (r.direction[i] - r.direction[i]);
+  return z == 0.f && r.tmin >= 0.f && r.tmin <= r.tmax;
+}
+
+// An rtTrace that cannot run: too deep, an invalid ray, or a ray type the context lacks.
+__attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) {
+  const LaunchPlan& plan = *ts.plan;
+  if (ts.depth >= plan.max_depth) {
+    Raise(RT_EXCEPTION_STACK_OVERFLOW,
+          absl::StrCat("rtTrace nested ", ts.depth + 1, " deep exceeds the stack size"));
+    return;
+  }
+  if (!ValidRay(ray)) {
+    Raise(RT_EXCEPTION_INVALID_RAY,
+          absl::StrFormat("invalid ray: origin (%g, %g, %g) direction (%g, %g, %g) tmin %g "
+                          "tmax %g",
+                          ray.origin[0], ray.origin[1], ray.origin[2], ray.direction[0],
+                          ray.direction[1], ray.direction[2], ray.tmin, ray.tmax));
+    return;
+  }
+  throw FatalError{absl::InvalidArgumentError(
+      absl::StrCat("rtTrace with ray type ", ray.ray_type, " but the context has ",
+                   plan.ray_type_count, " ray types (", ts.current->name, ")"))};
+}
+
 }  // namespace
 
 void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t payload_size) {
@@ -219,30 +248,13 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   const LaunchPlan& plan = *ts.plan;
   RayData ray;
   std::memcpy(&ray, ray_ptr, sizeof(ray));
-  if (ts.depth >= plan.max_depth) {
-    Raise(RT_EXCEPTION_STACK_OVERFLOW,
-          absl::StrCat("rtTrace nested ", ts.depth + 1, " deep exceeds the stack size"));
+  if (__builtin_expect(ts.depth >= plan.max_depth || !ValidRay(ray) ||
+                           ray.ray_type >= plan.ray_type_count,
+                       0)) {
+    RejectTrace(ts, ray);  // raises, throws, or returns when the exception is disabled
     return;
   }
-  bool finite = true;
-  for (int i = 0; i < 3; ++i) {
-    finite = finite && std::isfinite(ray.origin[i]) && std::isfinite(ray.direction[i]);
-  }
-  if (!finite || std::isnan(ray.tmin) || std::isnan(ray.tmax) || ray.tmin > ray.tmax ||
-      ray.tmin < 0.f) {
-    Raise(RT_EXCEPTION_INVALID_RAY,
-          absl::StrFormat("invalid ray: origin (%g, %g, %g) direction (%g, %g, %g) tmin %g "
-                          "tmax %g",
-                          ray.origin[0], ray.origin[1], ray.origin[2], ray.direction[0],
-                          ray.direction[1], ray.direction[2], ray.tmin, ray.tmax));
-    return;
-  }
-  if (ray.ray_type >= plan.replica->context().ray_type_count) {
-    throw FatalError{absl::InvalidArgumentError(absl::StrCat(
-        "rtTrace with ray type ", ray.ray_type, " but the context has ",
-        plan.replica->context().ray_type_count, " ray types (", ts.current->name, ")"))};
-  }
-  if (node != ts.last_node_id || ts.last_node == nullptr) {
+  if (__builtin_expect(node != ts.last_node_id || ts.last_node == nullptr, 0)) {
     ts.last_node = plan.Node(node);
     ts.last_node_id = node;
     if (ts.last_node == nullptr) {
@@ -262,7 +274,11 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   f.hit.instance = nullptr;
   f.terminated = false;
   f.xform.active = false;
-  TraverseNode(ts, node, top, ray);
+  if (top->scene != nullptr) {  // a Group or GeometryGroup: no transform to apply
+    IntersectScene(ts, *top->scene, ray, top->type == RT_OBJECTTYPE_GEOMETRY_GROUP);
+  } else {
+    TraverseNode(ts, node, top, ray);
+  }
 
   if (f.hit.instance != nullptr) {
     if (f.hit.deferred) {
