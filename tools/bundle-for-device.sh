@@ -20,7 +20,8 @@ libs="$stage/opt/tessera-libs"
 mkdir -p "$libs"
 
 worker="$build/worker/service/tessera-worker"
-files=("$worker" "$@")
+files=("$worker")
+for f in "$@"; do files+=("$(realpath "$f")"); done  # staged under their absolute paths
 mapfile -t modules < <(find "$build" -name '*.so' -path '*modules*' -o -name 'libtessera*.so*')
 files+=("${modules[@]}")
 

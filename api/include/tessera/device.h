@@ -199,28 +199,36 @@ class buffer {
     }
   }
 
-  T& operator[](unsigned long long i) const { return At(i, 0, 0); }
-  T& operator[](long long i) const { return At(static_cast<unsigned long long>(i), 0, 0); }
-  T& operator[](unsigned int i) const { return At(i, 0, 0); }
-  T& operator[](int i) const { return At(static_cast<unsigned long long>(i), 0, 0); }
-  T& operator[](unsigned long i) const { return At(i, 0, 0); }
-  T& operator[](long i) const { return At(static_cast<unsigned long long>(i), 0, 0); }
-  T& operator[](const uint2& i) const { return At(i.x, i.y, 0); }
-  T& operator[](const int2& i) const { return At(Idx(i.x), Idx(i.y), 0); }
-  T& operator[](const size_t2& i) const { return At(i.x, i.y, 0); }
-  T& operator[](const uint3& i) const { return At(i.x, i.y, i.z); }
-  T& operator[](const int3& i) const { return At(Idx(i.x), Idx(i.y), Idx(i.z)); }
-  T& operator[](const size_t3& i) const { return At(i.x, i.y, i.z); }
+  T& operator[](unsigned long long i) const { return At<1>(i, 0, 0); }
+  T& operator[](long long i) const { return At<1>(static_cast<unsigned long long>(i), 0, 0); }
+  T& operator[](unsigned int i) const { return At<1>(i, 0, 0); }
+  T& operator[](int i) const { return At<1>(static_cast<unsigned long long>(i), 0, 0); }
+  T& operator[](unsigned long i) const { return At<1>(i, 0, 0); }
+  T& operator[](long i) const { return At<1>(static_cast<unsigned long long>(i), 0, 0); }
+  T& operator[](const uint2& i) const { return At<2>(i.x, i.y, 0); }
+  T& operator[](const int2& i) const { return At<2>(Idx(i.x), Idx(i.y), 0); }
+  T& operator[](const size_t2& i) const { return At<2>(i.x, i.y, 0); }
+  T& operator[](const uint3& i) const { return At<3>(i.x, i.y, i.z); }
+  T& operator[](const int3& i) const { return At<3>(Idx(i.x), Idx(i.y), Idx(i.z)); }
+  T& operator[](const size_t3& i) const { return At<3>(i.x, i.y, i.z); }
 
  private:
   static unsigned long long Idx(int i) { return static_cast<unsigned long long>(i); }
   const TesseraBufferView& View() const { return ::tessera::detail::BufferTable()[slot_]; }
+  // K: how many index components the caller gave; the others are 0. Dimensions past the
+  // buffer's own are 1 (the engine binds only buffers of this dimensionality), so a 0 there is
+  // always inside and only the first max(K, Dim) components need a check.
+  template <int K>
   T& At(unsigned long long x, unsigned long long y, unsigned long long z) const {
+    constexpr int kChecked = K > Dim ? K : Dim;
     const TesseraBufferView& v = View();
-    if (x >= v.size[0] || y >= v.size[1] || z >= v.size[2]) {
+    if (x >= v.size[0] || (kChecked >= 2 && y >= v.size[1]) ||
+        (kChecked >= 3 && z >= v.size[2])) {
       return *static_cast<T*>(::tessera::detail::Rt()->buffer_index_error(slot_, x, y, z));
     }
-    const unsigned long long i = (z * v.size[1] + y) * v.size[0] + x;
+    const unsigned long long i = kChecked == 1   ? x
+                                 : kChecked == 2 ? y * v.size[0] + x
+                                                 : (z * v.size[1] + y) * v.size[0] + x;
     // operator[] cannot tell a read from a write: any access of a gathered buffer marks the
     // element (a relaxed byte store; concurrent marks of one element are benign).
     if (v.written != nullptr) {
