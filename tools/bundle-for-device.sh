@@ -45,5 +45,5 @@ cat >"$libs/worker" <<SCRIPT
 exec /opt/tessera-libs/ld-linux-x86-64.so.2 --library-path /opt/tessera-libs $worker "\$@"
 SCRIPT
 chmod +x "$libs/run" "$libs/worker"
-tar -C "$stage" -cJf "$out" .
+XZ_OPT="${XZ_OPT:--T0 -3}" tar -C "$stage" -cJf "$out" .  # xz on every core
 echo "packed $(du -h "$out" | cut -f1) into $out"

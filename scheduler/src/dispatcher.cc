@@ -11,9 +11,17 @@ namespace {
 
 // Calls a device runs back to back; more only queue up on the device.
 constexpr int kCallsInFlight = 2;
-// A batch's tiles per device thread: enough that a thread rarely waits at the end of a batch for
-// the slowest tile of another, few enough that devices share the tail of a launch.
-constexpr size_t kTilesPerThread = 4;
+// A batch's launch indices per device thread (four of the largest 2D tiles): enough that a call's
+// fixed cost (a round trip, a message each way) stays small against its work, few enough that
+// devices share the tail of a launch. Counted in launch indices, not tiles, so that the small
+// tiles of a launch over many threads do not multiply the calls.
+constexpr uint64_t kIndicesPerThread = 4 * 64 * 64;
+
+uint64_t Indices(const v1::Tile& t) {
+  uint64_t n = 1;
+  for (uint64_t s : t.size()) n *= std::max<uint64_t>(s, 1);
+  return n;
+}
 
 }  // namespace
 
@@ -56,7 +64,10 @@ Dispatcher::~Dispatcher() {
 
 std::vector<v1::Tile> Dispatcher::Take(size_t d) {
   std::deque<v1::Tile>& queue = queues_[stable_ ? d : 0].tiles;
-  size_t batch = kTilesPerThread * static_cast<size_t>(std::max(devices_[d].threads, 1));
+  if (queue.empty()) return {};
+  size_t batch = std::max<uint64_t>(
+      1, kIndicesPerThread * static_cast<uint64_t>(std::max(devices_[d].threads, 1)) /
+             Indices(queue.front()));
   if (devices_.size() == 1) {
     // Nothing to balance with: one call takes everything, and the device's own thread pool
     // balances its tiles without a barrier between batches.

@@ -10,6 +10,8 @@
 namespace tessera::scheduler {
 namespace {
 
+constexpr uint64_t kTileIndices = 4096;
+
 using std::chrono::steady_clock;
 
 // Runs tiles instantly and reports each as a 4-byte region at 4 * tile index; can be told to
@@ -76,7 +78,9 @@ Outcome RunAll(std::vector<FakeDevice*> fakes, size_t tiles, bool stable, int th
   for (size_t i = 0; i < fakes.size(); ++i) {
     devices.push_back({fakes[i], "fake" + std::to_string(i), threads, v1::LaunchRequest()});
   }
-  Dispatcher dispatcher(std::move(devices), MakeTiles({tiles}, {1}), stable);
+  // Tiles of 4096 launch indices: batches of four per device thread.
+  Dispatcher dispatcher(std::move(devices), MakeTiles({tiles * kTileIndices}, {kTileIndices}),
+                        stable);
   Outcome out;
   std::vector<FinishedBatch> batches;
   while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
@@ -181,7 +185,7 @@ TEST(DispatcherTest, TileLosingTwoDevicesFailsTheLaunch) {
 TEST(DispatcherTest, CancelStopsRunningCallsPromptly) {
   FakeDevice a(FakeDevice::Fault::kBlockUntilCancel), b(FakeDevice::Fault::kBlockUntilCancel);
   std::vector<DispatchDevice> devices = {{&a, "a", 1, {}}, {&b, "b", 1, {}}};
-  Dispatcher dispatcher(std::move(devices), MakeTiles({100}, {1}), false);
+  Dispatcher dispatcher(std::move(devices), MakeTiles({100 * kTileIndices}, {kTileIndices}), false);
   std::vector<FinishedBatch> batches;
   EXPECT_FALSE(dispatcher.Wait(steady_clock::now() + std::chrono::milliseconds(20), &batches));
   const auto start = steady_clock::now();

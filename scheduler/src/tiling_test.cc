@@ -39,11 +39,13 @@ TEST(TilingTest, SplitsGridsOfEachDimensionality) {
 
 TEST(TilingTest, ChoosesSmallerTilesForManyThreads) {
   // 1920x1080 has 510 tiles of 64x64: enough for 16 threads (8 each), not for 128.
-  EXPECT_EQ(ChooseTileSize({1920, 1080}, 16), std::vector<uint64_t>({64, 64}));
-  EXPECT_EQ(ChooseTileSize({1920, 1080}, 128), std::vector<uint64_t>({32, 32}));
+  EXPECT_EQ(ChooseTileSize({1920, 1080}, 2), std::vector<uint64_t>({64, 64}));
+  EXPECT_EQ(ChooseTileSize({1920, 1080}, 16), std::vector<uint64_t>({32, 32}));
+  EXPECT_EQ(ChooseTileSize({1920, 1080}, 128), std::vector<uint64_t>({16, 16}));
   // Never below 16x16, however small the launch.
   EXPECT_EQ(ChooseTileSize({20, 20}, 64), std::vector<uint64_t>({16, 16}));
-  EXPECT_EQ(ChooseTileSize({100000}, 2), std::vector<uint64_t>({4096}));
+  EXPECT_EQ(ChooseTileSize({100000}, 2), std::vector<uint64_t>({512}));
+  EXPECT_EQ(ChooseTileSize({1000000}, 2), std::vector<uint64_t>({4096}));
   EXPECT_EQ(ChooseTileSize({1000}, 4), std::vector<uint64_t>({256}));
   EXPECT_EQ(ChooseTileSize({64, 64, 64}, 1024), std::vector<uint64_t>({8, 8, 2}));
 }

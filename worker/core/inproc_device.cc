@@ -14,6 +14,7 @@
 #include "plan.h"
 #include "replica.h"
 #include "runtime.h"
+#include "tile_pieces.h"
 #include "tessera/rt.h"
 
 namespace tessera {
@@ -21,6 +22,13 @@ namespace {
 
 using worker::FatalError;
 using worker::Index3;
+
+// What a call knows of one of its tiles while its pieces run (guarded by the call's result lock).
+struct TileState {
+  v1::TileResult result;
+  int pieces_left = 0;
+  bool abandoned = false;  // a piece stopped at a cancel
+};
 
 class InprocDevice : public Device {
  public:
@@ -79,41 +87,47 @@ class InprocDevice : public Device {
           absl::StrCat("entry point ", request.entry_point(), " out of range"));
     }
 
+    int threads = replica_.context().num_threads > 0
+                      ? static_cast<int>(replica_.context().num_threads)
+                      : num_threads_;
     std::mutex result_mu;
     std::atomic<bool> stop{false};
     absl::Status failure;
-    auto run_tile = [&](const v1::Tile& tile) {
-      v1::TileResult result;
-      result.set_launch_id(request.launch_id());
-      result.set_tile_index(tile.index());
-      Index3 origin{0, 0, 0}, size{1, 1, 1};
-      for (int i = 0; i < tile.origin_size() && i < 3; ++i) origin[i] = tile.origin(i);
-      for (int i = 0; i < tile.size_size() && i < 3; ++i) size[i] = tile.size(i);
+    // A tile is reported when its last piece ends: not at all when a piece was cancelled, with
+    // the error when a piece failed.
+    const std::vector<worker::TilePiece> pieces = worker::SplitTiles(request.tiles(), dims, threads);
+    std::vector<TileState> tile_states(request.tiles_size());
+    for (const worker::TilePiece& p : pieces) ++tile_states[p.tile].pieces_left;
+    auto run_piece = [&](const worker::TilePiece& piece) {
+      TileState& state = tile_states[piece.tile];
+      v1::TileResult part;
+      bool done = false;
       try {
-        if (!worker::RunTile(*plan_, request.entry_point(), origin, size, dims, cancel, stop,
-                             result)) {
-          return;
-        }
+        done = worker::RunTile(*plan_, request.entry_point(), piece.origin, piece.size, dims,
+                               cancel, stop, part);
       } catch (const FatalError& e) {
         std::lock_guard<std::mutex> lock(result_mu);
         if (failure.ok()) failure = e.status;
         stop = true;
-        result.set_error(std::string(e.status.message()));
-        result.set_error_code(RT_ERROR_LAUNCH_FAILED);
+        part.set_error(std::string(e.status.message()));
+        part.set_error_code(RT_ERROR_LAUNCH_FAILED);
+        done = true;
       }
       std::lock_guard<std::mutex> lock(result_mu);
-      on_result(std::move(result));
+      if (!done) state.abandoned = true;
+      state.result.MergeFrom(part);  // prints and reports carry their launch index
+      if (--state.pieces_left > 0 || (state.abandoned && state.result.error().empty())) return;
+      state.result.set_launch_id(request.launch_id());
+      state.result.set_tile_index(request.tiles(piece.tile).index());
+      on_result(std::move(state.result));
     };
-
-    int threads = replica_.context().num_threads > 0
-                      ? static_cast<int>(replica_.context().num_threads)
-                      : num_threads_;
     // Everything parallel in this call runs in an arena of the device's threads: a worker
     // process started with --threads 1 must not wake TBB threads for the other cores.
     tbb::task_arena arena(threads);
     if (!empty) {  // the all-zero launch only builds accelerations
       arena.execute([&] {
-        tbb::parallel_for(0, request.tiles_size(), 1, [&](int i) { run_tile(request.tiles(i)); });
+        tbb::parallel_for(size_t{0}, pieces.size(), size_t{1},
+                          [&](size_t i) { run_piece(pieces[i]); });
       });
     }
     const auto traced = std::chrono::steady_clock::now();

@@ -16,7 +16,7 @@ namespace tessera::scheduler {
 std::vector<uint64_t> MaxTileSize(size_t dimensionality);
 
 // A tile size for `dims` on devices with `total_threads` threads in all: the largest tiles that
-// still give every thread about eight tiles, halving no further than 256 (1D), 16x16 (2D) or
+// still give every thread about 64 tiles, halving no further than 256 (1D), 16x16 (2D) or
 // 8x8x2 (3D) — below that, per-tile overhead outweighs balance.
 std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int total_threads);
 

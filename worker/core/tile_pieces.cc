@@ -1,0 +1,37 @@
+#include "tile_pieces.h"
+
+#include <algorithm>
+
+namespace tessera::worker {
+
+std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::Tile>& tiles,
+                                  const Index3& dims, int threads) {
+  std::vector<TilePiece> pieces;
+  if (tiles.empty()) return pieces;
+  const int axis = dims[1] > 1 || dims[2] > 1 ? 1 : 0;  // rows of 2D/3D tiles, runs of 1D ones
+  const uint64_t wanted = threads > 1 ? uint64_t{kPiecesPerThread} * threads : 1;
+  const uint64_t per_tile = std::max<uint64_t>(1, (wanted + tiles.size() - 1) / tiles.size());
+  pieces.reserve(tiles.size() * std::min<uint64_t>(per_tile, 64));
+  for (int t = 0; t < tiles.size(); ++t) {
+    const v1::Tile& tile = tiles[t];
+    TilePiece whole;
+    whole.tile = t;
+    for (int i = 0; i < tile.origin_size() && i < 3; ++i) whole.origin[i] = tile.origin(i);
+    for (int i = 0; i < tile.size_size() && i < 3; ++i) whole.size[i] = tile.size(i);
+    // Rows inside the launch: edge tiles reach past it.
+    const uint64_t begin = whole.origin[axis];
+    const uint64_t end = std::min<uint64_t>(begin + whole.size[axis], dims[axis]);
+    const uint64_t rows = end > begin ? end - begin : 0;
+    const uint64_t n = std::max<uint64_t>(1, std::min(per_tile, rows));
+    for (uint64_t k = 0; k < n; ++k) {
+      TilePiece p = whole;
+      const uint64_t from = begin + rows * k / n, to = begin + rows * (k + 1) / n;
+      p.origin[axis] = static_cast<uint32_t>(from);
+      p.size[axis] = static_cast<uint32_t>(n == 1 ? whole.size[axis] : to - from);
+      pieces.push_back(p);
+    }
+  }
+  return pieces;
+}
+
+}  // namespace tessera::worker
