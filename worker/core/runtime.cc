@@ -97,20 +97,7 @@ void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_inde
   ms.loaded = nullptr;
 }
 
-SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
-  SuspendedSlots& s = ts.suspended[level];
-  s.module = ts.current_module;
-  s.outer = s.module->suspended;
-  s.saved = false;
-  s.reads_per_call = ts.kind != ProgramKind::kRayGeneration && ts.kind != ProgramKind::kException;
-  s.module->suspended = &s;
-  return s;
-}
-
-void Resume(ThreadState& ts, SuspendedSlots& s) {
-  if (s.saved) RestoreSlots(s);
-  s.module->suspended = s.outer;
-}
+void RestoreSaved(const SuspendedSlots& s) { RestoreSlots(s); }
 
 void Raise(unsigned code, std::string details) {
   if (TS().plan->ExceptionEnabled(code)) throw ExceptionSignal{code, std::move(details)};

@@ -158,8 +158,20 @@ void SaveSlots(SuspendedSlots& s);
 void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_index);
 
 // Suspends the running program's module across a nested call; Resume restores it if needed.
-SuspendedSlots& Suspend(ThreadState& ts, size_t level);
-void Resume(ThreadState& ts, SuspendedSlots& s);
+inline SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
+  SuspendedSlots& s = ts.suspended[level];
+  s.module = ts.current_module;
+  s.outer = s.module->suspended;
+  s.saved = false;
+  s.reads_per_call = ts.kind != ProgramKind::kRayGeneration && ts.kind != ProgramKind::kException;
+  s.module->suspended = &s;
+  return s;
+}
+void RestoreSaved(const SuspendedSlots& s);  // cold: another program of the module ran
+inline void Resume(ThreadState& ts, SuspendedSlots& s) {
+  if (s.saved) RestoreSaved(s);
+  s.module->suspended = s.outer;
+}
 
 // memcpy for the small, mostly fixed sizes of slot values, without a library call.
 inline void CopyBytes(void* dst, const void* src, size_t n) {

@@ -75,6 +75,10 @@ void StoreAttributes(const ModuleState& ms, const BoundProgram& p, unsigned char
 // Copies the payload back from the program's payload variable. With several payload variables
 // (radiance and shadow, say) the one of the traced payload's size that the program changed wins.
 void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst, size_t size) {
+  if (p.payload.size() == 1 && p.payload.front().size == size) {  // the usual case
+    CopyBytes(dst, ms.slots[p.payload.front().var], size);
+    return;
+  }
   const BoundProgram::SlotRef* chosen = nullptr;
   for (const BoundProgram::SlotRef& r : p.payload) {
     if (r.size != size) continue;
