@@ -28,6 +28,7 @@ struct Options {
   int repeats = 3;
   int max_devices = 0;        // 0: the core count
   bool thread_sweep = false;  // inproc rows for 2, 4, 8 … threads too
+  std::vector<std::string> only;  // --devices: just these specs after the baseline
   std::string module_dir;
   bool check = false;
 };
@@ -93,10 +94,15 @@ int Run(const Options& o) {
     // How one process scales with threads alone, to tell the engine's limits from the wire's.
     for (int t = 2; t < cores; t *= 2) configs.push_back(MakeConfig("inproc", t, t));
   }
-  configs.push_back(MakeConfig("inproc", cores, cores));
-  for (int n : WorkerCounts(max_devices)) {
-    // Each local worker gets its share of the cores, at least one thread (worker_factory.cc).
-    configs.push_back(MakeConfig("local:" + std::to_string(n), 0, n * std::max(1, cores / n)));
+  if (!o.only.empty()) {
+    // A look at chosen configurations (say local:16 with TESSERA_LAUNCH_TIMING=1).
+    for (const std::string& spec : o.only) configs.push_back(MakeConfig(spec, 0, cores));
+  } else {
+    configs.push_back(MakeConfig("inproc", cores, cores));
+    for (int n : WorkerCounts(max_devices)) {
+      // Each local worker gets its share of the cores, at least one thread (worker_factory.cc).
+      configs.push_back(MakeConfig("local:" + std::to_string(n), 0, n * std::max(1, cores / n)));
+    }
   }
 
   for (Config& c : configs) {
@@ -174,6 +180,8 @@ int main(int argc, char** argv) {
   app.add_option("--max-devices", o.max_devices,
                  "largest local:N (default: the core count, which the headline figure needs)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--devices", o.only,
+                 "only these device specs after the baseline (repeatable; no headline figure)");
   app.add_option("--modules", o.module_dir, "directory of the tutorial_*.so modules");
   app.add_flag("--check", o.check,
                "96x64, local:1 and local:2, one timed launch; exit 1 unless images are identical");

@@ -157,22 +157,6 @@ void InitModuleState(ModuleState& ms, const Module* m);
 void SaveSlots(SuspendedSlots& s);
 void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_index);
 
-// Suspends the running program's module across a nested call; Resume restores it if needed.
-inline SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
-  SuspendedSlots& s = ts.suspended[level];
-  s.module = ts.current_module;
-  s.outer = s.module->suspended;
-  s.saved = false;
-  s.reads_per_call = ts.kind != ProgramKind::kRayGeneration && ts.kind != ProgramKind::kException;
-  s.module->suspended = &s;
-  return s;
-}
-void RestoreSaved(const SuspendedSlots& s);  // cold: another program of the module ran
-inline void Resume(ThreadState& ts, SuspendedSlots& s) {
-  if (s.saved) RestoreSaved(s);
-  s.module->suspended = s.outer;
-}
-
 // memcpy for the small, mostly fixed sizes of slot values, without a library call.
 inline void CopyBytes(void* dst, const void* src, size_t n) {
   switch (n) {
@@ -244,6 +228,28 @@ inline void Enter(ThreadState& ts, const BoundProgram& p) {
     WriteSlots<sizeof(ts.dims)>(ms, p.launch_dim, ts.dims.data());
     ms.index_written = ts.index_serial;
   }
+}
+
+// Suspends the running program's module across a nested call; Resume restores it if needed.
+inline SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
+  SuspendedSlots& s = ts.suspended[level];
+  s.module = ts.current_module;
+  s.outer = s.module->suspended;
+  s.saved = false;
+  s.reads_per_call = ts.kind != ProgramKind::kRayGeneration && ts.kind != ProgramKind::kException;
+  s.module->suspended = &s;
+  return s;
+}
+void RestoreSaved(const SuspendedSlots& s);  // cold: another program of the module ran
+inline void Resume(ThreadState& ts, SuspendedSlots& s) {
+  if (s.saved) {
+    if (s.reads_per_call) {
+      RestoreSaved(s);
+    } else if (s.module->loaded != s.loaded && s.loaded != nullptr) {
+      Apply(*s.module, *s.loaded);  // a ray generation program needs back only its binding
+    }
+  }
+  s.module->suspended = s.outer;
 }
 
 // Raises `code` if it is enabled (throws ExceptionSignal); otherwise returns so the caller skips

@@ -74,11 +74,8 @@ void StoreAttributes(const ModuleState& ms, const BoundProgram& p, unsigned char
 
 // Copies the payload back from the program's payload variable. With several payload variables
 // (radiance and shadow, say) the one of the traced payload's size that the program changed wins.
-void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst, size_t size) {
-  if (p.payload.size() == 1 && p.payload.front().size == size) {  // the usual case
-    CopyBytes(dst, ms.slots[p.payload.front().var], size);
-    return;
-  }
+__attribute__((noinline)) void ChoosePayload(const ModuleState& ms, const BoundProgram& p,
+                                             void* dst, size_t size) {
   const BoundProgram::SlotRef* chosen = nullptr;
   for (const BoundProgram::SlotRef& r : p.payload) {
     if (r.size != size) continue;
@@ -94,6 +91,14 @@ void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst, size_t
     chosen = &p.payload.front();
   }
   CopyBytes(dst, ms.slots[chosen->var], std::min<size_t>(size, chosen->size));
+}
+
+inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst, size_t size) {
+  if (p.payload.size() == 1 && p.payload.front().size == size) {  // the usual case
+    CopyBytes(dst, ms.slots[p.payload.front().var], size);
+  } else {
+    ChoosePayload(ms, p, dst, size);
+  }
 }
 
 // Runs a closest-hit or miss program on the current frame's payload.
