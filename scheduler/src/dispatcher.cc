@@ -65,9 +65,8 @@ Dispatcher::~Dispatcher() {
 std::vector<v1::Tile> Dispatcher::Take(size_t d) {
   std::deque<v1::Tile>& queue = queues_[stable_ ? d : 0].tiles;
   if (queue.empty()) return {};
-  size_t batch = std::max<uint64_t>(
-      1, kIndicesPerThread * static_cast<uint64_t>(std::max(devices_[d].threads, 1)) /
-             Indices(queue.front()));
+  const uint64_t threads = static_cast<uint64_t>(std::max(devices_[d].threads, 1));
+  size_t batch = std::max<uint64_t>(1, kIndicesPerThread * threads / Indices(queue.front()));
   if (devices_.size() == 1) {
     // Nothing to balance with: one call takes everything, and the device's own thread pool
     // balances its tiles without a barrier between batches.

@@ -14,8 +14,8 @@
 #include "plan.h"
 #include "replica.h"
 #include "runtime.h"
-#include "tile_pieces.h"
 #include "tessera/rt.h"
+#include "tile_pieces.h"
 
 namespace tessera {
 namespace {
@@ -95,7 +95,8 @@ class InprocDevice : public Device {
     absl::Status failure;
     // A tile is reported when its last piece ends: not at all when a piece was cancelled, with
     // the error when a piece failed.
-    const std::vector<worker::TilePiece> pieces = worker::SplitTiles(request.tiles(), dims, threads);
+    const std::vector<worker::TilePiece> pieces =
+        worker::SplitTiles(request.tiles(), dims, threads);
     std::vector<TileState> tile_states(request.tiles_size());
     for (const worker::TilePiece& p : pieces) ++tile_states[p.tile].pieces_left;
     auto run_piece = [&](const worker::TilePiece& piece) {

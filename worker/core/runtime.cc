@@ -255,22 +255,22 @@ void RtIntersectChild(unsigned index) {
 
 TesseraRuntime MakeRuntime() {
   TesseraRuntime r = {
-    TESSERA_MODULE_ABI_VERSION,
-    &RtTrace,
-    &RtPotentialIntersection,
-    &RtReportIntersection,
-    &RtIgnoreIntersection,
-    &RtTerminateRay,
-    &RtThrow,
-    &RtExceptionCode,
-    &RtPrintExceptionDetails,
-    &RtPrintActive,
-    &RtPrint,
-    &RtTransform,
-    &RtGetTransform,
-    &RtBufferIndexError,
-    &RtIntersectChild,
-    0,
+      TESSERA_MODULE_ABI_VERSION,
+      &RtTrace,
+      &RtPotentialIntersection,
+      &RtReportIntersection,
+      &RtIgnoreIntersection,
+      &RtTerminateRay,
+      &RtThrow,
+      &RtExceptionCode,
+      &RtPrintExceptionDetails,
+      &RtPrintActive,
+      &RtPrint,
+      &RtTransform,
+      &RtGetTransform,
+      &RtBufferIndexError,
+      &RtIntersectChild,
+      0,
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -

@@ -257,9 +257,8 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   const LaunchPlan& plan = *ts.plan;
   RayData ray;
   std::memcpy(&ray, ray_ptr, sizeof(ray));
-  if (__builtin_expect(ts.depth >= plan.max_depth || !ValidRay(ray) ||
-                           ray.ray_type >= plan.ray_type_count,
-                       0)) {
+  if (__builtin_expect(
+          ts.depth >= plan.max_depth || !ValidRay(ray) || ray.ray_type >= plan.ray_type_count, 0)) {
     RejectTrace(ts, ray);  // raises, throws, or returns when the exception is disabled
     return;
   }

@@ -222,8 +222,7 @@ class buffer {
   T& At(unsigned long long x, unsigned long long y, unsigned long long z) const {
     constexpr int kChecked = K > Dim ? K : Dim;
     const TesseraBufferView& v = View();
-    if (x >= v.size[0] || (kChecked >= 2 && y >= v.size[1]) ||
-        (kChecked >= 3 && z >= v.size[2])) {
+    if (x >= v.size[0] || (kChecked >= 2 && y >= v.size[1]) || (kChecked >= 3 && z >= v.size[2])) {
       return *static_cast<T*>(::tessera::detail::Rt()->buffer_index_error(slot_, x, y, z));
     }
     const unsigned long long i = kChecked == 1   ? x
