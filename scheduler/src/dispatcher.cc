@@ -73,9 +73,10 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
     batch = queue.size();
   } else if (!stable_) {
     // Shrink batches as the shared queue drains so that no device is left holding a long tail
-    // while the others idle.
+    // while the others idle: with two calls in flight per device, at most a quarter of the
+    // queue is out at once (and a lost device takes back no more than that).
     size_t live = static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false));
-    batch = std::clamp<size_t>(queue.size() / (4 * std::max<size_t>(live, 1)), 1, batch);
+    batch = std::clamp<size_t>(queue.size() / (8 * std::max<size_t>(live, 1)), 1, batch);
   }
   batch = std::min(batch, queue.size());
   std::vector<v1::Tile> tiles;

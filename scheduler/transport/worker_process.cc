@@ -360,6 +360,9 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
 }
 
 std::string WorkerProcess::WaitForExit(absl::Duration timeout, bool* crashed) {
+  // One reaper at a time: a second caller would find the child gone (ECHILD) and describe a
+  // status it never saw ("exited with status 0" for a worker killed by signal 9).
+  std::lock_guard<std::mutex> lock(exit_mu_);
   if (pid_ > 0) {
     int status = 0;
     if (WaitFor(pid_, timeout, &status)) {

@@ -7,6 +7,7 @@
 #include <sys/types.h>
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -54,14 +55,16 @@ class WorkerProcess {
 
   // How the worker ended, waiting up to `timeout` for it to end: "was killed by signal 9", or
   // empty while it still runs. `crashed` says whether a fatal signal other than SIGKILL ended
-  // it (a crash rather than something killing it). Reaps the process once it ended.
+  // it (a crash rather than something killing it). Reaps the process once it ended. Safe to call
+  // from several threads (both calls in flight of a device see it go): all see the same answer.
   std::string WaitForExit(absl::Duration timeout, bool* crashed);
 
  private:
   WorkerProcess() = default;
 
   pid_t pid_ = -1;
-  std::string exit_;  // set once reaped
+  std::mutex exit_mu_;  // guards reaping: pid_ (after Spawn), exit_, crashed_
+  std::string exit_;    // set once reaped
   bool crashed_ = false;
   std::string address_;
   std::string directory_;
