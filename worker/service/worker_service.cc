@@ -7,7 +7,6 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
-#include <optional>
 #include <thread>
 #include <utility>
 
@@ -26,8 +25,8 @@ using transport::DeltaAssembler;
 using transport::SplitTileResult;
 using transport::ToGrpcStatus;
 
-// How often a launch looks at whether its call was cancelled.
-constexpr std::chrono::milliseconds kCancelPoll{2};
+// How often a launch looks at whether its call was cancelled (results wake it at once).
+constexpr std::chrono::milliseconds kCancelPoll{20};
 // How often a running launch says it is alive when no tile finished; well below the host's
 // silence deadline (GrpcDevice, TESSERA_WORKER_TIMEOUT).
 constexpr std::chrono::milliseconds kHeartbeatInterval{500};
@@ -128,14 +127,17 @@ grpc::Status WorkerService::Apply(grpc::ServerContext* context,
 
   const uint64_t id = delta->session_id();
   std::shared_ptr<Session> session;
-  std::optional<absl::MutexLock> lock;
   while (true) {
     session = FindSession(id, /*create=*/true);
-    lock.emplace(&session->mu);
+    session->mu.Lock();
     // A failed first delta may have dropped the session while this call waited for it.
     if (IsCurrent(id, session)) break;
-    lock.reset();
+    session->Release();
   }
+  struct Held {
+    Session* session;
+    ~Held() { session->Release(); }
+  } held{session.get()};
   if (session->device == nullptr || delta->sequence() == 1) {
     // The device is replaced only if the new one accepts the delta: a rejected delta leaves the
     // session as it was.
@@ -162,7 +164,13 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
   // The host keeps a second call queued behind the running one; it says it is alive while it
   // waits, or the host would take the wait for a hung worker.
   auto last_write = std::chrono::steady_clock::now();
-  while (!session->mu.TryLock()) {
+  while (true) {
+    uint64_t seen;
+    {
+      std::lock_guard<std::mutex> lock(session->turn_mu);
+      seen = session->releases;
+    }
+    if (session->mu.TryLock()) break;
     if (context->IsCancelled()) {
       return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");
     }
@@ -172,12 +180,14 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
       }
       last_write = std::chrono::steady_clock::now();
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    // Woken by the release; the timeout only paces heartbeats and cancel checks.
+    std::unique_lock<std::mutex> lock(session->turn_mu);
+    session->turn_cv.wait_for(lock, kCancelPoll, [&] { return session->releases != seen; });
   }
-  struct Unlock {
-    absl::Mutex* mu;
-    ~Unlock() { mu->Unlock(); }
-  } unlock{&session->mu};
+  struct Held {
+    Session* session;
+    ~Held() { session->Release(); }
+  } held{session.get()};
   if (session->device == nullptr) {
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                         absl::StrCat("no state for session ", request->session_id()));
