@@ -16,6 +16,7 @@ constexpr int kCallsInFlight = 2;
 // devices share the tail of a launch. Counted in launch indices, not tiles, so that the small
 // tiles of a launch over many threads do not multiply the calls.
 constexpr uint64_t kIndicesPerThread = 4 * 64 * 64;
+constexpr uint64_t kMinIndicesPerThread = 64 * 64;
 
 uint64_t Indices(const v1::Tile& t) {
   uint64_t n = 1;
@@ -75,8 +76,14 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
     // Shrink batches as the shared queue drains so that no device is left holding a long tail
     // while the others idle: with two calls in flight per device, at most a quarter of the
     // queue is out at once (and a lost device takes back no more than that).
-    size_t live = static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false));
-    batch = std::clamp<size_t>(queue.size() / (8 * std::max<size_t>(live, 1)), 1, batch);
+    // But not below a 64x64 tile's worth of launch indices per thread while the queue allows:
+    // a call costs a round trip, and one-tile calls of small tiles leave devices waiting for it.
+    const size_t live =
+        std::max<size_t>(1, static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false)));
+    const size_t floor = std::min<size_t>(
+        std::max<uint64_t>(1, kMinIndicesPerThread * threads / Indices(queue.front())),
+        queue.size() / (2 * live));
+    batch = std::clamp<size_t>(std::max(queue.size() / (8 * live), floor), 1, batch);
   }
   batch = std::min(batch, queue.size());
   std::vector<v1::Tile> tiles;
