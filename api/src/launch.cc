@@ -101,12 +101,26 @@ absl::Status CheckNothingMapped(Context& context) {
 
 // Ships each device what changed since it last synced. A device that is gone is dropped from
 // this launch (and created again for the next); every device gone is RT_ERROR_CONNECTION_FAILED.
+// Whether `delta` would tell the device nothing: no object, removal, chunk or module, and the
+// context state it last applied. (A spuriously different serialization only costs a send.)
+bool NothingNew(const v1::StateDelta& delta, const DeviceSync& sync,
+                const std::string& context_bytes) {
+  return sync.next_sequence > 1 && delta.objects_size() == 0 && delta.removed_size() == 0 &&
+         delta.chunks_size() == 0 && delta.modules_size() == 0 &&
+         context_bytes == sync.last_context;
+}
+
 absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
   size_t alive = 0;
   std::string lost;
   for (DeviceSlot& slot : context.device_slots()) {
     if (slot.device == nullptr) continue;
     PreparedDelta prepared = BuildDelta(context, slot.sync);
+    std::string context_bytes = prepared.delta.context().SerializeAsString();
+    if (NothingNew(prepared.delta, slot.sync, context_bytes)) {
+      ++alive;  // an unchanged launch costs no round trip per device
+      continue;
+    }
     uint64_t bytes = 0;
     for (const v1::BufferChunk& chunk : prepared.delta.chunks()) bytes += chunk.data().size();
     absl::Status status = slot.device->Apply(prepared.delta);
@@ -119,6 +133,7 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
     if (!status.ok()) return DeviceError(slot, "rejected the state update", status);
     context.CountSent(bytes);
     CommitDelta(std::move(prepared), &slot.sync);
+    slot.sync.last_context = std::move(context_bytes);
     ++alive;
   }
   if (alive == 0) {

@@ -116,13 +116,26 @@ class LaunchTest : public ::testing::Test {
     return static_cast<uint64_t>(id);
   }
 
-  RTresult Launch(RTsize w = kWidth, RTsize h = kHeight) { return rtContextLaunch2D(ctx, 0, w, h); }
+  RTresult Launch(RTsize w = kWidth, RTsize h = kHeight) {
+    deltas_before_.clear();
+    for (const auto& r : records) deltas_before_.push_back(r->deltas.size());
+    return rtContextLaunch2D(ctx, 0, w, h);
+  }
 
-  const v1::StateDelta& LastDelta(int device = 0) { return records[device]->deltas.back(); }
+  // The delta the last Launch() sent `device`, or an empty one: a launch with nothing new for a
+  // device sends it none.
+  const v1::StateDelta& LastDelta(int device = 0) {
+    static const v1::StateDelta kNothing;
+    const auto& deltas = records[device]->deltas;
+    const size_t before =
+        static_cast<size_t>(device) < deltas_before_.size() ? deltas_before_[device] : 0;
+    return deltas.size() > before ? deltas.back() : kNothing;
+  }
   const v1::LaunchRequest& LastLaunch(int device = 0) { return records[device]->launches.back(); }
 
   RTcontext ctx = nullptr;
   std::vector<std::shared_ptr<FakeDevice::Record>> records;
+  std::vector<size_t> deltas_before_;  // per device, when the last Launch() began
   RTprogram raygen = nullptr;
   RTbuffer output = nullptr;
   RTbuffer input = nullptr;

@@ -300,7 +300,7 @@ TEST_F(LaunchTest, TwoDevicesSplitTilesAndMergeOutputs) {
   EXPECT_EQ(tiles / 3, scheduler::MakeTiles({width, height}, {16, 16}).size());
   // Both devices received the full state, each in its own session.
   EXPECT_EQ(records[0]->deltas.front().objects_size(), records[1]->deltas.front().objects_size());
-  EXPECT_NE(LastDelta(0).session_id(), LastDelta(1).session_id());
+  EXPECT_NE(records[0]->deltas.front().session_id(), records[1]->deltas.front().session_id());
 }
 
 TEST_F(LaunchTest, TileSizeCanBeSet) {

@@ -147,15 +147,18 @@ TEST_F(LaunchTest, FirstLaunchShipsEverything) {
 TEST_F(LaunchTest, UnchangedSecondLaunchShipsNothing) {
   ASSERT_EQ(Launch(), RT_SUCCESS);
   ASSERT_EQ(Launch(), RT_SUCCESS);
+  // Not even a delta: the device holds everything, so the launch costs it no round trip.
+  EXPECT_EQ(records[0]->deltas.size(), 1u);
+  EXPECT_GT(LastLaunch().launch_id(), records[0]->launches.front().launch_id());
+  // A change to the context alone sends the context, with the next sequence number.
+  ASSERT_EQ(rtContextSetStackSize(ctx, 2048), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
   ASSERT_EQ(records[0]->deltas.size(), 2u);
   const v1::StateDelta& d = LastDelta();
   EXPECT_EQ(d.sequence(), 2u);
   EXPECT_EQ(d.objects_size(), 0);
   EXPECT_EQ(d.chunks_size(), 0);
-  EXPECT_EQ(d.modules_size(), 0);
-  EXPECT_EQ(d.removed_size(), 0);
-  EXPECT_TRUE(d.has_context());
-  EXPECT_GT(LastLaunch().launch_id(), records[0]->launches.front().launch_id());
+  EXPECT_EQ(d.context().stack_size(), 2048u);
 }
 
 // Module bytes in a delta.
@@ -197,6 +200,7 @@ TEST_F(LaunchTest, ModuleTravelsAgainAfterAFailedApply) {
   EXPECT_EQ(ModuleBytes(LastDelta()), FileBytes(kTestModule).size());
   ASSERT_EQ(Launch(), RT_SUCCESS);
   EXPECT_EQ(ModuleBytes(LastDelta()), 0u);
+  EXPECT_EQ(records[0]->deltas.size(), 2u);  // nothing new: no delta at all
 }
 
 TEST_F(LaunchTest, ChangingOneVariableShipsOnlyItsScope) {
