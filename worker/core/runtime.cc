@@ -41,22 +41,16 @@ void SaveSlots(SuspendedSlots& s) {
   }
 }
 
-namespace {
-
-void RestoreSlots(const SuspendedSlots& s) {
+void RestoreSaved(const SuspendedSlots& s) {
   ModuleState& ms = *s.module;
-  if (s.reads_per_call) {
-    const auto& vars = ms.module->variables();
-    const unsigned char* at = s.bytes.data();
-    for (unsigned var : ms.module->per_call()) {
-      CopyBytes(ms.slots[var], at, vars[var].size);
-      at += vars[var].size;
-    }
+  const auto& vars = ms.module->variables();
+  const unsigned char* at = s.bytes.data();
+  for (unsigned var : ms.module->per_call()) {
+    CopyBytes(ms.slots[var], at, vars[var].size);
+    at += vars[var].size;
   }
   if (ms.loaded != s.loaded && s.loaded != nullptr) Apply(ms, *s.loaded);
 }
-
-}  // namespace
 
 __thread ThreadState* t_state __attribute__((tls_model("initial-exec"))) = nullptr;
 __thread const TesseraBufferView* t_buffer_table __attribute__((tls_model("initial-exec"))) =
@@ -97,7 +91,6 @@ void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_inde
   ms.loaded = nullptr;
 }
 
-void RestoreSaved(const SuspendedSlots& s) { RestoreSlots(s); }
 
 void Raise(unsigned code, std::string details) {
   if (TS().plan->ExceptionEnabled(code)) throw ExceptionSignal{code, std::move(details)};

@@ -240,7 +240,9 @@ inline SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
   s.module->suspended = &s;
   return s;
 }
-void RestoreSaved(const SuspendedSlots& s);  // cold: another program of the module ran
+// Puts back a suspended program's per-call values and binding (runtime.cc): another program of its
+// module ran while it was suspended.
+void RestoreSaved(const SuspendedSlots& s);
 inline void Resume(ThreadState& ts, SuspendedSlots& s) {
   if (s.saved) {
     if (s.reads_per_call) {
