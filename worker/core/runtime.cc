@@ -91,7 +91,6 @@ void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_inde
   ms.loaded = nullptr;
 }
 
-
 void Raise(unsigned code, std::string details) {
   if (TS().plan->ExceptionEnabled(code)) throw ExceptionSignal{code, std::move(details)};
 }
