@@ -1,12 +1,7 @@
 #include "hash.h"
 
-#include <openssl/evp.h>
-
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 
-#include "absl/strings/escaping.h"
 #include "absl/strings/str_format.h"
 
 namespace tessera::api {
@@ -95,16 +90,5 @@ uint64_t Hash64(const void* data, size_t size, uint64_t seed) {
 }
 
 std::string HexHash(uint64_t hash) { return absl::StrFormat("%016x", hash); }
-
-std::string ModuleHash(absl::string_view bytes) {
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int size = 0;
-  // EVP_Digest fails only when it cannot allocate: nothing a caller could handle.
-  if (EVP_Digest(bytes.data(), bytes.size(), digest, &size, EVP_sha256(), nullptr) != 1) {
-    std::fprintf(stderr, "tessera: SHA-256 failed (out of memory?)\n");
-    std::abort();
-  }
-  return absl::BytesToHexString(absl::string_view(reinterpret_cast<const char*>(digest), size));
-}
 
 }  // namespace tessera::api

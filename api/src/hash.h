@@ -10,6 +10,7 @@
 #include <string>
 
 #include "absl/strings/string_view.h"
+#include "tessera/scheduler/module_hash.h"
 
 namespace tessera::api {
 
@@ -29,9 +30,7 @@ inline uint64_t ChunkHash(const void* data, size_t size) {
 // 16 lowercase hex digits.
 std::string HexHash(uint64_t hash);
 
-// The wire's module hash (state.proto Program.module_hash): 64 lowercase hex digits of the
-// SHA-256 of a module file's bytes. worker/core computes the same to check what it receives.
-std::string ModuleHash(absl::string_view bytes);
+using scheduler::ModuleHash;  // the wire's module hash (tessera/scheduler/module_hash.h)
 
 }  // namespace tessera::api
 

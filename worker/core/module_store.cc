@@ -1,6 +1,5 @@
 #include "module_store.h"
 
-#include <openssl/evp.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -32,17 +31,6 @@ bool ReadWholeFile(const std::string& path, std::string* out) {
 }
 
 }  // namespace
-
-std::string ModuleHash(absl::string_view bytes) {
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int size = 0;
-  // EVP_Digest fails only when it cannot allocate: nothing a caller could handle.
-  if (EVP_Digest(bytes.data(), bytes.size(), digest, &size, EVP_sha256(), nullptr) != 1) {
-    std::fprintf(stderr, "tessera: SHA-256 failed (out of memory?)\n");
-    std::abort();
-  }
-  return absl::BytesToHexString(absl::string_view(reinterpret_cast<const char*>(digest), size));
-}
 
 bool IsModuleHash(absl::string_view hash) {
   if (hash.size() != 64) return false;

@@ -14,12 +14,12 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
 #include "google/protobuf/repeated_ptr_field.h"
+#include "tessera/scheduler/module_hash.h"
 #include "tessera/v1/state.pb.h"
 
 namespace tessera::worker {
 
-// The wire's module hash (state.proto Program.module_hash): lowercase hex SHA-256 of the bytes.
-std::string ModuleHash(absl::string_view bytes);
+using scheduler::ModuleHash;  // the wire's module hash, as the host computes it
 
 // 64 lowercase hex digits: the form of a module hash, and a safe file name.
 bool IsModuleHash(absl::string_view hash);

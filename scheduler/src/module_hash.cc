@@ -1,0 +1,23 @@
+#include "tessera/scheduler/module_hash.h"
+
+#include <openssl/evp.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "absl/strings/escaping.h"
+
+namespace tessera::scheduler {
+
+std::string ModuleHash(absl::string_view bytes) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int size = 0;
+  // EVP_Digest fails only when it cannot allocate: nothing a caller could handle.
+  if (EVP_Digest(bytes.data(), bytes.size(), digest, &size, EVP_sha256(), nullptr) != 1) {
+    std::fprintf(stderr, "tessera: SHA-256 failed (out of memory?)\n");
+    std::abort();
+  }
+  return absl::BytesToHexString(absl::string_view(reinterpret_cast<const char*>(digest), size));
+}
+
+}  // namespace tessera::scheduler
