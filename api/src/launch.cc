@@ -1,5 +1,7 @@
 // Context::Launch: validate, ship state deltas, dispatch tiles to devices (scheduler/), gather
 // results, and deal with devices lost on the way.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -52,7 +54,9 @@ void WarnLost(const DeviceSlot& slot, uint64_t launch_id, const absl::Status& re
 // device work from host work when a launch scales worse than expected.
 class LaunchTiming {
  public:
-  LaunchTiming() : enabled_(Enabled()), last_(std::chrono::steady_clock::now()) {}
+  LaunchTiming() : enabled_(Enabled()), last_(std::chrono::steady_clock::now()) {
+    if (enabled_) getrusage(RUSAGE_SELF, &start_usage_);
+  }
   void Mark(const char* phase) {
     if (!enabled_) return;
     const auto now = std::chrono::steady_clock::now();
@@ -61,8 +65,16 @@ class LaunchTiming {
   }
   void Report(uint64_t launch_id) {
     if (!enabled_) return;
-    std::fprintf(stderr, "tessera: launch %llu:%s (of which applying results %sms)\n",
-                 static_cast<unsigned long long>(launch_id), line_.c_str(), Ms(apply).c_str());
+    rusage now{};
+    getrusage(RUSAGE_SELF, &now);
+    auto ms = [](const timeval& a, const timeval& b) {
+      return 1e3 * static_cast<double>(a.tv_sec - b.tv_sec) + 1e-3 * (a.tv_usec - b.tv_usec);
+    };
+    std::fprintf(stderr,
+                 "tessera: launch %llu:%s (of which applying results %sms); host cpu user %.1fms "
+                 "sys %.1fms\n",
+                 static_cast<unsigned long long>(launch_id), line_.c_str(), Ms(apply).c_str(),
+                 ms(now.ru_utime, start_usage_.ru_utime), ms(now.ru_stime, start_usage_.ru_stime));
   }
   std::chrono::steady_clock::duration apply{};
 
@@ -75,6 +87,7 @@ class LaunchTiming {
     return absl::StrFormat("%.1f", std::chrono::duration<double, std::milli>(d).count());
   }
   const bool enabled_;
+  rusage start_usage_{};
   std::chrono::steady_clock::time_point last_;
   std::string line_;
 };

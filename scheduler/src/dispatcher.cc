@@ -17,6 +17,10 @@ constexpr int kCallsInFlight = 2;
 // tiles of a launch over many threads do not multiply the calls.
 constexpr uint64_t kIndicesPerThread = 4 * 64 * 64;
 constexpr uint64_t kMinIndicesPerThread = 64 * 64;
+// A call takes 1/(kGuidedShare * live devices) of the shared queue. An eighth made some 400 calls
+// per 1080p launch over 16 workers, whose host time (about 0.45 ms each on the 16-core machine)
+// took a core from the workers; a quarter makes half as many and ended no later (bench/README.md).
+constexpr size_t kGuidedShare = 4;
 
 uint64_t Indices(const v1::Tile& t) {
   uint64_t n = 1;
@@ -74,8 +78,8 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
     batch = queue.size();
   } else if (!stable_) {
     // Shrink batches as the shared queue drains so that no device is left holding a long tail
-    // while the others idle: with two calls in flight per device, at most a quarter of the
-    // queue is out at once (and a lost device takes back no more than that).
+    // while the others idle: with two calls in flight per device, at most half of the queue is
+    // out at once (and a lost device takes back no more than that).
     // But not below a 64x64 tile's worth of launch indices per thread while the queue allows:
     // a call costs a round trip, and one-tile calls of small tiles leave devices waiting for it.
     const size_t live =
@@ -83,7 +87,7 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
     const size_t floor = std::min<size_t>(
         std::max<uint64_t>(1, kMinIndicesPerThread * threads / Indices(queue.front())),
         queue.size() / (2 * live));
-    batch = std::clamp<size_t>(std::max(queue.size() / (8 * live), floor), 1, batch);
+    batch = std::clamp<size_t>(std::max(queue.size() / (kGuidedShare * live), floor), 1, batch);
   }
   batch = std::min(batch, queue.size());
   std::vector<v1::Tile> tiles;

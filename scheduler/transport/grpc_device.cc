@@ -4,74 +4,21 @@
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdlib>
-#include <mutex>
-#include <thread>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "tessera/v1/worker.grpc.pb.h"
+#include "transport/call_watchdog.h"
 #include "transport/credentials.h"
 #include "transport/worker_wire.h"
 
 namespace tessera::transport {
 namespace {
 
-// How often a running launch looks at the cancel flag: often enough that a cancel stops workers
-// promptly, seldom enough that 32 calls in flight do not keep a busy machine waking up.
-constexpr std::chrono::milliseconds kCancelPoll{20};
-
 std::chrono::system_clock::time_point DeadlineIn(absl::Duration timeout) {
   return absl::ToChronoTime(absl::Now() + timeout);
 }
-
-// Cancels `context` once `cancel` becomes true, or once the worker has sent nothing (not even a
-// heartbeat, which a running worker sends twice a second) for `silence`; stops when destroyed.
-// Blocking reads on the stream cannot watch either themselves.
-class CallWatcher {
- public:
-  CallWatcher(grpc::ClientContext* context, const std::atomic<bool>& cancel, absl::Duration silence)
-      : thread_([this, context, &cancel, silence] {
-          std::unique_lock<std::mutex> lock(mu_);
-          while (!stop_) {
-            if (cancel.load()) {
-              context->TryCancel();
-              return;
-            }
-            if (absl::Now() - last_message_ > silence) {
-              silent_ = true;
-              context->TryCancel();
-              return;
-            }
-            cv_.wait_for(lock, kCancelPoll);
-          }
-        }) {}
-  ~CallWatcher() {
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      stop_ = true;
-    }
-    cv_.notify_all();
-    thread_.join();
-  }
-  void Heard() {
-    std::lock_guard<std::mutex> lock(mu_);
-    last_message_ = absl::Now();
-  }
-  bool silent() {
-    std::lock_guard<std::mutex> lock(mu_);
-    return silent_;
-  }
-
- private:
-  std::mutex mu_;
-  std::condition_variable cv_;
-  bool stop_ = false;                      // guarded by mu_
-  bool silent_ = false;                    // guarded by mu_
-  absl::Time last_message_ = absl::Now();  // guarded by mu_
-  std::thread thread_;                     // last: starts after the members it uses
-};
 
 // TESSERA_WORKER_TIMEOUT (seconds, default 10): how long a worker may stay silent during a launch
 // before the host gives up on it and runs its tiles elsewhere.
@@ -182,7 +129,7 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
   grpc::Status status;
   bool silent = false;
   {
-    CallWatcher watcher(&context, cancel, SilenceDeadline());
+    WatchedCall watcher(&context, cancel, SilenceDeadline());
     v1::TileResult result;
     while (reader->Read(&result)) {
       watcher.Heard();

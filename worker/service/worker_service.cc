@@ -1,10 +1,13 @@
 #include "worker_service.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <mutex>
 #include <thread>
@@ -49,6 +52,53 @@ std::string DeviceName() {
   if (gethostname(host, sizeof(host) - 1) != 0) return "tessera-worker";
   return absl::StrCat("tessera-worker@", host);
 }
+
+// TESSERA_LAUNCH_TIMING=1 (as on the host): one line per call on stderr (the worker's log) with
+// where its time went and what the process asked of the kernel meanwhile, to tell tracing from
+// waiting, sending and system work when worker processes scale worse than threads.
+class CallTiming {
+ public:
+  CallTiming() : enabled_(Enabled()), arrived_(Clock::now()) {}
+  void Locked() {
+    if (!enabled_) return;
+    locked_ = Clock::now();
+    getrusage(RUSAGE_SELF, &before_);
+  }
+  void Ran() {
+    if (enabled_) ran_ = Clock::now();
+  }
+  void Report(const v1::LaunchRequest& request) {
+    if (!enabled_) return;
+    rusage after{};
+    getrusage(RUSAGE_SELF, &after);
+    const auto end = Clock::now();
+    auto ms = [](Clock::duration d) {
+      return std::chrono::duration<double, std::milli>(d).count();
+    };
+    auto tv = [](const timeval& a, const timeval& b) {
+      return 1e3 * static_cast<double>(a.tv_sec - b.tv_sec) + 1e-3 * (a.tv_usec - b.tv_usec);
+    };
+    std::fprintf(stderr,
+                 "tessera-worker: call of launch %llu (%d tiles): waited %.1fms, ran %.1fms, "
+                 "sent the rest in %.1fms; cpu user %.1fms sys %.1fms, page faults %ld, "
+                 "context switches %ld voluntary %ld involuntary\n",
+                 static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
+                 ms(locked_ - arrived_), ms(ran_ - locked_), ms(end - ran_),
+                 tv(after.ru_utime, before_.ru_utime), tv(after.ru_stime, before_.ru_stime),
+                 after.ru_minflt - before_.ru_minflt, after.ru_nvcsw - before_.ru_nvcsw,
+                 after.ru_nivcsw - before_.ru_nivcsw);
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  static bool Enabled() {
+    const char* env = std::getenv("TESSERA_LAUNCH_TIMING");
+    return env != nullptr && *env != '\0' && *env != '0';
+  }
+  const bool enabled_;
+  Clock::time_point arrived_, locked_, ran_;
+  rusage before_{};
+};
 
 // Results travel from the launch's threads to the RPC thread, which alone writes to the stream.
 class ResultQueue {
@@ -161,6 +211,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
                         absl::StrCat("no state for session ", request->session_id(),
                                      " on this worker: a state delta must come first"));
   }
+  CallTiming timing;
   // The host keeps a second call queued behind the running one; it says it is alive while it
   // waits, or the host would take the wait for a hung worker.
   auto last_write = std::chrono::steady_clock::now();
@@ -188,6 +239,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     Session* session;
     ~Held() { session->Release(); }
   } held{session.get()};
+  timing.Locked();
   if (session->device == nullptr) {
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                         absl::StrCat("no state for session ", request->session_id()));
@@ -206,6 +258,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     } catch (...) {
       status = absl::InternalError("launch threw a non-standard exception");
     }
+    timing.Ran();
     results.Finish(std::move(status));
   });
   bool done = false;
@@ -231,6 +284,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     }
   }
   runner.join();
+  timing.Report(*request);
   if (cancel.load() || context->IsCancelled()) {
     return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");
   }

@@ -31,15 +31,15 @@ class Device {
   virtual absl::Status Apply(const v1::StateDelta& delta) = 0;
 
   // Runs `request.tiles()` (one batch of a launch; a launch may take many calls) and calls
-  // `on_result` once per tile, from any thread, in any order, with its prints, exception reports
-  // and errors. The call's last result (tile_index == kFinalTileIndex) carries every element of an
-  // OUTPUT or INPUT_OUTPUT buffer (not GPU_LOCAL) that the call's programs accessed, as regions.
-  // Returns when all tiles are done, or early once `cancel` becomes true.
-  // A device that is gone (process killed, connection lost, silent past its deadline) answers
-  // UNAVAILABLE or DEADLINE_EXCEEDED: its tiles can run elsewhere. ABORTED means the device's
-  // process crashed while running a program: running its tiles elsewhere would crash that too.
-  // Thread-safety: callable from several threads; a device runs the calls one after the other
-  // (its written regions belong to one call), so a second call waits inside the device.
+  // `on_result` once per tile that printed, raised an exception or failed, from any thread, in
+  // any order, with its prints, exception reports and errors. The call's last result (tile_index ==
+  // kFinalTileIndex) carries every element of an OUTPUT or INPUT_OUTPUT buffer (not GPU_LOCAL) that
+  // the call's programs accessed, as regions. Returns when all tiles are done, or early once
+  // `cancel` becomes true. A device that is gone (process killed, connection lost, silent past its
+  // deadline) answers UNAVAILABLE or DEADLINE_EXCEEDED: its tiles can run elsewhere. ABORTED means
+  // the device's process crashed while running a program: running its tiles elsewhere would crash
+  // that too. Thread-safety: callable from several threads; a device runs the calls one after the
+  // other (its written regions belong to one call), so a second call waits inside the device.
   virtual absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                               const std::function<void(v1::TileResult&&)>& on_result) = 0;
 };
