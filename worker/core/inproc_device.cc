@@ -92,6 +92,7 @@ class InprocDevice : public Device {
                       : num_threads_;
     std::mutex result_mu;
     std::atomic<bool> stop{false};
+    std::atomic<int64_t> piece_ns{0};
     absl::Status failure;
     // A tile is reported when its last piece ends: not at all when a piece was cancelled, with
     // the error when a piece failed.
@@ -103,6 +104,16 @@ class InprocDevice : public Device {
       TileState& state = tile_states[piece.tile];
       v1::TileResult part;
       bool done = false;
+      const auto piece_start =
+          timing_ ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+      struct PieceTime {  // how much of the call's thread time went into pieces (timing_ only)
+        const std::chrono::steady_clock::time_point& start;
+        std::atomic<int64_t>& total;
+        ~PieceTime() {
+          if (start == std::chrono::steady_clock::time_point()) return;
+          total += (std::chrono::steady_clock::now() - start).count();
+        }
+      } piece_time{piece_start, piece_ns};
       try {
         done = worker::RunTile(*plan_, request.entry_point(), piece.origin, piece.size, dims,
                                cancel, stop, part);
@@ -148,9 +159,13 @@ class InprocDevice : public Device {
       auto ms = [](std::chrono::steady_clock::duration d) {
         return std::chrono::duration<double, std::milli>(d).count();
       };
-      std::fprintf(stderr, "tessera: device call of launch %llu: %d tiles %.1fms, regions %.1fms\n",
+      std::fprintf(stderr,
+                   "tessera: device call of launch %llu: %d tiles %.1fms (%d threads ran pieces "
+                   "for %.1fms in all), regions %.1fms\n",
                    static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
-                   ms(traced - started), ms(std::chrono::steady_clock::now() - traced));
+                   ms(traced - started), threads,
+                   ms(std::chrono::steady_clock::duration(piece_ns.load())),
+                   ms(std::chrono::steady_clock::now() - traced));
     }
     if (!failure.ok()) return failure;
     if (cancel.load()) return absl::CancelledError("launch cancelled");
