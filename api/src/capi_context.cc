@@ -11,13 +11,6 @@ using namespace tessera::api;  // NOLINT: C entry points only
 
 namespace {
 
-// The device list rtDevice* functions describe: the context-independent TESSERA_DEVICES list.
-absl::StatusOr<std::vector<DeviceDesc>> GlobalDevices() {
-  auto devices = DevicesFromEnvironment();
-  if (!devices.ok()) return RtError(RT_ERROR_NO_DEVICE, devices.status().message());
-  return devices;
-}
-
 RTresult LaunchCall(const char* fn, RTcontext context, unsigned entry, std::vector<uint64_t> dims) {
   return Call<Context>(fn, context, [&](Context& c) { return c.Launch(entry, dims); });
 }
@@ -46,13 +39,8 @@ RTresult rtDeviceGetDeviceCount(unsigned int* count) {
 RTresult rtDeviceGetAttribute(int ordinal, RTdeviceattribute attrib, RTsize size, void* p) {
   return CallGlobal(__func__, [&]() -> absl::Status {
     TS_RETURN_IF_ERROR(NotNull(p, "attribute pointer"));
-    TS_ASSIGN_OR_RETURN(std::vector<DeviceDesc> devices, GlobalDevices());
-    if (ordinal < 0 || ordinal >= static_cast<int>(devices.size())) {
-      return RtError(RT_ERROR_INVALID_VALUE,
-                     absl::StrCat("device ordinal ", ordinal, " is out of range (", devices.size(),
-                                  " devices)"));
-    }
-    return GetDeviceAttribute(devices[ordinal], attrib, size, p);
+    TS_ASSIGN_OR_RETURN(DeviceDesc device, GlobalDevice(ordinal));
+    return GetDeviceAttribute(device, attrib, size, p);
   });
 }
 

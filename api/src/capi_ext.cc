@@ -5,6 +5,7 @@
 #include "absl/strings/str_cat.h"
 #include "boundary.h"
 #include "device_spec.h"
+#include "device_table.h"
 #include "status.h"
 #include "tessera/rt_ext.h"
 
@@ -34,6 +35,16 @@ RTresult tesseraDeviceSpecValidate(const char* spec, const char** error) {
     *error = message.c_str();
   }
   return result;
+}
+
+RTresult tesseraDeviceGetAddress(int ordinal, RTsize size, char* address) {
+  return CallGlobal(__func__, [&]() -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(address, "address pointer"));
+    if (size == 0) return RtError(RT_ERROR_INVALID_VALUE, "the address needs size > 0");
+    TS_ASSIGN_OR_RETURN(DeviceDesc device, GlobalDevice(ordinal));
+    CopyString(device.address, size, address);
+    return absl::OkStatus();
+  });
 }
 
 RTresult tesseraContextGetExceptionReportCount(RTcontext context, RTsize* count) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "status.h"
@@ -13,6 +14,7 @@ namespace {
 
 std::atomic<InprocDeviceFactory> g_inproc_factory{nullptr};
 std::atomic<WorkerDeviceFactory> g_worker_factory{nullptr};
+std::atomic<WorkerProbe> g_worker_probe{nullptr};
 
 absl::Status SizeError(const char* attribute, RTsize size, size_t expected) {
   return RtError(RT_ERROR_INVALID_VALUE,
@@ -29,6 +31,19 @@ absl::Status Write(const char* attribute, RTsize size, void* out, T value) {
 bool OnThisMachine(const DeviceDesc& device) {
   return device.type == DeviceSpecEntry::Type::kInproc ||
          device.type == DeviceSpecEntry::Type::kLocal;
+}
+
+// A running worker's facts, asked for when an attribute needs them; without the transport (the
+// core library alone) nothing can be asked and the facts are zero.
+absl::StatusOr<WorkerFacts> AskWorker(const DeviceDesc& device) {
+  WorkerProbe probe = g_worker_probe.load();
+  if (probe == nullptr) return WorkerFacts{};
+  absl::StatusOr<WorkerFacts> facts = probe(device);
+  if (!facts.ok()) {
+    // The transport's message names the worker's address and why it did not answer.
+    return RtError(RT_ERROR_CONNECTION_FAILED, facts.status().message());
+  }
+  return facts;
 }
 
 }  // namespace
@@ -70,30 +85,60 @@ absl::StatusOr<std::vector<DeviceDesc>> DevicesFromEnvironment() {
   return ExpandDevices(*entries);
 }
 
+absl::StatusOr<std::vector<DeviceDesc>> GlobalDevices() {
+  auto devices = DevicesFromEnvironment();
+  if (!devices.ok()) return RtError(RT_ERROR_NO_DEVICE, devices.status().message());
+  return devices;
+}
+
+absl::StatusOr<DeviceDesc> GlobalDevice(int ordinal) {
+  TS_ASSIGN_OR_RETURN(std::vector<DeviceDesc> devices, GlobalDevices());
+  if (ordinal < 0 || ordinal >= static_cast<int>(devices.size())) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat("device ordinal ", ordinal, " is out of range (", devices.size(),
+                                " devices)"));
+  }
+  return std::move(devices[ordinal]);
+}
+
+void CopyString(const std::string& s, size_t size, char* out) {
+  const size_t n = std::min(s.size(), size - 1);
+  std::memcpy(out, s.data(), n);
+  out[n] = '\0';
+}
+
 absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attribute, RTsize size,
                                 void* out) {
   const bool local = OnThisMachine(device);
   switch (attribute) {
     case RT_DEVICE_ATTRIBUTE_NAME: {
-      // OptiX copies at most `size` bytes, always NUL-terminated.
       if (size == 0)
         return RtError(RT_ERROR_INVALID_VALUE, "RT_DEVICE_ATTRIBUTE_NAME needs size > 0");
-      size_t n = std::min<size_t>(device.name.size(), size - 1);
-      std::memcpy(out, device.name.data(), n);
-      static_cast<char*>(out)[n] = '\0';
+      CopyString(device.name, size, static_cast<char*>(out));
       return absl::OkStatus();
     }
-    case RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT:
-      // Worker processes on other machines report their threads once connected (issue 3).
+    case RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT: {
+      constexpr char kName[] = "RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT";
+      if (size != sizeof(int)) return SizeError(kName, size, sizeof(int));
+      if (!local) {  // a running worker says how many threads it traces with
+        TS_ASSIGN_OR_RETURN(WorkerFacts facts, AskWorker(device));
+        return Write<int>(kName, size, out, facts.threads);
+      }
       // A local:N worker gets its share of the cores (api/src/worker_factory.cc).
-      return Write<int>("RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT", size, out,
-                        !local ? 0
-                        : device.type == DeviceSpecEntry::Type::kLocal
+      return Write<int>(kName, size, out,
+                        device.type == DeviceSpecEntry::Type::kLocal
                             ? std::max(1, HardwareThreads() / std::max(1, device.local_count))
                             : HardwareThreads());
-    case RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY:
-      return Write<RTsize>("RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY", size, out,
-                           local ? static_cast<RTsize>(TotalSystemMemory()) : 0);
+    }
+    case RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY: {
+      constexpr char kName[] = "RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY";
+      if (size != sizeof(RTsize)) return SizeError(kName, size, sizeof(RTsize));
+      if (!local) {
+        TS_ASSIGN_OR_RETURN(WorkerFacts facts, AskWorker(device));
+        return Write<RTsize>(kName, size, out, static_cast<RTsize>(facts.total_memory));
+      }
+      return Write<RTsize>(kName, size, out, static_cast<RTsize>(TotalSystemMemory()));
+    }
     case RT_DEVICE_ATTRIBUTE_CLOCK_RATE:
       return Write<int>("RT_DEVICE_ATTRIBUTE_CLOCK_RATE", size, out, local ? CpuClockKHz() : 0);
     case RT_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY: {
@@ -128,6 +173,8 @@ absl::Status CheckInstantiable(const DeviceDesc& device) {
 void SetInprocDeviceFactory(InprocDeviceFactory factory) { g_inproc_factory.store(factory); }
 
 void SetWorkerDeviceFactory(WorkerDeviceFactory factory) { g_worker_factory.store(factory); }
+
+void SetWorkerProbe(WorkerProbe probe) { g_worker_probe.store(probe); }
 
 absl::StatusOr<std::unique_ptr<Device>> CreateDevice(const DeviceDesc& device, int num_threads) {
   TS_RETURN_IF_ERROR(CheckInstantiable(device));

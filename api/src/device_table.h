@@ -5,6 +5,7 @@
 #ifndef TESSERA_API_SRC_DEVICE_TABLE_H_
 #define TESSERA_API_SRC_DEVICE_TABLE_H_
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,6 +36,16 @@ std::string DefaultDeviceSpec();
 // Parses TESSERA_DEVICES (or the default) and expands it.
 absl::StatusOr<std::vector<DeviceDesc>> DevicesFromEnvironment();
 
+// The device list rtDevice* functions describe, independent of any context: TESSERA_DEVICES or
+// the default (RT_ERROR_NO_DEVICE when the spec is bad), and one of them by ordinal
+// (RT_ERROR_INVALID_VALUE when out of range).
+absl::StatusOr<std::vector<DeviceDesc>> GlobalDevices();
+absl::StatusOr<DeviceDesc> GlobalDevice(int ordinal);
+
+// Copies at most `size` bytes of `s` (size > 0) into `out`, always NUL-terminated, as OptiX
+// returns strings such as RT_DEVICE_ATTRIBUTE_NAME.
+void CopyString(const std::string& s, size_t size, char* out);
+
 // rtDeviceGetAttribute for one device; `size` must match the attribute's type.
 absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attribute, RTsize size,
                                 void* out);
@@ -51,6 +62,16 @@ void SetInprocDeviceFactory(InprocDeviceFactory factory);
 // and unix:PATH ones. libtessera installs it at load time (api/src/worker_factory.cc).
 using WorkerDeviceFactory = absl::StatusOr<std::unique_ptr<Device>> (*)(const DeviceDesc& device);
 void SetWorkerDeviceFactory(WorkerDeviceFactory factory);
+
+// What a running worker (HOST:PORT, unix:PATH) says about itself when asked.
+struct WorkerFacts {
+  int threads = 0;
+  uint64_t total_memory = 0;  // bytes; 0 when it did not say
+};
+// Asks a running worker (libtessera installs it with the worker transport): UNAVAILABLE, naming
+// the address, when it cannot be reached.
+using WorkerProbe = absl::StatusOr<WorkerFacts> (*)(const DeviceDesc& device);
+void SetWorkerProbe(WorkerProbe probe);
 
 // `num_threads` sizes in-process devices; a worker sizes its own pool (DeviceDesc::local_count).
 absl::StatusOr<std::unique_ptr<Device>> CreateDevice(const DeviceDesc& device, int num_threads);

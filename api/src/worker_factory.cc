@@ -32,8 +32,19 @@ absl::StatusOr<std::unique_ptr<Device>> MakeWorkerDevice(const DeviceDesc& devic
   return std::unique_ptr<Device>(*std::move(connected));
 }
 
+// How long rtDeviceGetAttribute waits for a running worker to answer.
+constexpr absl::Duration kProbeTimeout = absl::Seconds(5);
+
+absl::StatusOr<WorkerFacts> ProbeWorker(const DeviceDesc& device) {
+  auto connected = transport::GrpcDevice::Connect(device.address, kProbeTimeout);
+  if (!connected.ok()) return connected.status();
+  const transport::WorkerHealth& health = (*connected)->health();
+  return WorkerFacts{health.thread_count, health.total_memory};
+}
+
 [[maybe_unused]] const bool kInstalled = [] {
   SetWorkerDeviceFactory(&MakeWorkerDevice);
+  SetWorkerProbe(&ProbeWorker);
   return true;
 }();
 

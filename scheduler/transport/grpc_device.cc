@@ -105,6 +105,7 @@ absl::StatusOr<WorkerHealth> GrpcDevice::Health(absl::Duration timeout) const {
   health.thread_count = static_cast<int>(reply.thread_count());
   health.pid = reply.pid();
   health.version = reply.version();
+  health.total_memory = reply.total_memory();
   return health;
 }
 

@@ -20,6 +20,7 @@ struct WorkerHealth {
   int thread_count = 0;
   int64_t pid = 0;
   std::string version;
+  uint64_t total_memory = 0;  // bytes; 0 when the worker did not say
 };
 
 class GrpcDevice : public Device {

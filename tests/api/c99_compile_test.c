@@ -18,6 +18,10 @@ int main(void) {
     return 3;
   }
   if (rtContextDestroy(context) != RT_ERROR_INVALID_CONTEXT) return 4;
+  {
+    char address[4];
+    if (tesseraDeviceGetAddress(-1, sizeof(address), address) != RT_ERROR_INVALID_VALUE) return 5;
+  }
   printf("OptiX host API %u from C99\n", version);
   return 0;
 }

@@ -297,6 +297,10 @@ grpc::Status WorkerService::Health(grpc::ServerContext* context, const v1::Healt
   reply->set_thread_count(static_cast<uint32_t>(threads_));
   reply->set_pid(getpid());
   reply->set_version(TESSERA_VERSION);
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGESIZE);
+  if (pages > 0 && page_size > 0) {
+    reply->set_total_memory(static_cast<uint64_t>(pages) * static_cast<uint64_t>(page_size));
+  }
   return grpc::Status::OK;
 }
 

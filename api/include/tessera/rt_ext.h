@@ -19,6 +19,11 @@ RTAPI RTresult tesseraContextSetDeviceSpec(RTcontext context, const char* spec);
  * on success it is set to null. Thread-safety: any thread. */
 RTAPI RTresult tesseraDeviceSpecValidate(const char* spec, const char** error);
 
+/* Where device `ordinal` (as for rtDeviceGetAttribute) lives: "inproc", "local:N/i" (the i-th
+ * worker process the host spawns for a local:N entry), "HOST:PORT" or "unix:PATH". Copies at most
+ * `size` bytes into `address`, always NUL-terminated, as RT_DEVICE_ATTRIBUTE_NAME does. */
+RTAPI RTresult tesseraDeviceGetAddress(int ordinal, RTsize size, char* address);
+
 /* The number of exceptions devices reported (ExceptionReport) during the context's last
  * launch. */
 RTAPI RTresult tesseraContextGetExceptionReportCount(RTcontext context, RTsize* count);
