@@ -2,6 +2,7 @@
 
 #include <cxxabi.h>
 #include <dlfcn.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cstdlib>
@@ -116,18 +117,32 @@ absl::Status ModuleCache::Store(const std::string& hash, absl::string_view bytes
         absl::StrCat("program module bytes do not match their hash ", hash));
   }
   std::lock_guard<std::mutex> lock(mu_);
-  if (stored_.count(hash) != 0) return absl::OkStatus();
+  if (stored_.count(hash) != 0 &&
+      access(ModuleFilePath(DirectoryLocked(), hash).c_str(), R_OK) == 0) {
+    return absl::OkStatus();
+  }
   if (absl::Status s = WriteModuleFile(DirectoryLocked(), hash, bytes); !s.ok()) return s;
   stored_.insert(hash);
+  TouchModuleFile(DirectoryLocked(), hash);
+  TrimModuleCache(DirectoryLocked(), ModuleCacheLimitBytes(), hash);
   return absl::OkStatus();
 }
 
 bool ModuleCache::Has(const std::string& hash) {
   if (!IsModuleHash(hash)) return false;
   std::lock_guard<std::mutex> lock(mu_);
-  if (modules_.count(hash) != 0 || stored_.count(hash) != 0) return true;
-  if (!HasModuleFile(DirectoryLocked(), hash)) return false;
+  if (modules_.count(hash) != 0) return true;
+  // Not trusted from memory alone: another process sharing the directory may have trimmed it.
+  const std::string& dir = DirectoryLocked();
+  const bool present = stored_.count(hash) != 0
+                           ? access(ModuleFilePath(dir, hash).c_str(), R_OK) == 0
+                           : HasModuleFile(dir, hash);
+  if (!present) {
+    stored_.erase(hash);
+    return false;
+  }
   stored_.insert(hash);
+  TouchModuleFile(dir, hash);
   return true;
 }
 
@@ -180,6 +195,7 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
     stored_.insert(hash);
   }
   const std::string file = ModuleFilePath(dir, hash);
+  TouchModuleFile(dir, hash);  // used now: trimming keeps it longest
   // Messages name the host's file, which the user knows, and the copy that was loaded.
   const std::string path = origin.empty() ? file : absl::StrCat(origin, " (cached as ", file, ")");
 

@@ -6,6 +6,7 @@
 #ifndef TESSERA_WORKER_CORE_MODULE_STORE_H_
 #define TESSERA_WORKER_CORE_MODULE_STORE_H_
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -41,6 +42,21 @@ bool HasModuleFile(const std::string& dir, const std::string& hash);
 // Stores `bytes`, already checked against `hash`, unless `dir` holds that module already.
 absl::Status WriteModuleFile(const std::string& dir, const std::string& hash,
                              absl::string_view bytes);
+
+// Marks module `hash` as just used (its modification time), so that trimming keeps it longest.
+void TouchModuleFile(const std::string& dir, const std::string& hash);
+
+// How many bytes of modules a cache directory may hold: TESSERA_MODULE_CACHE_MAX_MB (default
+// 1024). A farm's workers receive every new build of every program; without a bound, a
+// long-lived cache would grow until the disk is full.
+uint64_t ModuleCacheLimitBytes();
+
+// Removes the least recently used modules of `dir` until its modules take at most `max_bytes`,
+// sparing `keep` and every module used within `recent` (another process may be about to load
+// it); removes temporary files older than an hour too (writes cut short by a crash). Returns how
+// many modules it removed.
+size_t TrimModuleCache(const std::string& dir, uint64_t max_bytes, const std::string& keep,
+                       std::chrono::seconds recent = std::chrono::hours(1));
 
 // The modules of a delta, whole, by hash. Slices of one module must arrive in order and add up to
 // its total_size; modules of at most kMaxModuleBytes. INVALID_ARGUMENT otherwise. Does not check

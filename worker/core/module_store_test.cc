@@ -158,8 +158,72 @@ TEST(ModuleStoreTest, StoredModuleIsNotRewritten) {
   ASSERT_TRUE(again.Store(hash, bytes).ok());
   struct stat after {};
   ASSERT_EQ(stat(file.c_str(), &after), 0);
-  EXPECT_EQ(after.st_ino, before.st_ino);
-  EXPECT_LT(fs::last_write_time(file), fs::file_time_type::clock::now() - std::chrono::hours(1));
+  EXPECT_EQ(after.st_ino, before.st_ino);  // the same file, not a new one renamed over it
+  // Finding it counts as using it: trimming keeps it longest.
+  EXPECT_GT(fs::last_write_time(file), fs::file_time_type::clock::now() - std::chrono::hours(1));
+}
+
+// A file of `bytes` bytes last used `age` ago.
+void WriteAged(const std::string& path, size_t bytes, std::chrono::seconds age) {
+  std::ofstream(path, std::ios::binary) << std::string(bytes, 'x');
+  fs::last_write_time(path, fs::file_time_type::clock::now() - age);
+}
+
+TEST(ModuleStoreTest, TrimmingRemovesTheLeastRecentlyUsedModulesFirst) {
+  TempDir temp;
+  using std::chrono::hours;
+  const std::string a = ModuleHash("a"), b = ModuleHash("b"), c = ModuleHash("c"),
+                    d = ModuleHash("d");
+  auto path = [&](const std::string& name) { return temp.path() + "/" + name; };
+  WriteAged(path(a + ".so"), 1000, hours(5));  // the oldest, but the one just stored
+  WriteAged(path(b + ".so"), 1000, hours(4));
+  WriteAged(path(c + ".so"), 1000, hours(3));
+  WriteAged(path(d + ".so"), 1000, std::chrono::seconds(0));         // in use
+  WriteAged(path("notes.txt"), 5000, hours(9));                      // not a module: left alone
+  WriteAged(path(b + ".so.1-2.tmp"), 100, hours(2));                 // a write cut short long ago
+  WriteAged(path(c + ".so.3-4.tmp"), 100, std::chrono::seconds(0));  // a write under way
+
+  EXPECT_EQ(TrimModuleCache(temp.path(), 2500, a), 2u);
+  EXPECT_TRUE(fs::exists(path(a + ".so")));
+  EXPECT_FALSE(fs::exists(path(b + ".so")));
+  EXPECT_FALSE(fs::exists(path(c + ".so")));
+  EXPECT_TRUE(fs::exists(path(d + ".so")));
+  EXPECT_TRUE(fs::exists(path("notes.txt")));
+  EXPECT_FALSE(fs::exists(path(b + ".so.1-2.tmp")));
+  EXPECT_TRUE(fs::exists(path(c + ".so.3-4.tmp")));
+
+  // Within the limit nothing goes.
+  EXPECT_EQ(TrimModuleCache(temp.path(), 1 << 20, ""), 0u);
+  EXPECT_TRUE(fs::exists(path(a + ".so")));
+}
+
+TEST(ModuleStoreTest, CacheLimitFollowsTheEnvironment) {
+  {
+    ScopedEnv env("TESSERA_MODULE_CACHE_MAX_MB", nullptr);
+    EXPECT_EQ(ModuleCacheLimitBytes(), uint64_t{1} << 30);
+  }
+  {
+    ScopedEnv env("TESSERA_MODULE_CACHE_MAX_MB", "64");
+    EXPECT_EQ(ModuleCacheLimitBytes(), uint64_t{64} << 20);
+  }
+  {
+    ScopedEnv env("TESSERA_MODULE_CACHE_MAX_MB", "lots");  // warned about, then the default
+    EXPECT_EQ(ModuleCacheLimitBytes(), uint64_t{1} << 30);
+  }
+}
+
+TEST(ModuleStoreTest, ModuleTrimmedByAnotherProcessIsAskedForAgain) {
+  TempDir temp;
+  const std::string bytes = ReadFile(kModule);
+  const std::string hash = ModuleHash(bytes);
+  ModuleCache cache(temp.path());
+  ASSERT_TRUE(cache.Store(hash, bytes).ok());
+  ASSERT_TRUE(cache.Has(hash));
+  fs::remove(temp.path() + "/" + hash + ".so");  // another worker sharing the directory trimmed it
+  EXPECT_FALSE(cache.Has(hash));                 // so the host sends it again
+  ASSERT_TRUE(cache.Store(hash, bytes).ok());
+  EXPECT_TRUE(cache.Has(hash));
+  EXPECT_TRUE(cache.Load(hash).ok());
 }
 
 TEST(ModuleStoreTest, BytesThatDoNotMatchTheirHashAreRefused) {
