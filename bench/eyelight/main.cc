@@ -9,8 +9,8 @@
 #include <string>
 #include <thread>
 
+#include "common/embree_viewer.h"
 #include "common/rt_util.h"  // LoadAverage
-#include "embree_viewer.h"
 #include "image_check.h"
 #include "mesh.h"
 #include "scene.h"

@@ -4,7 +4,11 @@
 // accelerations), then the median of --repeats timed launches. Every image must be bit-identical
 // to the baseline's (tiles land on different devices, pixels must not care). The last line is
 // parallel_efficiency=<speedup / N at N = cores>. --check renders a tiny image with N up to 2 and
-// exits 1 when an image differs.
+// exits 1 when an image differs. When Embree's `viewer` is installed, each round of timed launches
+// also times it on one thread and on every core: the same machine's yardstick, measured under the
+// same load.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdint>
@@ -12,11 +16,13 @@
 #include <cstring>
 #include <exception>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
+#include "common/embree_viewer.h"
 #include "common/rt_util.h"
 #include "common/tutorial_context.h"
 
@@ -31,6 +37,62 @@ struct Options {
   std::vector<std::string> only;  // --devices: just these specs after the baseline
   std::string module_dir;
   bool check = false;
+  std::string viewer = "viewer";  // Embree's, for the reference rows; "none" skips them
+  std::string viewer_model = TESSERA_BENCH_DEFAULT_MODEL;
+};
+
+// Embree's viewer on one thread and on every core, timed once per round between Tessera's
+// launches (eyelight primary rays, 1024x1024): how far this machine lets ray tracing scale now.
+class EmbreeReference {
+ public:
+  EmbreeReference(const Options& o, int cores) : cores_(cores) {
+    if (o.check || o.viewer == "none") return;
+    std::optional<std::string> viewer = FindExecutable(o.viewer);
+    if (!viewer || access(o.viewer_model.c_str(), R_OK) != 0) {
+      std::printf("no Embree reference: %s not found (install embree-tools)\n",
+                  viewer ? o.viewer_model.c_str() : ("'" + o.viewer + "'").c_str());
+      return;
+    }
+    run_.viewer = *viewer;
+    run_.model = o.viewer_model;
+    run_.width = run_.height = 1024;
+    run_.warmup = 2;
+    run_.runs = 10;
+    enabled_ = true;
+  }
+  // One round: both thread counts once. A failing viewer ends the reference, not the benchmark.
+  void Round() {
+    if (!enabled_) return;
+    try {
+      run_.threads = 1;
+      one_.push_back(RunEmbreeViewer(run_, nullptr));
+      run_.threads = cores_;
+      all_.push_back(RunEmbreeViewer(run_, nullptr));
+    } catch (const std::exception& e) {
+      std::printf("no Embree reference: %s\n", e.what());
+      enabled_ = false;
+      one_.clear();
+      all_.clear();
+    }
+  }
+  // The line with both medians, and Embree's efficiency on every core (0 when not measured).
+  double Report(double tessera_efficiency) const {
+    if (one_.empty() || all_.empty()) return 0;
+    const double one = Median(one_), all = Median(all_);
+    const double efficiency = all / one / cores_;
+    std::printf(
+        "Embree's viewer, same rounds (%s, 1024x1024, eyelight): 1 thread %.1f Mrays/s, %d threads "
+        "%.1f Mrays/s, speedup %.2f, efficiency %.2f; Tessera's headline is %.2f of it\n",
+        run_.model.c_str(), one, cores_, all, all / one, efficiency,
+        tessera_efficiency / efficiency);
+    return efficiency;
+  }
+
+ private:
+  const int cores_;
+  bool enabled_ = false;
+  ViewerRun run_;
+  std::vector<double> one_, all_;
 };
 
 struct Config {
@@ -118,8 +180,10 @@ int Run(const Options& o) {
   // Rounds of one launch per configuration rather than one configuration after another: on a
   // machine shared with other work, a change of load then skews every configuration alike.
   // Idle workers of the other contexts wait in gRPC and take no CPU.
+  EmbreeReference embree(o, cores);
   for (int round = 0; round < o.repeats; ++round) {
     for (Config& c : configs) c.seconds.push_back(TimeLaunch(*c.scene));
+    embree.Round();
   }
   const std::vector<float> baseline_image = configs.front().scene->ReadOutput();
   for (Config& c : configs) {
@@ -155,6 +219,7 @@ int Run(const Options& o) {
       "%d cores. Timed launches alternate between configurations. Load average after: "
       "%.2f\n",
       cores, cores, LoadAverage());
+  embree.Report(efficiency_at_cores);
   std::printf("parallel_efficiency=%.3f\n", efficiency_at_cores);
   return identical ? 0 : 1;
 }
@@ -183,6 +248,11 @@ int main(int argc, char** argv) {
   app.add_option("--devices", o.only,
                  "only these device specs after the baseline (repeatable; no headline figure)");
   app.add_option("--modules", o.module_dir, "directory of the tutorial_*.so modules");
+  app.add_option("--viewer", o.viewer,
+                 "Embree's viewer, timed each round as the machine's reference ('none': skip)")
+      ->capture_default_str();
+  app.add_option("--viewer-model", o.viewer_model, "the model the viewer renders")
+      ->capture_default_str();
   app.add_flag("--check", o.check,
                "96x64, local:1 and local:2, one timed launch; exit 1 unless images are identical");
   CLI11_PARSE(app, argc, argv);

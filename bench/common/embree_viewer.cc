@@ -1,4 +1,4 @@
-#include "embree_viewer.h"
+#include "common/embree_viewer.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -59,6 +59,7 @@ double RunEmbreeViewer(const ViewerRun& run, std::string* command_out) {
                     std::to_string(run.width) + " " + std::to_string(run.height) +
                     " --shader eyelight --benchmark " + std::to_string(run.warmup) + " " +
                     std::to_string(run.runs);
+  if (run.threads > 0) cmd += " --threads " + std::to_string(run.threads);
   for (const std::string& flag : run.camera_flags) cmd += " " + ShellQuote(flag);
   if (command_out != nullptr) *command_out = cmd;
   cmd += " 2>&1";

@@ -1,7 +1,8 @@
-// Runs Embree's own `viewer` (Debian package embree-tools) in benchmark mode on the same model,
-// image size and camera, and reads its Mrays/s.
-#ifndef TESSERA_BENCH_EYELIGHT_EMBREE_VIEWER_H_
-#define TESSERA_BENCH_EYELIGHT_EMBREE_VIEWER_H_
+// Runs Embree's own `viewer` (Debian package embree-tools) in benchmark mode and reads its Mrays/s:
+// the yardstick on one machine (tessera-bench-eyelight compares rays, tessera-bench-scaling
+// compares how both scale over the cores).
+#ifndef TESSERA_BENCH_COMMON_EMBREE_VIEWER_H_
+#define TESSERA_BENCH_COMMON_EMBREE_VIEWER_H_
 
 #include <optional>
 #include <string>
@@ -14,7 +15,8 @@ struct ViewerRun {
   std::string model;
   unsigned width = 0, height = 0;
   int warmup = 5, runs = 20;
-  std::vector<std::string> camera_flags;  // Camera::ViewerFlags()
+  std::vector<std::string> camera_flags;  // e.g. Camera::ViewerFlags() of the eyelight bench
+  int threads = 0;                        // --threads N; 0: viewer's default (every core)
 };
 
 // The executable `name` resolves to (itself if it holds a '/'), or nullopt if there is none.
@@ -23,11 +25,12 @@ std::optional<std::string> FindExecutable(const std::string& name);
 // The number on the line `BENCHMARK_RENDER_MRAYPS_AVG <x>` of viewer's output, if any.
 std::optional<double> ParseMraysAverage(const std::string& output);
 
-// Runs `viewer -i MODEL --size W H --shader eyelight --benchmark WARMUP RUNS <camera flags>` and
+// Runs `viewer -i MODEL --size W H --shader eyelight --benchmark WARMUP RUNS [--threads N]
+// <camera flags>` and
 // returns BENCHMARK_RENDER_MRAYPS_AVG. Throws std::runtime_error (with viewer's output) when it
 // fails or prints no such line. `command_out` receives the command line as run.
 double RunEmbreeViewer(const ViewerRun& run, std::string* command_out);
 
 }  // namespace tessera::bench
 
-#endif  // TESSERA_BENCH_EYELIGHT_EMBREE_VIEWER_H_
+#endif  // TESSERA_BENCH_COMMON_EMBREE_VIEWER_H_
