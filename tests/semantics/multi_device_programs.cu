@@ -38,6 +38,9 @@ RT_PROGRAM void scatter_writes() {
   const unsigned long long n = scattered.size();
   scattered[(index1 * 7919ull) % n] = index1 * 3u + salt;
 }
+rtBuffer<unsigned int, 1> bins;  // OUTPUT
+// Every launch index adds one to one of four shared elements.
+RT_PROGRAM void count_into_bins() { atomicAdd(&bins[index1 % 4], 1u); }
 RT_PROGRAM void write_even_elements() {
   if ((index1 & 1u) == 0) scattered[index1] = index1 + salt;
 }

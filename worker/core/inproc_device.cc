@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -30,10 +31,17 @@ struct TileState {
   bool abandoned = false;  // a piece stopped at a cancel
 };
 
+// Launch indices per thread in a round of a call whose results go out in rounds: enough that a
+// round's barrier (its threads wait for its last piece) costs little, small enough that a call of
+// the dispatcher's usual size (16384 per thread) makes several rounds.
+constexpr uint64_t kRoundIndicesPerThread = 4096;
+constexpr uint64_t kMaxRounds = 8;
+
 class InprocDevice : public Device {
  public:
-  explicit InprocDevice(int num_threads)
-      : num_threads_(num_threads > 0 ? num_threads
+  InprocDevice(int num_threads, bool results_in_rounds)
+      : results_in_rounds_(results_in_rounds),
+        num_threads_(num_threads > 0 ? num_threads
                                      : static_cast<int>(std::thread::hardware_concurrency())),
         embree_(rtcNewDevice(nullptr)),
         scenes_(embree_) {}
@@ -143,10 +151,22 @@ class InprocDevice : public Device {
     // process started with --threads 1 must not wake TBB threads for the other cores.
     tbb::task_arena arena(threads);
     if (!empty) {  // the all-zero launch only builds accelerations
-      arena.execute([&] {
-        tbb::parallel_for(size_t{0}, pieces.size(), size_t{1},
-                          [&](size_t i) { run_piece(pieces[i]); });
-      });
+      const size_t rounds = Rounds(request, threads);
+      for (size_t r = 0; r < rounds; ++r) {
+        const size_t begin = pieces.size() * r / rounds, end = pieces.size() * (r + 1) / rounds;
+        arena.execute([&] {
+          tbb::parallel_for(begin, end, size_t{1}, [&](size_t i) { run_piece(pieces[i]); });
+        });
+        if (r + 1 == rounds || stop.load() || cancel.load()) break;
+        // What this round wrote goes out while the next round traces. Between rounds no program
+        // runs, so the marks are complete; a later round that writes an element again sends it
+        // again, after this, and the host applies a call's results in order.
+        v1::TileResult partial;
+        partial.set_launch_id(request.launch_id());
+        partial.set_tile_index(kFinalTileIndex);
+        arena.execute([&] { replica_.TakeWrittenRegions(&partial); });
+        if (partial.regions_size() > 0) on_result(std::move(partial));
+      }
     }
     const auto traced = std::chrono::steady_clock::now();
     v1::TileResult final_result;
@@ -174,6 +194,20 @@ class InprocDevice : public Device {
   }
 
  private:
+  // How many rounds a call runs in: one unless results go out in rounds and several threads
+  // would otherwise wait while one sends (a single thread has no one to wait for it).
+  size_t Rounds(const v1::LaunchRequest& request, int threads) const {
+    if (!results_in_rounds_ || threads <= 1) return 1;
+    uint64_t indices = 0;
+    for (const v1::Tile& t : request.tiles()) {
+      uint64_t n = 1;
+      for (uint64_t s : t.size()) n *= std::max<uint64_t>(s, 1);
+      indices += n;
+    }
+    return std::clamp<uint64_t>(indices / (kRoundIndicesPerThread * threads), 1, kMaxRounds);
+  }
+
+  const bool results_in_rounds_;
   int num_threads_;
   RTCDevice embree_;
   worker::Replica replica_;
@@ -190,8 +224,8 @@ class InprocDevice : public Device {
 
 }  // namespace
 
-std::unique_ptr<Device> CreateInprocDevice(int num_threads) {
-  return std::make_unique<InprocDevice>(num_threads);
+std::unique_ptr<Device> CreateInprocDevice(int num_threads, bool results_in_rounds) {
+  return std::make_unique<InprocDevice>(num_threads, results_in_rounds);
 }
 
 }  // namespace tessera

@@ -191,7 +191,7 @@ grpc::Status WorkerService::Apply(grpc::ServerContext* context,
   if (session->device == nullptr || delta->sequence() == 1) {
     // The device is replaced only if the new one accepts the delta: a rejected delta leaves the
     // session as it was.
-    std::unique_ptr<Device> fresh = CreateInprocDevice(threads_);
+    std::unique_ptr<Device> fresh = CreateInprocDevice(threads_, /*results_in_rounds=*/true);
     absl::Status status = fresh->Apply(*delta);
     if (status.ok()) {
       session->device = std::move(fresh);

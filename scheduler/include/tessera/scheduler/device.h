@@ -32,9 +32,11 @@ class Device {
 
   // Runs `request.tiles()` (one batch of a launch; a launch may take many calls) and calls
   // `on_result` once per tile that printed, raised an exception or failed, from any thread, in
-  // any order, with its prints, exception reports and errors. The call's last result (tile_index ==
-  // kFinalTileIndex) carries every element of an OUTPUT or INPUT_OUTPUT buffer (not GPU_LOCAL) that
-  // the call's programs accessed, as regions. Returns when all tiles are done, or early once
+  // any order, with its prints, exception reports and errors. Results with tile_index ==
+  // kFinalTileIndex carry, as regions, every element of an OUTPUT or INPUT_OUTPUT buffer (not
+  // GPU_LOCAL) that the call's programs accessed: one or more at the end, or some earlier (a
+  // worker's call in rounds); an element in several carries its latest value in the last, so they
+  // must be applied in the order they came. Returns when all tiles are done, or early once
   // `cancel` becomes true. A device that is gone (process killed, connection lost, silent past its
   // deadline) answers UNAVAILABLE or DEADLINE_EXCEEDED: its tiles can run elsewhere. ABORTED means
   // the device's process crashed while running a program: running its tiles elsewhere would crash

@@ -11,7 +11,10 @@ namespace tessera {
 
 // `num_threads` <= 0 means one thread per core. The context's CPU_NUM_THREADS attribute, carried
 // in ContextState.num_threads, overrides it per launch when nonzero.
-std::unique_ptr<Device> CreateInprocDevice(int num_threads);
+// `results_in_rounds` (a worker process sets it): a large call on several threads runs in up to 8
+// rounds, and each round's written regions go to `on_result` (as kFinalTileIndex results) when it
+// ends, so that they travel while the next round traces instead of all after the last tile.
+std::unique_ptr<Device> CreateInprocDevice(int num_threads, bool results_in_rounds = false);
 
 }  // namespace tessera
 
