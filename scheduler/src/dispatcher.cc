@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "tessera/scheduler/tiling.h"
 
 namespace tessera::scheduler {
 namespace {
@@ -21,12 +22,6 @@ constexpr uint64_t kMinIndicesPerThread = 64 * 64;
 // per 1080p launch over 16 workers, whose host time (about 0.45 ms each on the 16-core machine)
 // took a core from the workers; a quarter makes half as many and ended no later (bench/README.md).
 constexpr size_t kGuidedShare = 4;
-
-uint64_t Indices(const v1::Tile& t) {
-  uint64_t n = 1;
-  for (uint64_t s : t.size()) n *= std::max<uint64_t>(s, 1);
-  return n;
-}
 
 }  // namespace
 
@@ -71,7 +66,7 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
   std::deque<v1::Tile>& queue = queues_[stable_ ? d : 0].tiles;
   if (queue.empty()) return {};
   const uint64_t threads = static_cast<uint64_t>(std::max(devices_[d].threads, 1));
-  size_t batch = std::max<uint64_t>(1, kIndicesPerThread * threads / Indices(queue.front()));
+  size_t batch = std::max<uint64_t>(1, kIndicesPerThread * threads / TileIndices(queue.front()));
   if (devices_.size() == 1) {
     // Nothing to balance with: one call takes everything, and the device's own thread pool
     // balances its tiles without a barrier between batches.
@@ -85,7 +80,7 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
     const size_t live =
         std::max<size_t>(1, static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false)));
     const size_t floor = std::min<size_t>(
-        std::max<uint64_t>(1, kMinIndicesPerThread * threads / Indices(queue.front())),
+        std::max<uint64_t>(1, kMinIndicesPerThread * threads / TileIndices(queue.front())),
         queue.size() / (2 * live));
     batch = std::clamp<size_t>(std::max(queue.size() / (kGuidedShare * live), floor), 1, batch);
   }

@@ -108,4 +108,10 @@ std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
   return tiles;
 }
 
+uint64_t TileIndices(const v1::Tile& tile) {
+  uint64_t n = 1;
+  for (uint64_t s : tile.size()) n *= std::max<uint64_t>(s, 1);
+  return n;
+}
+
 }  // namespace tessera::scheduler

@@ -16,6 +16,7 @@
 #include "replica.h"
 #include "runtime.h"
 #include "tessera/rt.h"
+#include "tessera/scheduler/tiling.h"
 #include "tile_pieces.h"
 
 namespace tessera {
@@ -114,14 +115,6 @@ class InprocDevice : public Device {
       bool done = false;
       const auto piece_start =
           timing_ ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
-      struct PieceTime {  // how much of the call's thread time went into pieces (timing_ only)
-        const std::chrono::steady_clock::time_point& start;
-        std::atomic<int64_t>& total;
-        ~PieceTime() {
-          if (start == std::chrono::steady_clock::time_point()) return;
-          total += (std::chrono::steady_clock::now() - start).count();
-        }
-      } piece_time{piece_start, piece_ns};
       try {
         done = worker::RunTile(*plan_, request.entry_point(), piece.origin, piece.size, dims,
                                cancel, stop, part);
@@ -133,6 +126,8 @@ class InprocDevice : public Device {
         part.set_error_code(RT_ERROR_LAUNCH_FAILED);
         done = true;
       }
+      // How much of the call's thread time went into pieces, not waiting (TESSERA_LAUNCH_TIMING).
+      if (timing_) piece_ns += (std::chrono::steady_clock::now() - piece_start).count();
       std::lock_guard<std::mutex> lock(result_mu);
       if (!done) state.abandoned = true;
       state.result.MergeFrom(part);  // prints and reports carry their launch index
@@ -199,11 +194,7 @@ class InprocDevice : public Device {
   size_t Rounds(const v1::LaunchRequest& request, int threads) const {
     if (!results_in_rounds_ || threads <= 1) return 1;
     uint64_t indices = 0;
-    for (const v1::Tile& t : request.tiles()) {
-      uint64_t n = 1;
-      for (uint64_t s : t.size()) n *= std::max<uint64_t>(s, 1);
-      indices += n;
-    }
+    for (const v1::Tile& t : request.tiles()) indices += scheduler::TileIndices(t);
     return std::clamp<uint64_t>(indices / (kRoundIndicesPerThread * threads), 1, kMaxRounds);
   }
 

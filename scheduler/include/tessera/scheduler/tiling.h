@@ -29,6 +29,9 @@ absl::StatusOr<std::vector<uint64_t>> ParseTileSize(absl::string_view text);
 std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
                                 const std::vector<uint64_t>& tile_size);
 
+// How many launch indices `tile` covers (a size of 0 counts as 1).
+uint64_t TileIndices(const v1::Tile& tile);
+
 }  // namespace tessera::scheduler
 
 #endif  // TESSERA_SCHEDULER_TILING_H_
