@@ -1,7 +1,5 @@
 // Context::Launch: validate, ship state deltas, dispatch tiles to devices (scheduler/), gather
 // results, and deal with devices lost on the way.
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -17,6 +15,7 @@
 #include "lowering.h"
 #include "status.h"
 #include "tessera/scheduler/dispatcher.h"
+#include "tessera/scheduler/launch_timing.h"
 #include "tessera/scheduler/tiling.h"
 #include "validate.h"
 
@@ -54,7 +53,8 @@ void WarnLost(const DeviceSlot& slot, uint64_t launch_id, const absl::Status& re
 // device work from host work when a launch scales worse than expected.
 class LaunchTiming {
  public:
-  LaunchTiming() : enabled_(Enabled()), last_(std::chrono::steady_clock::now()) {
+  LaunchTiming()
+      : enabled_(scheduler::LaunchTimingEnabled()), last_(std::chrono::steady_clock::now()) {
     if (enabled_) getrusage(RUSAGE_SELF, &start_usage_);
   }
   void Mark(const char* phase) {
@@ -67,22 +67,16 @@ class LaunchTiming {
     if (!enabled_) return;
     rusage now{};
     getrusage(RUSAGE_SELF, &now);
-    auto ms = [](const timeval& a, const timeval& b) {
-      return 1e3 * static_cast<double>(a.tv_sec - b.tv_sec) + 1e-3 * (a.tv_usec - b.tv_usec);
-    };
     std::fprintf(stderr,
                  "tessera: launch %llu:%s (of which applying results %sms); host cpu user %.1fms "
                  "sys %.1fms\n",
                  static_cast<unsigned long long>(launch_id), line_.c_str(), Ms(apply).c_str(),
-                 ms(now.ru_utime, start_usage_.ru_utime), ms(now.ru_stime, start_usage_.ru_stime));
+                 scheduler::Milliseconds(now.ru_utime, start_usage_.ru_utime),
+                 scheduler::Milliseconds(now.ru_stime, start_usage_.ru_stime));
   }
   std::chrono::steady_clock::duration apply{};
 
  private:
-  static bool Enabled() {
-    const char* env = std::getenv("TESSERA_LAUNCH_TIMING");
-    return env != nullptr && *env != '\0' && *env != '0';
-  }
   static std::string Ms(std::chrono::steady_clock::duration d) {
     return absl::StrFormat("%.1f", std::chrono::duration<double, std::milli>(d).count());
   }

@@ -16,6 +16,7 @@
 #include "replica.h"
 #include "runtime.h"
 #include "tessera/rt.h"
+#include "tessera/scheduler/launch_timing.h"
 #include "tessera/scheduler/tiling.h"
 #include "tile_pieces.h"
 
@@ -206,10 +207,7 @@ class InprocDevice : public Device {
   std::unique_ptr<worker::LaunchPlan> plan_;
   std::mutex call_mu_;  // Apply and Launch calls, one at a time
   // TESSERA_LAUNCH_TIMING: where a call's time went, on stderr (api/src/launch.cc).
-  const bool timing_ = [] {
-    const char* env = std::getenv("TESSERA_LAUNCH_TIMING");
-    return env != nullptr && *env != '\0' && *env != '0';
-  }();
+  const bool timing_ = scheduler::LaunchTimingEnabled();
   uint64_t snapshot_launch_id_ = 0;  // the launch whose start the replica's snapshots record
 };
 

@@ -1,6 +1,5 @@
 #include "worker_service.h"
 
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -14,6 +13,7 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "tessera/scheduler/launch_timing.h"
 #include "tessera/worker/inproc_device.h"
 #include "transport/worker_wire.h"
 
@@ -58,7 +58,7 @@ std::string DeviceName() {
 // waiting, sending and system work when worker processes scale worse than threads.
 class CallTiming {
  public:
-  CallTiming() : enabled_(Enabled()), arrived_(Clock::now()) {}
+  CallTiming() : enabled_(scheduler::LaunchTimingEnabled()), arrived_(Clock::now()) {}
   void Locked() {
     if (!enabled_) return;
     locked_ = Clock::now();
@@ -75,26 +75,20 @@ class CallTiming {
     auto ms = [](Clock::duration d) {
       return std::chrono::duration<double, std::milli>(d).count();
     };
-    auto tv = [](const timeval& a, const timeval& b) {
-      return 1e3 * static_cast<double>(a.tv_sec - b.tv_sec) + 1e-3 * (a.tv_usec - b.tv_usec);
-    };
     std::fprintf(stderr,
                  "tessera-worker: call of launch %llu (%d tiles): waited %.1fms, ran %.1fms, "
                  "sent the rest in %.1fms; cpu user %.1fms sys %.1fms, page faults %ld, "
                  "context switches %ld voluntary %ld involuntary\n",
                  static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
                  ms(locked_ - arrived_), ms(ran_ - locked_), ms(end - ran_),
-                 tv(after.ru_utime, before_.ru_utime), tv(after.ru_stime, before_.ru_stime),
+                 scheduler::Milliseconds(after.ru_utime, before_.ru_utime),
+                 scheduler::Milliseconds(after.ru_stime, before_.ru_stime),
                  after.ru_minflt - before_.ru_minflt, after.ru_nvcsw - before_.ru_nvcsw,
                  after.ru_nivcsw - before_.ru_nivcsw);
   }
 
  private:
   using Clock = std::chrono::steady_clock;
-  static bool Enabled() {
-    const char* env = std::getenv("TESSERA_LAUNCH_TIMING");
-    return env != nullptr && *env != '\0' && *env != '0';
-  }
   const bool enabled_;
   Clock::time_point arrived_, locked_, ran_;
   rusage before_{};
