@@ -46,6 +46,17 @@ absl::StatusOr<WorkerFacts> AskWorker(const DeviceDesc& device) {
   return facts;
 }
 
+// An attribute that describes the device's machine: this one's for in-process and local:N
+// devices (`local()`), what a running worker says of its own (`fact`) for the others.
+template <typename T, typename Local>
+absl::Status MachineFact(const char* attribute, const DeviceDesc& device, RTsize size, void* out,
+                         T WorkerFacts::*fact, Local local) {
+  if (size != sizeof(T)) return SizeError(attribute, size, sizeof(T));
+  if (OnThisMachine(device)) return Write<T>(attribute, size, out, local());
+  TS_ASSIGN_OR_RETURN(WorkerFacts facts, AskWorker(device));
+  return Write<T>(attribute, size, out, facts.*fact);
+}
+
 }  // namespace
 
 std::vector<DeviceDesc> ExpandDevices(const std::vector<DeviceSpecEntry>& entries) {
@@ -109,7 +120,6 @@ void CopyString(const std::string& s, size_t size, char* out) {
 
 absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attribute, RTsize size,
                                 void* out) {
-  const bool local = OnThisMachine(device);
   switch (attribute) {
     case RT_DEVICE_ATTRIBUTE_NAME: {
       if (size == 0)
@@ -117,30 +127,21 @@ absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attr
       CopyString(device.name, size, static_cast<char*>(out));
       return absl::OkStatus();
     }
-    case RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT: {
-      constexpr char kName[] = "RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT";
-      if (size != sizeof(int)) return SizeError(kName, size, sizeof(int));
-      if (!local) {  // a running worker says how many threads it traces with
-        TS_ASSIGN_OR_RETURN(WorkerFacts facts, AskWorker(device));
-        return Write<int>(kName, size, out, facts.threads);
-      }
+    case RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT:
       // A local:N worker gets its share of the cores (api/src/worker_factory.cc).
-      return Write<int>(kName, size, out,
-                        device.type == DeviceSpecEntry::Type::kLocal
-                            ? std::max(1, HardwareThreads() / std::max(1, device.local_count))
-                            : HardwareThreads());
-    }
-    case RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY: {
-      constexpr char kName[] = "RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY";
-      if (size != sizeof(RTsize)) return SizeError(kName, size, sizeof(RTsize));
-      if (!local) {
-        TS_ASSIGN_OR_RETURN(WorkerFacts facts, AskWorker(device));
-        return Write<RTsize>(kName, size, out, static_cast<RTsize>(facts.total_memory));
-      }
-      return Write<RTsize>(kName, size, out, static_cast<RTsize>(TotalSystemMemory()));
-    }
+      return MachineFact("RT_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT", device, size, out,
+                         &WorkerFacts::threads, [&] {
+                           return device.type == DeviceSpecEntry::Type::kLocal
+                                      ? std::max(
+                                            1, HardwareThreads() / std::max(1, device.local_count))
+                                      : HardwareThreads();
+                         });
+    case RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY:
+      return MachineFact("RT_DEVICE_ATTRIBUTE_TOTAL_MEMORY", device, size, out,
+                         &WorkerFacts::total_memory, [] { return TotalSystemMemory(); });
     case RT_DEVICE_ATTRIBUTE_CLOCK_RATE:
-      return Write<int>("RT_DEVICE_ATTRIBUTE_CLOCK_RATE", size, out, local ? CpuClockKHz() : 0);
+      return MachineFact("RT_DEVICE_ATTRIBUTE_CLOCK_RATE", device, size, out,
+                         &WorkerFacts::clock_khz, [] { return CpuClockKHz(); });
     case RT_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY: {
       const int cc[2] = {0, 0};
       if (size != sizeof(cc)) {

@@ -67,6 +67,7 @@ void SetWorkerDeviceFactory(WorkerDeviceFactory factory);
 struct WorkerFacts {
   int threads = 0;
   uint64_t total_memory = 0;  // bytes; 0 when it did not say
+  int clock_khz = 0;          // 0 when it did not say
 };
 // Asks a running worker (libtessera installs it with the worker transport): UNAVAILABLE, naming
 // the address, when it cannot be reached.

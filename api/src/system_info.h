@@ -1,15 +1,15 @@
-// Facts about the host machine that OptiX reports as device and context attributes.
+// The machine facts of tessera/scheduler/system_info.h, under the names the API layer uses.
 #ifndef TESSERA_API_SRC_SYSTEM_INFO_H_
 #define TESSERA_API_SRC_SYSTEM_INFO_H_
 
-#include <cstdint>
+#include "tessera/scheduler/system_info.h"
 
 namespace tessera::api {
 
-int HardwareThreads();             // at least 1
-uint64_t TotalSystemMemory();      // bytes
-uint64_t AvailableSystemMemory();  // bytes the kernel reports as available
-int CpuClockKHz();                 // 0 when unknown
+using scheduler::AvailableSystemMemory;
+using scheduler::CpuClockKHz;
+using scheduler::HardwareThreads;
+using scheduler::TotalSystemMemory;
 
 }  // namespace tessera::api
 

@@ -39,7 +39,7 @@ absl::StatusOr<WorkerFacts> ProbeWorker(const DeviceDesc& device) {
   auto connected = transport::GrpcDevice::Connect(device.address, kProbeTimeout);
   if (!connected.ok()) return connected.status();
   const transport::WorkerHealth& health = (*connected)->health();
-  return WorkerFacts{health.thread_count, health.total_memory};
+  return WorkerFacts{health.thread_count, health.total_memory, health.clock_khz};
 }
 
 [[maybe_unused]] const bool kInstalled = [] {

@@ -106,6 +106,7 @@ absl::StatusOr<WorkerHealth> GrpcDevice::Health(absl::Duration timeout) const {
   health.pid = reply.pid();
   health.version = reply.version();
   health.total_memory = reply.total_memory();
+  health.clock_khz = static_cast<int>(reply.clock_khz());
   return health;
 }
 

@@ -21,6 +21,7 @@ struct WorkerHealth {
   int64_t pid = 0;
   std::string version;
   uint64_t total_memory = 0;  // bytes; 0 when the worker did not say
+  int clock_khz = 0;          // 0 when the worker did not say
 };
 
 class GrpcDevice : public Device {

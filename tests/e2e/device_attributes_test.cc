@@ -46,7 +46,7 @@ class DeviceAttributesTest : public ::testing::Test {
   std::optional<std::string> saved_;
 };
 
-TEST_F(DeviceAttributesTest, RunningWorkerSaysHowManyThreadsAndHowMuchMemory) {
+TEST_F(DeviceAttributesTest, RunningWorkerDescribesItsMachine) {
   transport::WorkerProcess::Options options;
   options.threads = 3;
   auto worker = transport::WorkerProcess::Spawn(options);
@@ -78,6 +78,13 @@ TEST_F(DeviceAttributesTest, RunningWorkerSaysHowManyThreadsAndHowMuchMemory) {
                                  &local_memory),
             RT_SUCCESS);
   EXPECT_EQ(memory, local_memory);
+  int clock = -1, local_clock = -2;
+  ASSERT_EQ(rtDeviceGetAttribute(1, RT_DEVICE_ATTRIBUTE_CLOCK_RATE, sizeof(clock), &clock),
+            RT_SUCCESS);
+  ASSERT_EQ(
+      rtDeviceGetAttribute(0, RT_DEVICE_ATTRIBUTE_CLOCK_RATE, sizeof(local_clock), &local_clock),
+      RT_SUCCESS);
+  EXPECT_EQ(clock, local_clock);
 }
 
 TEST_F(DeviceAttributesTest, UnreachableWorkerIsConnectionFailedNamingIt) {

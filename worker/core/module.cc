@@ -117,22 +117,14 @@ absl::Status ModuleCache::Store(const std::string& hash, absl::string_view bytes
         absl::StrCat("program module bytes do not match their hash ", hash));
   }
   std::lock_guard<std::mutex> lock(mu_);
-  if (stored_.count(hash) != 0 &&
-      access(ModuleFilePath(DirectoryLocked(), hash).c_str(), R_OK) == 0) {
-    return absl::OkStatus();
-  }
+  if (OnDiskLocked(hash)) return absl::OkStatus();
   if (absl::Status s = WriteModuleFile(DirectoryLocked(), hash, bytes); !s.ok()) return s;
   stored_.insert(hash);
-  TouchModuleFile(DirectoryLocked(), hash);
   TrimModuleCache(DirectoryLocked(), ModuleCacheLimitBytes(), hash);
   return absl::OkStatus();
 }
 
-bool ModuleCache::Has(const std::string& hash) {
-  if (!IsModuleHash(hash)) return false;
-  std::lock_guard<std::mutex> lock(mu_);
-  if (modules_.count(hash) != 0) return true;
-  // Not trusted from memory alone: another process sharing the directory may have trimmed it.
+bool ModuleCache::OnDiskLocked(const std::string& hash) {
   const std::string& dir = DirectoryLocked();
   const bool present = stored_.count(hash) != 0
                            ? access(ModuleFilePath(dir, hash).c_str(), R_OK) == 0
@@ -142,8 +134,14 @@ bool ModuleCache::Has(const std::string& hash) {
     return false;
   }
   stored_.insert(hash);
-  TouchModuleFile(dir, hash);
+  TouchModuleFile(dir, hash);  // used now: trimming keeps it longest
   return true;
+}
+
+bool ModuleCache::Has(const std::string& hash) {
+  if (!IsModuleHash(hash)) return false;
+  std::lock_guard<std::mutex> lock(mu_);
+  return modules_.count(hash) != 0 || OnDiskLocked(hash);
 }
 
 absl::Status ModuleCache::Receive(const v1::StateDelta& delta) {
@@ -186,16 +184,12 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
         absl::StrCat("program module ", origin, " has no valid hash ('", hash, "')"));
   }
   const std::string& dir = DirectoryLocked();
-  if (stored_.count(hash) == 0) {
-    if (!HasModuleFile(dir, hash)) {
-      return absl::NotFoundError(absl::StrCat("program module ", origin, origin.empty() ? "" : " ",
-                                              hash, " is not in this device's module cache (", dir,
-                                              "): the host has not sent it"));
-    }
-    stored_.insert(hash);
+  if (!OnDiskLocked(hash)) {
+    return absl::NotFoundError(absl::StrCat("program module ", origin, origin.empty() ? "" : " ",
+                                            hash, " is not in this device's module cache (", dir,
+                                            "): the host has not sent it"));
   }
   const std::string file = ModuleFilePath(dir, hash);
-  TouchModuleFile(dir, hash);  // used now: trimming keeps it longest
   // Messages name the host's file, which the user knows, and the copy that was loaded.
   const std::string path = origin.empty() ? file : absl::StrCat(origin, " (cached as ", file, ")");
 

@@ -107,6 +107,10 @@ class ModuleCache {
 
  private:
   const std::string& DirectoryLocked();
+  // Whether the directory holds module `hash` intact, and marks it used if so: a file check for
+  // a hash known intact (another process sharing the directory may have trimmed it since), the
+  // full check otherwise.
+  bool OnDiskLocked(const std::string& hash);
 
   // Guards everything below. Held while a module file is read, written or loaded: those happen
   // once per module, and concurrent Applies of one module must not write it twice.

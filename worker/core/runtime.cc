@@ -279,12 +279,17 @@ const TesseraRuntime* EngineRuntime() {
 
 namespace {
 
+// Forgets the nested calls a launch index left behind when an exception unwound them.
+void ResetNesting(ThreadState& ts) {
+  ts.depth = 0;
+  for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
+}
+
 // An exception raised at the current launch index: the entry's exception program runs, or the
 // report goes to the host.
 __attribute__((noinline)) void HandleException(ThreadState& ts, const LaunchPlan& plan,
                                                unsigned entry, ExceptionSignal& e) {
-  ts.depth = 0;
-  for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
+  ResetNesting(ts);
   ts.exception_code = e.code;
   ts.exception_details = std::move(e.details);
   const BoundProgram* ex = entry < plan.exception.size() ? plan.exception[entry] : nullptr;
@@ -308,10 +313,7 @@ inline void RunIndex(ThreadState& ts, const LaunchPlan& plan, unsigned entry,
                      const BoundProgram& rg) {
   ++ts.index_serial;
   ts.print_sequence = 0;
-  if (__builtin_expect(ts.depth != 0, 0)) {  // the previous launch index failed mid-trace
-    ts.depth = 0;
-    for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
-  }
+  if (__builtin_expect(ts.depth != 0, 0)) ResetNesting(ts);  // the last index failed mid-trace
   if (__builtin_expect(static_cast<bool>(ts.pending), 0)) ts.pending = nullptr;
   try {
     Enter(ts, rg);

@@ -14,6 +14,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "tessera/scheduler/launch_timing.h"
+#include "tessera/scheduler/system_info.h"
 #include "tessera/worker/inproc_device.h"
 #include "transport/worker_wire.h"
 
@@ -178,10 +179,7 @@ grpc::Status WorkerService::Apply(grpc::ServerContext* context,
     if (IsCurrent(id, session)) break;
     session->Release();
   }
-  struct Held {
-    Session* session;
-    ~Held() { session->Release(); }
-  } held{session.get()};
+  Held held{session.get()};
   if (session->device == nullptr || delta->sequence() == 1) {
     // The device is replaced only if the new one accepts the delta: a rejected delta leaves the
     // session as it was.
@@ -229,10 +227,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     std::unique_lock<std::mutex> lock(session->turn_mu);
     session->turn_cv.wait_for(lock, kCancelPoll, [&] { return session->releases != seen; });
   }
-  struct Held {
-    Session* session;
-    ~Held() { session->Release(); }
-  } held{session.get()};
+  Held held{session.get()};
   timing.Locked();
   if (session->device == nullptr) {
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
@@ -291,10 +286,8 @@ grpc::Status WorkerService::Health(grpc::ServerContext* context, const v1::Healt
   reply->set_thread_count(static_cast<uint32_t>(threads_));
   reply->set_pid(getpid());
   reply->set_version(TESSERA_VERSION);
-  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGESIZE);
-  if (pages > 0 && page_size > 0) {
-    reply->set_total_memory(static_cast<uint64_t>(pages) * static_cast<uint64_t>(page_size));
-  }
+  reply->set_total_memory(scheduler::TotalSystemMemory());
+  reply->set_clock_khz(static_cast<uint32_t>(scheduler::CpuClockKHz()));
   return grpc::Status::OK;
 }
 

@@ -57,6 +57,11 @@ class WorkerService final : public v1::Worker::Service {
       turn_cv.notify_all();
     }
   };
+  // Releases a session taken with `mu.Lock()`/`TryLock()` when the call ends.
+  struct Held {
+    Session* session;
+    ~Held() { session->Release(); }
+  };
 
   std::shared_ptr<Session> FindSession(uint64_t id, bool create);
   bool IsCurrent(uint64_t id, const std::shared_ptr<Session>& session);

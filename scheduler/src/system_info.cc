@@ -1,4 +1,4 @@
-#include "system_info.h"
+#include "tessera/scheduler/system_info.h"
 
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <string>
 #include <thread>
 
-namespace tessera::api {
+namespace tessera::scheduler {
 
 int HardwareThreads() {
   unsigned n = std::thread::hardware_concurrency();
@@ -50,4 +50,4 @@ int CpuClockKHz() {
   return 0;
 }
 
-}  // namespace tessera::api
+}  // namespace tessera::scheduler
