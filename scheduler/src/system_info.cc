@@ -13,12 +13,18 @@ int HardwareThreads() {
   return n == 0 ? 1 : static_cast<int>(n);
 }
 
-uint64_t TotalSystemMemory() {
-  long pages = sysconf(_SC_PHYS_PAGES);
-  long page_size = sysconf(_SC_PAGESIZE);
+namespace {
+
+// Bytes in `pages` (a sysconf count) of the system's page size; 0 when either is unknown.
+uint64_t PageBytes(long pages) {
+  const long page_size = sysconf(_SC_PAGESIZE);
   if (pages <= 0 || page_size <= 0) return 0;
   return static_cast<uint64_t>(pages) * static_cast<uint64_t>(page_size);
 }
+
+}  // namespace
+
+uint64_t TotalSystemMemory() { return PageBytes(sysconf(_SC_PHYS_PAGES)); }
 
 uint64_t AvailableSystemMemory() {
   std::ifstream meminfo("/proc/meminfo");
@@ -28,10 +34,7 @@ uint64_t AvailableSystemMemory() {
   while (meminfo >> key >> kib >> unit) {
     if (key == "MemAvailable:") return kib * 1024;
   }
-  long pages = sysconf(_SC_AVPHYS_PAGES);
-  long page_size = sysconf(_SC_PAGESIZE);
-  if (pages <= 0 || page_size <= 0) return 0;
-  return static_cast<uint64_t>(pages) * static_cast<uint64_t>(page_size);
+  return PageBytes(sysconf(_SC_AVPHYS_PAGES));
 }
 
 int CpuClockKHz() {
