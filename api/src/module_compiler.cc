@@ -15,6 +15,7 @@
 #include "hash.h"
 #include "status.h"
 #include "subprocess.h"
+#include "tessera/scheduler/module_cache_files.h"
 
 #ifndef TESSERA_PROGRAM_INCLUDE_DIR
 #define TESSERA_PROGRAM_INCLUDE_DIR ""
@@ -104,7 +105,10 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   const std::string cache_dir = ModuleCacheDir();
   const std::string module_path = absl::StrCat(cache_dir, "/", HexHash(key), ".so");
   std::error_code ec;
-  if (fs::exists(module_path, ec)) return module_path;
+  if (fs::exists(module_path, ec)) {
+    scheduler::TouchCacheFile(module_path);  // recently used: trimmed last
+    return module_path;
+  }
   fs::create_directories(cache_dir, ec);
   if (ec) {
     return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("cannot create module cache directory '",
@@ -148,6 +152,8 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
     return RtError(RT_ERROR_INVALID_SOURCE,
                    absl::StrCat("cannot store module '", module_path, "': ", ec.message()));
   }
+  // Every edit of a source is a new module: keep the directory within its bound.
+  scheduler::TrimModuleCache(cache_dir, scheduler::ModuleCacheLimitBytes(), HexHash(key));
   return module_path;
 }
 

@@ -1,6 +1,7 @@
 // Programs: modules checked for their function, C++ sources compiled into a content-hash cache.
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -87,6 +88,30 @@ TEST_F(HostProgramTest, SourceFilesCompileOnceIntoTheCache) {
   EXPECT_EQ(CachedModules(), 1u);
   // A missing function in a compiled module.
   EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "other", &p), RT_ERROR_INVALID_SOURCE);
+}
+
+TEST_F(HostProgramTest, CompileCacheStaysWithinItsBound) {
+  ScopedEnv limit("TESSERA_MODULE_CACHE_MAX_MB", "1");
+  // Two modules compiled yesterday (and not used since) fill the 1 MiB bound; a third from an
+  // hour and a half ago is still in it.
+  fs::create_directories(dir_ / "cache");
+  auto stale = [&](const std::string& name, std::chrono::minutes age) {
+    std::ofstream(dir_ / "cache" / name) << std::string(600 << 10, 'x');
+    fs::last_write_time(dir_ / "cache" / name, fs::file_time_type::clock::now() - age);
+  };
+  stale("00000000000000aa.so", std::chrono::minutes(24 * 60));
+  stale("00000000000000bb.so", std::chrono::minutes(23 * 60));
+  stale("00000000000000cc.so", std::chrono::minutes(90));
+
+  RTprogram p = nullptr;
+  ASSERT_EQ(rtProgramCreateFromPTXString(ctx, "extern \"C\" void fresh() {}\n", "fresh", &p),
+            RT_SUCCESS)
+      << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  // The least recently used went until the rest fits: the new module and the newest old one.
+  EXPECT_FALSE(fs::exists(dir_ / "cache" / "00000000000000aa.so"));
+  EXPECT_FALSE(fs::exists(dir_ / "cache" / "00000000000000bb.so"));
+  EXPECT_TRUE(fs::exists(dir_ / "cache" / "00000000000000cc.so"));
+  EXPECT_EQ(CachedModules(), 2u);
 }
 
 TEST_F(HostProgramTest, CompilerErrorsComeBackAsInvalidSource) {

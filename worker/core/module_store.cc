@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -115,70 +114,7 @@ absl::Status WriteModuleFile(const std::string& dir, const std::string& hash,
 }
 
 void TouchModuleFile(const std::string& dir, const std::string& hash) {
-  std::error_code ec;
-  fs::last_write_time(ModuleFilePath(dir, hash), fs::file_time_type::clock::now(), ec);
-}
-
-uint64_t ModuleCacheLimitBytes() {
-  constexpr uint64_t kDefaultMiB = 1024;
-  uint64_t mib = kDefaultMiB;
-  if (const char* env = Env("TESSERA_MODULE_CACHE_MAX_MB")) {
-    char* end = nullptr;
-    const unsigned long long v = std::strtoull(env, &end, 10);
-    if (end != env && *end == '\0' && v > 0) {
-      mib = v;
-    } else {
-      std::fprintf(stderr,
-                   "tessera: TESSERA_MODULE_CACHE_MAX_MB='%s' is not a positive number of MiB; "
-                   "using %llu\n",
-                   env, static_cast<unsigned long long>(kDefaultMiB));
-    }
-  }
-  return mib << 20;
-}
-
-size_t TrimModuleCache(const std::string& dir, uint64_t max_bytes, const std::string& keep,
-                       std::chrono::seconds recent) {
-  struct Entry {
-    fs::path path;
-    uint64_t bytes;
-    fs::file_time_type used;
-  };
-  const auto now = fs::file_time_type::clock::now();
-  std::vector<Entry> modules;
-  uint64_t total = 0;
-  std::error_code ec;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
-    std::error_code entry_ec;
-    const std::string name = e.path().filename().string();
-    const fs::file_time_type used = e.last_write_time(entry_ec);
-    if (entry_ec || !e.is_regular_file(entry_ec)) continue;
-    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0) {
-      if (now - used > std::chrono::hours(1)) fs::remove(e.path(), entry_ec);
-      continue;
-    }
-    if (name.size() != 67 || name.compare(64, 3, ".so") != 0 ||
-        !IsModuleHash(absl::string_view(name).substr(0, 64))) {
-      continue;  // not ours
-    }
-    const uint64_t bytes = e.file_size(entry_ec);
-    if (entry_ec) continue;
-    total += bytes;
-    if (name.compare(0, 64, keep) == 0 || now - used < recent) continue;
-    modules.push_back({e.path(), bytes, used});
-  }
-  std::sort(modules.begin(), modules.end(),
-            [](const Entry& a, const Entry& b) { return a.used < b.used; });
-  size_t removed = 0;
-  for (const Entry& m : modules) {
-    if (total <= max_bytes) break;
-    std::error_code remove_ec;
-    if (fs::remove(m.path, remove_ec)) {
-      total -= m.bytes;
-      ++removed;
-    }
-  }
-  return removed;
+  scheduler::TouchCacheFile(ModuleFilePath(dir, hash));
 }
 
 absl::StatusOr<std::map<std::string, std::string>> AssembleModules(

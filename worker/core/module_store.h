@@ -6,7 +6,6 @@
 #ifndef TESSERA_WORKER_CORE_MODULE_STORE_H_
 #define TESSERA_WORKER_CORE_MODULE_STORE_H_
 
-#include <chrono>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -15,6 +14,7 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
 #include "google/protobuf/repeated_ptr_field.h"
+#include "tessera/scheduler/module_cache_files.h"
 #include "tessera/scheduler/module_hash.h"
 #include "tessera/v1/state.pb.h"
 
@@ -46,17 +46,9 @@ absl::Status WriteModuleFile(const std::string& dir, const std::string& hash,
 // Marks module `hash` as just used (its modification time), so that trimming keeps it longest.
 void TouchModuleFile(const std::string& dir, const std::string& hash);
 
-// How many bytes of modules a cache directory may hold: TESSERA_MODULE_CACHE_MAX_MB (default
-// 1024). A farm's workers receive every new build of every program; without a bound, a
-// long-lived cache would grow until the disk is full.
-uint64_t ModuleCacheLimitBytes();
-
-// Removes the least recently used modules of `dir` until its modules take at most `max_bytes`,
-// sparing `keep` and every module used within `recent` (another process may be about to load
-// it); removes temporary files older than an hour too (writes cut short by a crash). Returns how
-// many modules it removed.
-size_t TrimModuleCache(const std::string& dir, uint64_t max_bytes, const std::string& keep,
-                       std::chrono::seconds recent = std::chrono::hours(1));
+// The cache's bound and trimming, shared with the host's compile cache (module_cache_files.h).
+using scheduler::ModuleCacheLimitBytes;
+using scheduler::TrimModuleCache;
 
 // The modules of a delta, whole, by hash. Slices of one module must arrive in order and add up to
 // its total_size; modules of at most kMaxModuleBytes. INVALID_ARGUMENT otherwise. Does not check

@@ -182,8 +182,12 @@ TEST(ModuleStoreTest, TrimmingRemovesTheLeastRecentlyUsedModulesFirst) {
   WriteAged(path("notes.txt"), 5000, hours(9));                      // not a module: left alone
   WriteAged(path(b + ".so.1-2.tmp"), 100, hours(2));                 // a write cut short long ago
   WriteAged(path(c + ".so.3-4.tmp"), 100, std::chrono::seconds(0));  // a write under way
+  // The host's compile cache shares the directory: its modules count and go first when older.
+  WriteAged(path("0123456789abcdef.so"), 1000, hours(6));
+  WriteAged(path("0123456789abcdef.77-88.cpp"), 100, hours(2));  // a compile cut short
+  WriteAged(path("0123456789ABCDEF.so"), 1000, hours(9));        // not a name of ours
 
-  EXPECT_EQ(TrimModuleCache(temp.path(), 2500, a), 2u);
+  EXPECT_EQ(TrimModuleCache(temp.path(), 2500, a), 3u);
   EXPECT_TRUE(fs::exists(path(a + ".so")));
   EXPECT_FALSE(fs::exists(path(b + ".so")));
   EXPECT_FALSE(fs::exists(path(c + ".so")));
@@ -191,6 +195,9 @@ TEST(ModuleStoreTest, TrimmingRemovesTheLeastRecentlyUsedModulesFirst) {
   EXPECT_TRUE(fs::exists(path("notes.txt")));
   EXPECT_FALSE(fs::exists(path(b + ".so.1-2.tmp")));
   EXPECT_TRUE(fs::exists(path(c + ".so.3-4.tmp")));
+  EXPECT_FALSE(fs::exists(path("0123456789abcdef.so")));
+  EXPECT_FALSE(fs::exists(path("0123456789abcdef.77-88.cpp")));
+  EXPECT_TRUE(fs::exists(path("0123456789ABCDEF.so")));
 
   // Within the limit nothing goes.
   EXPECT_EQ(TrimModuleCache(temp.path(), 1 << 20, ""), 0u);

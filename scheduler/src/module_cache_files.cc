@@ -1,0 +1,108 @@
+#include "tessera/scheduler/module_cache_files.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string_view>
+#include <vector>
+
+namespace tessera::scheduler {
+namespace fs = std::filesystem;
+namespace {
+
+bool IsLowerHex(std::string_view s) {
+  return std::all_of(s.begin(), s.end(),
+                     [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
+}
+
+bool EndsWith(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+// The module a file name holds, "" when it is no module: a worker's `<sha256>.so` or a host
+// compile's `<xxh64>.so`.
+std::string_view ModuleStem(std::string_view name) {
+  if (!EndsWith(name, ".so")) return {};
+  std::string_view stem = name.substr(0, name.size() - 3);
+  return (stem.size() == 64 || stem.size() == 16) && IsLowerHex(stem) ? stem : std::string_view{};
+}
+
+// A temporary file of a write into the cache: removable once old enough that no write can still
+// be going on.
+bool IsTemporary(std::string_view name) {
+  if (EndsWith(name, ".tmp")) return true;
+  return EndsWith(name, ".cpp") && name.size() > 17 && name[16] == '.' &&
+         IsLowerHex(name.substr(0, 16));
+}
+
+}  // namespace
+
+uint64_t ModuleCacheLimitBytes() {
+  constexpr uint64_t kDefaultMiB = 1024;
+  uint64_t mib = kDefaultMiB;
+  const char* env = std::getenv("TESSERA_MODULE_CACHE_MAX_MB");
+  if (env != nullptr && *env != '\0') {
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(env, &end, 10);
+    if (end != env && *end == '\0' && v > 0) {
+      mib = v;
+    } else if (static std::atomic<bool> warned{false}; !warned.exchange(true)) {  // once
+      std::fprintf(stderr,
+                   "tessera: TESSERA_MODULE_CACHE_MAX_MB='%s' is not a positive number of MiB; "
+                   "using %llu\n",
+                   env, static_cast<unsigned long long>(kDefaultMiB));
+    }
+  }
+  return mib << 20;
+}
+
+void TouchCacheFile(const std::string& path) {
+  std::error_code ec;
+  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+}
+
+size_t TrimModuleCache(const std::string& dir, uint64_t max_bytes, const std::string& keep,
+                       std::chrono::seconds recent) {
+  struct Entry {
+    fs::path path;
+    uint64_t bytes;
+    fs::file_time_type used;
+  };
+  const auto now = fs::file_time_type::clock::now();
+  std::vector<Entry> modules;
+  uint64_t total = 0;
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    std::error_code entry_ec;
+    const std::string name = e.path().filename().string();
+    const fs::file_time_type used = e.last_write_time(entry_ec);
+    if (entry_ec || !e.is_regular_file(entry_ec)) continue;
+    if (IsTemporary(name)) {
+      if (now - used > std::chrono::hours(1)) fs::remove(e.path(), entry_ec);
+      continue;
+    }
+    const std::string_view stem = ModuleStem(name);
+    if (stem.empty()) continue;  // not ours
+    const uint64_t bytes = e.file_size(entry_ec);
+    if (entry_ec) continue;
+    total += bytes;
+    if (stem == keep || now - used < recent) continue;
+    modules.push_back({e.path(), bytes, used});
+  }
+  std::sort(modules.begin(), modules.end(),
+            [](const Entry& a, const Entry& b) { return a.used < b.used; });
+  size_t removed = 0;
+  for (const Entry& m : modules) {
+    if (total <= max_bytes) break;
+    std::error_code remove_ec;
+    if (fs::remove(m.path, remove_ec)) {
+      total -= m.bytes;
+      ++removed;
+    }
+  }
+  return removed;
+}
+
+}  // namespace tessera::scheduler
