@@ -15,6 +15,7 @@
 #include <cerrno>
 #include <climits>
 #include <condition_variable>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
@@ -26,6 +27,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
 #include "absl/time/clock.h"
 
 #ifndef TESSERA_WORKER_BUILD_PATH
@@ -188,6 +190,21 @@ std::string DescribeExit(int status) {
   if (WIFEXITED(status)) return absl::StrCat("exited with status ", WEXITSTATUS(status));
   if (WIFSIGNALED(status)) return absl::StrCat("was killed by signal ", WTERMSIG(status));
   return "stopped";
+}
+
+// Passes on what a worker printed while it started: warnings about the environment it shares with
+// the host (a module cache it cannot use, a malformed TESSERA_* value) would otherwise stay in a
+// log that nobody reads and that goes with the worker. A line that several workers print (they
+// all see the same environment) appears once per host process.
+void RelayStartupLines(const std::string& log, int index) {
+  static std::mutex mu;
+  static auto* seen = new std::set<std::string>;
+  std::lock_guard<std::mutex> lock(mu);
+  for (absl::string_view line : absl::StrSplit(log, '\n', absl::SkipWhitespace())) {
+    if (!seen->emplace(line).second) continue;
+    std::fprintf(stderr, "%.*s (said by local worker %d at startup)\n",
+                 static_cast<int>(line.size()), line.data(), index);
+  }
 }
 
 }  // namespace
@@ -356,6 +373,7 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
                                  : absl::StrCat("; its stderr ends with:\n", log));
     return absl::UnavailableError(message);  // the destructor kills and reaps it
   }
+  RelayStartupLines(process->LogTail(), options.index);
   return process;
 }
 

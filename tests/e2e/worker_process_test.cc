@@ -201,6 +201,24 @@ TEST(WorkerProcessTest, LargeWrittenRegionsArriveInBoundedMessages) {
   EXPECT_EQ(last[1], kH - 1.f);
 }
 
+TEST(WorkerProcessTest, StartupWarningsReachTheHostOnce) {
+  // Every worker inherits the malformed value and warns about it while starting.
+  ASSERT_EQ(setenv("TESSERA_MODULE_CACHE_MAX_MB", "plenty", 1), 0);
+  ::testing::internal::CaptureStderr();
+  WorkerProcess::Options second;
+  second.index = 1;
+  std::unique_ptr<WorkerProcess> a = Spawn({}), b = Spawn(second);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  unsetenv("TESSERA_MODULE_CACHE_MAX_MB");
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  const std::string warning = "TESSERA_MODULE_CACHE_MAX_MB='plenty' is not a positive number";
+  const size_t first = err.find(warning);
+  ASSERT_NE(first, std::string::npos) << err;
+  EXPECT_EQ(err.find(warning, first + 1), std::string::npos) << "said once: " << err;
+  EXPECT_NE(err.find("local worker 0 at startup"), std::string::npos) << err;
+}
+
 TEST(WorkerProcessTest, DestructionStopsTheWorker) {
   std::unique_ptr<WorkerProcess> worker = Spawn({});
   ASSERT_NE(worker, nullptr);

@@ -22,6 +22,7 @@
 
 #include "auth.h"
 #include "listen_address.h"
+#include "tessera/scheduler/module_cache_files.h"
 #include "tessera/worker/crash_report.h"
 #include "tessera/worker/module_cache.h"
 #include "transport/worker_wire.h"
@@ -147,7 +148,9 @@ int main(int argc, char** argv) {
                  "~/.cache/tessera/modules)");
   CLI11_PARSE(app, argc, argv);
   tessera::SetModuleCacheDirectory(module_cache);
-  // Resolved now, so that falling back to a temporary directory is reported at startup.
+  // Resolved now, so that falling back to a temporary directory or ignoring a malformed bound is
+  // reported at startup, where a host that spawned this worker passes it on.
   tessera::ModuleCacheDirectory();
+  tessera::scheduler::ModuleCacheLimitBytes();
   return Serve(listen, threads, security);
 }
