@@ -171,6 +171,19 @@ TEST(MathTest, ScalarHelpers) {
   EXPECT_EQ(clamp(1.5f, 0.0f, 1.0f), 1.0f);
   EXPECT_EQ(clamp(-0.5f, 0.0f, 1.0f), 0.0f);
   EXPECT_EQ(clamp(0.25f, 0.0f, 1.0f), 0.25f);
+  // fminf/fmaxf semantics: a NaN argument yields the other one, so a NaN clamps to the upper end
+  // (fmaxf(lo, fminf(NaN, hi)) == hi), and a vector's NaN components likewise.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(clamp(nan, 0.0f, 1.0f), 1.0f);
+  const float3 lo = fminf(make_float3(nan, 2.0f, 3.0f), make_float3(1.0f, nan, 0.5f));
+  EXPECT_EQ(lo.x, 1.0f);
+  EXPECT_EQ(lo.y, 2.0f);
+  EXPECT_EQ(lo.z, 0.5f);
+  const float2 hi = fmaxf(make_float2(nan, -2.0f), make_float2(-1.0f, nan));
+  EXPECT_EQ(hi.x, -1.0f);
+  EXPECT_EQ(hi.y, -2.0f);
+  EXPECT_EQ(fminf(make_float3(4.0f, nan, 3.0f)), 3.0f);
+  EXPECT_EQ(fmaxf(make_float4(nan, 1.0f, 7.0f, nan)), 7.0f);
   EXPECT_FLOAT_EQ(lerp(2.0f, 4.0f, 0.25f), 2.5f);
   EXPECT_FLOAT_EQ(lerp(2.0f, 4.0f, 0.0f), 2.0f);
   EXPECT_FLOAT_EQ(lerp(2.0f, 4.0f, 1.0f), 4.0f);

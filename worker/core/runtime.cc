@@ -27,11 +27,8 @@ std::string IndexText(const Index3& i) {
 // A suspended program needs back only its per-call values (ray, payload, distance, attributes);
 // launch index and dim do not change within a launch index, invariants never change, and its
 // binding's own values are re-applied from the binding.
-void SaveSlots(SuspendedSlots& s) {
+void SavePerCall(SuspendedSlots& s) {
   const ModuleState& ms = *s.module;
-  s.loaded = ms.loaded;
-  s.saved = true;
-  if (!s.reads_per_call) return;
   const auto& vars = ms.module->variables();
   s.bytes.resize(ms.module->per_call_bytes());
   unsigned char* at = s.bytes.data();

@@ -154,7 +154,15 @@ void UsePlan(ThreadState& ts, const LaunchPlan& plan);
 
 // Cold paths of Enter (runtime.cc).
 void InitModuleState(ModuleState& ms, const Module* m);
-void SaveSlots(SuspendedSlots& s);
+void SavePerCall(SuspendedSlots& s);
+
+// Saves what a suspended program of `ms` needs back before another program of the module runs:
+// its binding, and its per-call values if it can read any (runtime.cc).
+inline void SaveSlots(SuspendedSlots& s, const ModuleState& ms) {
+  s.loaded = ms.loaded;
+  s.saved = true;
+  if (s.reads_per_call) SavePerCall(s);
+}
 void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_index);
 
 // memcpy for the small, mostly fixed sizes of slot values, without a library call.
@@ -217,7 +225,7 @@ inline void Apply(ModuleState& ms, const BoundProgram& p) {
 // loads `p`'s bindings and the launch index/dim semantics. Inline: it runs for every program.
 inline void Enter(ThreadState& ts, const BoundProgram& p) {
   ModuleState& ms = StateOf(ts, p);
-  if (ms.suspended != nullptr && !ms.suspended->saved) SaveSlots(*ms.suspended);
+  if (ms.suspended != nullptr && !ms.suspended->saved) SaveSlots(*ms.suspended, ms);
   ReturnTo(ts, p, ms);
   if (__builtin_expect(ms.invariants_plan != ts.plan_serial, 0)) {
     LoadInvariants(ts, ms, p.module_index);

@@ -40,7 +40,16 @@
 #endif
 
 // ---- Scalar helpers -----------------------------------------------------------------------------
-inline float clamp(float f, float a, float b) { return ::fmaxf(a, ::fminf(f, b)); }
+namespace optixu_detail {
+// fminf and fmaxf as C defines them (a NaN argument yields the other one), but inline: -O2 keeps
+// the library's as calls, since minss and maxss treat a NaN differently.
+inline float Fminf(float a, float b) { return (a < b || b != b) ? a : b; }
+inline float Fmaxf(float a, float b) { return (a > b || b != b) ? a : b; }
+}  // namespace optixu_detail
+
+inline float clamp(float f, float a, float b) {
+  return optixu_detail::Fmaxf(a, optixu_detail::Fminf(f, b));
+}
 inline int clamp(int f, int a, int b) { return ::max(a, ::min(f, b)); }
 inline unsigned int clamp(unsigned int f, unsigned int a, unsigned int b) {
   return ::max(a, ::min(f, b));
@@ -103,8 +112,12 @@ inline float smoothstep(float edge0, float edge1, float x) {
 #define OPTIXU_FLOAT_VECTOR_(V, N)                                                             \
   OPTIXU_ALL_ARITHMETIC_(V, float, N)                                                          \
   inline V operator-(const V& a) { return {OPTIXU_MAP##N##_(OPTIXU_NEG_, _)}; }                \
-  inline V fminf(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::fminf)}; }  \
-  inline V fmaxf(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::fmaxf)}; }  \
+  inline V fminf(const V& a, const V& b) {                                                     \
+    return {OPTIXU_MAP##N##_(OPTIXU_FN2_, optixu_detail::Fminf)};                              \
+  }                                                                                            \
+  inline V fmaxf(const V& a, const V& b) {                                                     \
+    return {OPTIXU_MAP##N##_(OPTIXU_FN2_, optixu_detail::Fmaxf)};                              \
+  }                                                                                            \
   inline V fmodf(const V& a, const V& b) { return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::fmodf)}; }  \
   inline V copysignf(const V& a, const V& b) {                                                 \
     return {OPTIXU_MAP##N##_(OPTIXU_FN2_, ::copysignf)};                                       \
@@ -192,12 +205,20 @@ inline int4 operator-(const int4& a) { return {-a.x, -a.y, -a.z, -a.w}; }
 
 // ---- Reductions ---------------------------------------------------------------------------------
 // fminf/fmaxf of a single vector give its smallest/largest component.
-inline float fminf(const float2& a) { return ::fminf(a.x, a.y); }
-inline float fminf(const float3& a) { return ::fminf(::fminf(a.x, a.y), a.z); }
-inline float fminf(const float4& a) { return ::fminf(::fminf(a.x, a.y), ::fminf(a.z, a.w)); }
-inline float fmaxf(const float2& a) { return ::fmaxf(a.x, a.y); }
-inline float fmaxf(const float3& a) { return ::fmaxf(::fmaxf(a.x, a.y), a.z); }
-inline float fmaxf(const float4& a) { return ::fmaxf(::fmaxf(a.x, a.y), ::fmaxf(a.z, a.w)); }
+inline float fminf(const float2& a) { return optixu_detail::Fminf(a.x, a.y); }
+inline float fminf(const float3& a) {
+  return optixu_detail::Fminf(optixu_detail::Fminf(a.x, a.y), a.z);
+}
+inline float fminf(const float4& a) {
+  return optixu_detail::Fminf(optixu_detail::Fminf(a.x, a.y), optixu_detail::Fminf(a.z, a.w));
+}
+inline float fmaxf(const float2& a) { return optixu_detail::Fmaxf(a.x, a.y); }
+inline float fmaxf(const float3& a) {
+  return optixu_detail::Fmaxf(optixu_detail::Fmaxf(a.x, a.y), a.z);
+}
+inline float fmaxf(const float4& a) {
+  return optixu_detail::Fmaxf(optixu_detail::Fmaxf(a.x, a.y), optixu_detail::Fmaxf(a.z, a.w));
+}
 
 // ---- float3 geometry ----------------------------------------------------------------------------
 // Right-handed: cross(x, y) == z.
@@ -238,8 +259,9 @@ inline float luminanceCIE(const float3& rgb) {
 // `maximum` at grazing angles.
 inline float fresnel_schlick(float cos_theta, float exponent = 5.0f, float minimum = 0.0f,
                              float maximum = 1.0f) {
-  float f = minimum + (maximum - minimum) * powf(fmaxf(0.0f, 1.0f - cos_theta), exponent);
-  return fminf(fmaxf(f, minimum), maximum);
+  float f =
+      minimum + (maximum - minimum) * powf(optixu_detail::Fmaxf(0.0f, 1.0f - cos_theta), exponent);
+  return optixu_detail::Fminf(optixu_detail::Fmaxf(f, minimum), maximum);
 }
 inline float3 fresnel_schlick(float cos_theta, float exponent, const float3& minimum,
                               const float3& maximum) {
