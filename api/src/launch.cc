@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -207,6 +208,15 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat("entry point index ", entry_point, " is out of range (",
                                 entry_point_count(), " entry points)"));
+  }
+  for (size_t d = 0; d < dims.size(); ++d) {
+    // rtLaunchIndex and rtLaunchDim hold unsigned int components.
+    if (dims[d] > std::numeric_limits<uint32_t>::max()) {
+      return RtError(
+          RT_ERROR_INVALID_VALUE,
+          absl::StrCat("launch dimension ", d, " is ", dims[d], "; at most ",
+                       std::numeric_limits<uint32_t>::max(), " (launch indices are unsigned int)"));
+    }
   }
   TS_RETURN_IF_ERROR(ValidateContext(*this));
   TS_RETURN_IF_ERROR(CheckNothingMapped(*this));

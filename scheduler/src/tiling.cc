@@ -27,12 +27,31 @@ namespace {
 // (dispatcher.cc).
 constexpr uint64_t kTilesPerThread = 64;
 
+// Tiles per dimension; their product saturates at UINT64_MAX (three dimensions of 2^32 - 1 in
+// tiles of 1 would overflow).
+uint64_t TilesAlong(uint64_t extent, uint64_t size) { return extent / size + (extent % size != 0); }
 uint64_t TileCount(const std::vector<uint64_t>& dims, const std::vector<uint64_t>& size) {
   uint64_t count = 1;
   for (size_t d = 0; d < dims.size() && d < size.size(); ++d) {
-    count *= (dims[d] + size[d] - 1) / size[d];
+    const uint64_t along = TilesAlong(dims[d], std::max<uint64_t>(size[d], 1));
+    if (along != 0 && count > UINT64_MAX / along) return UINT64_MAX;
+    count *= along;
   }
   return count;
+}
+
+// `size` grown, one doubling at a time along the dimension with the most tiles, until the launch
+// has at most kMaxTiles of them.
+std::vector<uint64_t> LimitTileCount(const std::vector<uint64_t>& dims,
+                                     std::vector<uint64_t> size) {
+  while (TileCount(dims, size) > kMaxTiles) {
+    size_t most = 0;
+    for (size_t d = 1; d < dims.size(); ++d) {
+      if (TilesAlong(dims[d], size[d]) > TilesAlong(dims[most], size[most])) most = d;
+    }
+    size[most] = size[most] >= dims[most] / 2 ? dims[most] : size[most] * 2;
+  }
+  return size;
 }
 
 }  // namespace
@@ -79,14 +98,19 @@ std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
   std::vector<v1::Tile> tiles;
   const size_t n = dims.size();
   if (n == 0 || n > 3) return tiles;
+  std::vector<uint64_t> chosen(n);
+  for (size_t d = 0; d < n; ++d) {
+    if (dims[d] == 0) return tiles;
+    chosen[d] = std::max<uint64_t>(1, d < tile_size.size() ? tile_size[d] : 1);
+  }
+  chosen = LimitTileCount(dims, std::move(chosen));
   uint64_t size[3] = {1, 1, 1};
   uint64_t extent[3] = {1, 1, 1};
   uint64_t count[3] = {1, 1, 1};
   for (size_t d = 0; d < n; ++d) {
-    if (dims[d] == 0) return tiles;
     extent[d] = dims[d];
-    size[d] = std::max<uint64_t>(1, d < tile_size.size() ? tile_size[d] : 1);
-    count[d] = (extent[d] + size[d] - 1) / size[d];
+    size[d] = chosen[d];
+    count[d] = TilesAlong(extent[d], size[d]);
   }
   tiles.reserve(count[0] * count[1] * count[2]);
   uint32_t index = 0;

@@ -50,6 +50,34 @@ TEST(TilingTest, ChoosesSmallerTilesForManyThreads) {
   EXPECT_EQ(ChooseTileSize({64, 64, 64}, 1024), std::vector<uint64_t>({8, 8, 2}));
 }
 
+// The largest launches (every dimension up to 2^32 - 1) get at most kMaxTiles tiles, which still
+// cover the grid exactly once.
+TEST(TilingTest, HugeLaunchesGetBoundedTileLists) {
+  constexpr uint64_t kMax = 0xFFFFFFFFu;
+  auto one = MakeTiles({kMax}, {4096});
+  ASSERT_LE(one.size(), kMaxTiles);
+  EXPECT_GT(one.size(), kMaxTiles / 2);  // grown no more than needed
+  uint64_t covered = 0;
+  for (const v1::Tile& t : one) {
+    EXPECT_EQ(t.origin(0), covered);
+    covered += t.size(0);
+  }
+  EXPECT_EQ(covered, kMax);
+
+  for (const std::vector<uint64_t>& dims : std::vector<std::vector<uint64_t>>{
+           {kMax, kMax}, {70000, 70000}, {kMax, 3}, {kMax, kMax, kMax}, {5, kMax, 7}}) {
+    auto tiles = MakeTiles(dims, MaxTileSize(dims.size()));
+    ASSERT_LE(tiles.size(), kMaxTiles);
+    ASSERT_FALSE(tiles.empty());
+    // The last tile ends at the far corner.
+    const v1::Tile& last = tiles.back();
+    for (size_t d = 0; d < dims.size(); ++d) EXPECT_EQ(last.origin(d) + last.size(d), dims[d]);
+    EXPECT_EQ(last.index(), tiles.size() - 1);
+  }
+  // A launch that fits keeps the tiles it asked for.
+  EXPECT_EQ(MakeTiles({1920, 1080}, {8, 8}).size(), 240u * 135u);
+}
+
 TEST(TilingTest, ParsesOverrides) {
   EXPECT_EQ(*ParseTileSize("32x16"), std::vector<uint64_t>({32, 16}));
   EXPECT_EQ(*ParseTileSize("7"), std::vector<uint64_t>({7}));

@@ -2,6 +2,7 @@
 // compiled from C++ source writes its launch index into an output buffer.
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <string>
 
@@ -119,6 +120,36 @@ TEST_F(InprocLaunchTest, TwoDevicesGiveTheSameImage) {
         << ErrorString(ctx, RT_ERROR_LAUNCH_FAILED);
     EXPECT_EQ(CountWrong(output, kW, kH, 1.0f), 0) << "launch " << launch;
   }
+}
+
+TEST_F(InprocLaunchTest, LaunchDimensionsBeyondUnsignedIntAreRefused) {
+  RTbuffer output;
+  BuildScene(ctx, 4, 4, &output);
+  // rtLaunchIndex holds unsigned int components: 2^32 is one too many.
+  EXPECT_EQ(rtContextLaunch2D(ctx, 0, RTsize{1} << 32, 1), RT_ERROR_INVALID_VALUE);
+  std::string message = ErrorString(ctx, RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(message.find("launch dimension 0 is 4294967296"), std::string::npos) << message;
+  EXPECT_EQ(rtContextLaunch3D(ctx, 0, 1, 1, RTsize{1} << 40), RT_ERROR_INVALID_VALUE);
+  message = ErrorString(ctx, RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(message.find("launch dimension 2"), std::string::npos) << message;
+  // The context is fine afterwards.
+  EXPECT_EQ(rtContextLaunch2D(ctx, 0, 4, 4), RT_SUCCESS);
+}
+
+std::chrono::steady_clock::time_point g_huge_launch_start;
+int StopAfterAMoment() {
+  return std::chrono::steady_clock::now() - g_huge_launch_start > std::chrono::milliseconds(300);
+}
+
+// The largest launch there is (2^64 - 2^33 + 1 indices) starts at once, in a bounded tile list,
+// and stops when the timeout callback asks.
+TEST_F(InprocLaunchTest, LargestLaunchStartsAndCancels) {
+  RTbuffer output;
+  BuildScene(ctx, 4, 4, &output);  // indices past 4x4 write nowhere (bounds exception off)
+  ASSERT_EQ(rtContextSetTimeoutCallback(ctx, StopAfterAMoment, 0.05), RT_SUCCESS);
+  g_huge_launch_start = std::chrono::steady_clock::now();
+  EXPECT_EQ(rtContextLaunch2D(ctx, 0, 0xFFFFFFFFu, 0xFFFFFFFFu), RT_TIMEOUT_CALLBACK);
+  EXPECT_LT(std::chrono::steady_clock::now() - g_huge_launch_start, std::chrono::seconds(10));
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -70,6 +71,12 @@ class InprocDevice : public Device {
     if (request.dims_size() < 1 || request.dims_size() > 3) {
       return absl::InvalidArgumentError(
           absl::StrCat("launch with ", request.dims_size(), " dimensions"));
+    }
+    for (uint64_t d : request.dims()) {
+      if (d > std::numeric_limits<uint32_t>::max()) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("launch dimension ", d, " exceeds launch indices (unsigned int)"));
+      }
     }
     // Before the plan: building accelerations runs bounding-box programs, which may write.
     if (request.launch_id() != snapshot_launch_id_) {

@@ -24,8 +24,15 @@ std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int tota
 // launch dimension is used, missing ones repeat the last. INVALID_ARGUMENT names the bad text.
 absl::StatusOr<std::vector<uint64_t>> ParseTileSize(absl::string_view text);
 
+// The most tiles a launch is cut into: a tile list costs memory up front (about 150 bytes a
+// tile), and a launch of 2^32 indices in tiles of 4096 would otherwise take a gigabyte before it
+// traced a ray. Far more than balance needs (64 per thread).
+inline constexpr uint64_t kMaxTiles = uint64_t{1} << 18;
+
 // Tiles covering `dims` (1..3 entries) in x-fastest order, numbered from 0; edge tiles are
-// clipped. Empty when any dimension is 0. `tile_size` has one entry per dimension (0 reads as 1).
+// clipped. Empty when any dimension is 0. `tile_size` has one entry per dimension (0 reads as 1);
+// where it would give more than kMaxTiles tiles, tiles grow (doubling along the dimension with
+// the most tiles) until it does not.
 std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
                                 const std::vector<uint64_t>& tile_size);
 
