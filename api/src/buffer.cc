@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cstring>
+#include <new>
+#include <string>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 #include "buffer_format.h"
 #include "dirty.h"
 #include "hash.h"
@@ -54,9 +57,7 @@ absl::Status Buffer::SetFormat(RTformat format) {
                    absl::StrCat("0x", absl::Hex(static_cast<int>(format)), " is not a format"));
   }
   if (mapped_) return MappedError();
-  format_ = format;
-  Reallocate();
-  return absl::OkStatus();
+  return Reallocate(dims_, format, user_element_size_);
 }
 
 absl::Status Buffer::SetElementSize(size_t size) {
@@ -67,9 +68,7 @@ absl::Status Buffer::SetElementSize(size_t size) {
   }
   if (size == 0) return RtError(RT_ERROR_INVALID_VALUE, "element size must not be 0");
   if (mapped_) return MappedError();
-  user_element_size_ = size;
-  Reallocate();
-  return absl::OkStatus();
+  return Reallocate(dims_, format_, size);
 }
 
 size_t Buffer::dim(unsigned axis) const {
@@ -82,29 +81,39 @@ absl::Status Buffer::SetSize(const std::vector<size_t>& dims) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat("dimensionality ", dims.size(), " is not 1, 2 or 3"));
   }
-  uint64_t count = 1;
-  for (size_t d : dims) {
-    if (d > kMaxBufferBytes || (d != 0 && count > kMaxBufferBytes / d)) {
-      return RtError(RT_ERROR_INVALID_VALUE, "buffer size is too large");
-    }
-    count *= d;
-  }
-  if (count * std::max<size_t>(element_size(), 1) > kMaxBufferBytes) {
-    return RtError(RT_ERROR_INVALID_VALUE, "buffer size is too large");
-  }
   if (mapped_) return MappedError();
-  dims_ = dims;
-  Reallocate();
-  return absl::OkStatus();
+  return Reallocate(dims, format_, user_element_size_);
 }
 
-void Buffer::Reallocate() {
-  uint64_t count = 1;
-  for (size_t d : dims_) count *= d;
-  if (dims_.empty()) count = 0;
-  uint64_t bytes = count * element_size();
+absl::Status Buffer::Reallocate(const std::vector<size_t>& dims, RTformat format,
+                                size_t user_element_size) {
+  // Elements times element size, checked step by step so that no product can wrap around.
+  const uint64_t element = format == RT_FORMAT_USER ? user_element_size : FormatElementSize(format);
+  uint64_t bytes = dims.empty() ? 0 : std::max<uint64_t>(element, 1);
+  std::string size_text = absl::StrCat(element, "-byte elements");
+  for (size_t d : dims) {
+    if (d != 0 && bytes > kMaxBufferBytes / d) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat("buffer size is too large: ", absl::StrJoin(dims, "x"), " of ",
+                                  size_text, " exceed ", kMaxBufferBytes, " bytes"));
+    }
+    bytes *= d;
+  }
+  if (element == 0) bytes = 0;  // no format or element size yet: nothing to hold
+  // Allocate before changing anything: a buffer that cannot grow keeps its size and contents.
   // Contents are zero-initialised on every resize, as documented in COMPATIBILITY.md.
-  std::vector<unsigned char>(bytes, 0).swap(data_);
+  std::vector<unsigned char> data;
+  try {
+    data.assign(bytes, 0);
+  } catch (const std::bad_alloc&) {
+    return RtError(RT_ERROR_MEMORY_ALLOCATION_FAILED,
+                   absl::StrCat("cannot allocate ", bytes, " bytes for ", absl::StrJoin(dims, "x"),
+                                " ", size_text, "; the buffer keeps its previous size"));
+  }
+  dims_ = dims;
+  format_ = format;
+  user_element_size_ = user_element_size;
+  data_.swap(data);
   chunk_hashes_.clear();
   changed_.Clear();
   changed_.Add(0, bytes);
@@ -112,6 +121,7 @@ void Buffer::Reallocate() {
   views_.clear();  // device pointers name memory of the old size
   Touch();
   NotifyStructureChanged(this);
+  return absl::OkStatus();
 }
 
 absl::StatusOr<void*> Buffer::Map() {

@@ -104,7 +104,10 @@ class Buffer : public Object {
     }
   };
 
-  void Reallocate();
+  // Makes the buffer `dims` elements of `format` (of `user_element_size` bytes for USER), zeroed;
+  // on failure (too large, out of memory) nothing changes.
+  absl::Status Reallocate(const std::vector<size_t>& dims, RTformat format,
+                          size_t user_element_size);
   void HostWrote(uint64_t begin, uint64_t end);
 
   const unsigned desc_;

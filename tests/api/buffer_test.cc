@@ -189,6 +189,43 @@ TEST_F(HostBufferTest, ResizeZeroesContents) {
   ASSERT_EQ(rtBufferUnmap(b), RT_SUCCESS);
 }
 
+// Sizes whose bytes would pass 2^46 (or wrap around 2^64) are refused by whichever call makes them
+// so, and the buffer keeps its size, format and contents.
+TEST_F(HostBufferTest, OversizedBuffersAreRefusedAndLeaveTheBufferAsItWas) {
+  RTbuffer b = Make();
+  ASSERT_EQ(rtBufferSetFormat(b, RT_FORMAT_USER), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetElementSize(b, 4), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetSize1D(b, 1000), RT_SUCCESS);
+  void* p;
+  ASSERT_EQ(rtBufferMap(b, &p), RT_SUCCESS);
+  static_cast<unsigned*>(p)[999] = 42;
+  ASSERT_EQ(rtBufferUnmap(b), RT_SUCCESS);
+
+  auto unchanged = [&](const char* after) {
+    SCOPED_TRACE(after);
+    RTsize width = 0, element = 0;
+    ASSERT_EQ(rtBufferGetSize1D(b, &width), RT_SUCCESS);
+    ASSERT_EQ(rtBufferGetElementSize(b, &element), RT_SUCCESS);
+    EXPECT_EQ(width, 1000u);
+    EXPECT_EQ(element, 4u);
+    ASSERT_EQ(rtBufferMap(b, &p), RT_SUCCESS);
+    EXPECT_EQ(static_cast<unsigned*>(p)[999], 42u);
+    ASSERT_EQ(rtBufferUnmap(b), RT_SUCCESS);
+  };
+  // 2^63 elements of 4 bytes wrap around 2^64.
+  EXPECT_EQ(rtBufferSetSize1D(b, RTsize{1} << 63), RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("too large"), std::string::npos);
+  unchanged("SetSize1D");
+  EXPECT_EQ(rtBufferSetSize3D(b, RTsize{1} << 20, RTsize{1} << 20, RTsize{1} << 20),
+            RT_ERROR_INVALID_VALUE);
+  unchanged("SetSize3D");
+  // 1000 elements of 2^60 bytes.
+  EXPECT_EQ(rtBufferSetElementSize(b, RTsize{1} << 60), RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("1000 of"), std::string::npos)
+      << ErrorString(ctx, RT_ERROR_INVALID_VALUE);
+  unchanged("SetElementSize");
+}
+
 TEST_F(HostBufferTest, DescriptionRules) {
   RTbuffer b;
   EXPECT_EQ(rtBufferCreate(ctx, 0, &b), RT_ERROR_INVALID_VALUE);
