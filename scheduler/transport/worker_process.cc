@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <climits>
 #include <condition_variable>
@@ -19,6 +20,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
+#include <filesystem>
 #include <functional>
 #include <mutex>
 #include <set>
@@ -242,6 +244,15 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
   process->directory_ = *directory;
   TrackDirectory(process->directory_, true);
   process->log_path_ = absl::StrCat(process->directory_, "/w", options.index, ".log");
+  if (const char* dir = std::getenv("TESSERA_WORKER_LOG_DIR"); dir != nullptr && *dir != '\0') {
+    // Kept after the worker is gone (say, to read TESSERA_LAUNCH_TIMING's per-call lines), one
+    // file per spawn: a respawned worker does not overwrite the log of the one that crashed.
+    static std::atomic<int> spawns{0};
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    process->log_path_ =
+        absl::StrCat(dir, "/tessera-worker-", getpid(), "-", spawns++, "-w", options.index, ".log");
+  }
   std::string listen = options.listen;
   if (listen.empty()) {
     process->socket_path_ = absl::StrCat(process->directory_, "/w", options.index, ".sock");
@@ -273,8 +284,11 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
     }
   };
   if (out[0] < 0 || out[1] < 0 || log_fd < 0 || null_fd < 0) {
+    const std::string message =
+        log_fd < 0 ? Errno(absl::StrCat("opening the worker's log ", process->log_path_).c_str())
+                   : Errno("opening the worker's files");
     close_all();
-    return absl::UnavailableError(Errno("opening the worker's files"));
+    return absl::UnavailableError(message);
   }
 
   const pid_t parent = getpid();

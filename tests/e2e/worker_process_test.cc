@@ -10,6 +10,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -217,6 +218,25 @@ TEST(WorkerProcessTest, StartupWarningsReachTheHostOnce) {
   ASSERT_NE(first, std::string::npos) << err;
   EXPECT_EQ(err.find(warning, first + 1), std::string::npos) << "said once: " << err;
   EXPECT_NE(err.find("local worker 0 at startup"), std::string::npos) << err;
+}
+
+TEST(WorkerProcessTest, LogsStayInTheLogDirectoryWhenOneIsNamed) {
+  const std::string dir = ::testing::TempDir() + "/worker_logs_" + std::to_string(getpid());
+  ASSERT_EQ(setenv("TESSERA_WORKER_LOG_DIR", dir.c_str(), 1), 0);
+  std::string first, second;
+  {
+    std::unique_ptr<WorkerProcess> a = Spawn({}), b = Spawn({});  // same index, two spawns
+    ASSERT_NE(a, nullptr);
+    ASSERT_NE(b, nullptr);
+    first = a->log_path();
+    second = b->log_path();
+  }
+  unsetenv("TESSERA_WORKER_LOG_DIR");
+  EXPECT_EQ(first.rfind(dir + "/tessera-worker-", 0), 0u) << first;
+  EXPECT_NE(first, second) << "a respawn gets its own log";
+  EXPECT_EQ(access(first.c_str(), F_OK), 0) << "kept after the worker is gone";
+  EXPECT_EQ(access(second.c_str(), F_OK), 0);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(WorkerProcessTest, DestructionStopsTheWorker) {

@@ -79,13 +79,14 @@ class CallTiming {
     std::fprintf(stderr,
                  "tessera-worker: call of launch %llu (%d tiles): waited %.1fms, ran %.1fms, "
                  "sent the rest in %.1fms; cpu user %.1fms sys %.1fms, page faults %ld, "
-                 "context switches %ld voluntary %ld involuntary\n",
+                 "context switches %ld voluntary %ld involuntary; monotonic clock %.3f to %.3fms\n",
                  static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
                  ms(locked_ - arrived_), ms(ran_ - locked_), ms(end - ran_),
                  scheduler::Milliseconds(after.ru_utime, before_.ru_utime),
                  scheduler::Milliseconds(after.ru_stime, before_.ru_stime),
                  after.ru_minflt - before_.ru_minflt, after.ru_nvcsw - before_.ru_nvcsw,
-                 after.ru_nivcsw - before_.ru_nivcsw);
+                 after.ru_nivcsw - before_.ru_nivcsw, ms(arrived_.time_since_epoch()),
+                 ms(end.time_since_epoch()));
   }
 
  private:
