@@ -98,20 +98,14 @@ std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
   std::vector<v1::Tile> tiles;
   const size_t n = dims.size();
   if (n == 0 || n > 3) return tiles;
-  std::vector<uint64_t> chosen(n);
+  std::vector<uint64_t> size(n);
   for (size_t d = 0; d < n; ++d) {
     if (dims[d] == 0) return tiles;
-    chosen[d] = std::max<uint64_t>(1, d < tile_size.size() ? tile_size[d] : 1);
+    size[d] = std::max<uint64_t>(1, d < tile_size.size() ? tile_size[d] : 1);
   }
-  chosen = LimitTileCount(dims, std::move(chosen));
-  uint64_t size[3] = {1, 1, 1};
-  uint64_t extent[3] = {1, 1, 1};
+  size = LimitTileCount(dims, std::move(size));
   uint64_t count[3] = {1, 1, 1};
-  for (size_t d = 0; d < n; ++d) {
-    extent[d] = dims[d];
-    size[d] = chosen[d];
-    count[d] = TilesAlong(extent[d], size[d]);
-  }
+  for (size_t d = 0; d < n; ++d) count[d] = TilesAlong(dims[d], size[d]);
   tiles.reserve(count[0] * count[1] * count[2]);
   uint32_t index = 0;
   for (uint64_t tz = 0; tz < count[2]; ++tz) {
@@ -123,7 +117,7 @@ std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
         for (size_t d = 0; d < n; ++d) {
           uint64_t origin = t[d] * size[d];
           tile.add_origin(origin);
-          tile.add_size(std::min(size[d], extent[d] - origin));
+          tile.add_size(std::min(size[d], dims[d] - origin));
         }
         tiles.push_back(std::move(tile));
       }
