@@ -36,6 +36,8 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   }
   queues_.resize(stable_ ? n : 1);
   lost_.assign(n, false);
+  held_.resize(n);
+  next_sequence_.assign(n, 1);
   uint32_t max_index = 0;
   for (const v1::Tile& t : tiles) max_index = std::max(max_index, t.index());
   tile_losses_.assign(tiles.empty() ? 0 : size_t{max_index} + 1, 0);
@@ -99,6 +101,7 @@ void Dispatcher::Fail(size_t d, absl::Status status) {
     status_ = std::move(status);
     failed_device_ = static_cast<int>(d);
   }
+  Release(d);
   stop_ = true;
   work_cv_.notify_all();
 }
@@ -172,11 +175,15 @@ void Dispatcher::Run(size_t d) {
       status = absl::InternalError("threw a non-standard exception");
     }
 
+    for (const v1::TileResult& r : finished.results) {
+      if (r.tile_index() == kFinalTileIndex && r.call_sequence() != 0) {
+        finished.sequence = r.call_sequence();
+      }
+    }
     lock.lock();
     if (status.ok()) {
       remaining_ -= build_only_ ? 1 : batch.size();
-      finished_.push_back(std::move(finished));
-      done_cv_.notify_all();
+      Deliver(std::move(finished));
       if (remaining_ == 0) work_cv_.notify_all();
       if (build_only_) break;
       continue;
@@ -186,6 +193,7 @@ void Dispatcher::Run(size_t d) {
     if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {
       if (!lost_[d]) lost_reasons_.push_back({d, status});
       lost_[d] = true;
+      Release(d);
       if (build_only_) {
         --remaining_;
         if (std::count(lost_.begin(), lost_.end(), false) == 0) Requeue(d, {});
@@ -202,7 +210,34 @@ void Dispatcher::Run(size_t d) {
     Fail(d, std::move(status));
     break;
   }
-  --running_threads_;
+  if (--running_threads_ == 0) {
+    for (size_t i = 0; i < devices_.size(); ++i) Release(i);
+  }
+  done_cv_.notify_all();
+}
+
+void Dispatcher::Deliver(FinishedBatch batch) {
+  const size_t d = batch.device;
+  if (batch.sequence == 0 || batch.sequence < next_sequence_[d]) {
+    finished_.push_back(std::move(batch));  // unordered, or its predecessors were released
+  } else {
+    std::map<uint64_t, FinishedBatch>& held = held_[d];
+    held.emplace(batch.sequence, std::move(batch));
+    for (auto it = held.begin(); it != held.end() && it->first == next_sequence_[d];
+         it = held.erase(it)) {
+      finished_.push_back(std::move(it->second));
+      ++next_sequence_[d];
+    }
+  }
+  done_cv_.notify_all();
+}
+
+void Dispatcher::Release(size_t d) {
+  for (auto& [sequence, batch] : held_[d]) {
+    finished_.push_back(std::move(batch));
+    next_sequence_[d] = sequence + 1;
+  }
+  held_[d].clear();
   done_cv_.notify_all();
 }
 

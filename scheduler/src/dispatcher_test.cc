@@ -182,6 +182,56 @@ TEST(DispatcherTest, TileLosingTwoDevicesFailsTheLaunch) {
   EXPECT_EQ(dispatcher.lost().size(), 2u);
 }
 
+// Runs its calls one at a time, numbering them, but takes a while to return every odd-numbered
+// call's results after running it, as a worker does when sending: the next call runs and returns
+// meanwhile.
+class OverlappingDevice : public Device {
+ public:
+  DeviceInfo Info() const override { return {"overlapping", "overlapping", 1}; }
+  absl::Status Apply(const v1::StateDelta&) override { return absl::OkStatus(); }
+  absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>&,
+                      const std::function<void(v1::TileResult&&)>& on_result) override {
+    uint64_t sequence;
+    {
+      std::lock_guard<std::mutex> running(run_mu_);
+      sequence = ++calls_;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    if (sequence % 2 == 1) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    v1::TileResult final_result;
+    final_result.set_tile_index(kFinalTileIndex);
+    final_result.set_call_sequence(sequence);
+    for (const v1::Tile& t : request.tiles()) {
+      final_result.add_regions()->set_offset(t.index());
+    }
+    on_result(std::move(final_result));
+    return absl::OkStatus();
+  }
+
+ private:
+  std::mutex run_mu_;
+  uint64_t calls_ = 0;
+};
+
+TEST(DispatcherTest, BatchesComeInTheOrderTheirDeviceRanThem) {
+  OverlappingDevice a, b;
+  std::vector<DispatchDevice> devices = {{&a, "a", 1, {}}, {&b, "b", 1, {}}};
+  Dispatcher dispatcher(std::move(devices), MakeTiles({64 * kTileIndices}, {kTileIndices}), false);
+  std::vector<FinishedBatch> batches;
+  while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
+  }
+  ASSERT_TRUE(dispatcher.status().ok()) << dispatcher.status();
+  std::vector<uint64_t> last(2, 0);
+  size_t tiles = 0;
+  for (const FinishedBatch& batch : batches) {
+    EXPECT_EQ(batch.sequence, last[batch.device] + 1) << "device " << batch.device;
+    last[batch.device] = batch.sequence;
+    tiles += batch.tiles;
+  }
+  EXPECT_EQ(tiles, 64u);
+  EXPECT_GE(last[0] + last[1], 4u) << "several calls per device, so that order could break";
+}
+
 TEST(DispatcherTest, CancelStopsRunningCallsPromptly) {
   FakeDevice a(FakeDevice::Fault::kBlockUntilCancel), b(FakeDevice::Fault::kBlockUntilCancel);
   std::vector<DispatchDevice> devices = {{&a, "a", 1, {}}, {&b, "b", 1, {}}};

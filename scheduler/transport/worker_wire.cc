@@ -82,6 +82,7 @@ std::vector<v1::TileResult> SplitTileResult(v1::TileResult&& result, size_t max_
       pieces.emplace_back();
       pieces.back().set_launch_id(result.launch_id());
       pieces.back().set_tile_index(result.tile_index());
+      pieces.back().set_call_sequence(result.call_sequence());
       used = 0;
     }
     used += bytes;

@@ -176,6 +176,7 @@ TEST(WorkerWireTest, LargeTileResultsAreSplitIntoBoundedMessages) {
 TEST(WorkerWireTest, PackedRunsAreSplitByRunAndKeepTheirOffsets) {
   v1::TileResult result;
   result.set_tile_index(kFinalTileIndex);
+  result.set_call_sequence(3);
   v1::BufferRegion* region = result.add_regions();
   region->set_buffer_id(7);
   // Runs of 4, 9 and 2 bytes at scattered offsets, packed.
@@ -191,6 +192,7 @@ TEST(WorkerWireTest, PackedRunsAreSplitByRunAndKeepTheirOffsets) {
   for (const auto& [offset, bytes] : runs) expected.replace(offset, bytes.size(), bytes);
   for (const v1::TileResult& piece : pieces) {
     EXPECT_EQ(piece.tile_index(), kFinalTileIndex);
+    EXPECT_EQ(piece.call_sequence(), 3u);  // every piece: the host orders calls by it
     size_t bytes_in_piece = 0;
     for (const v1::BufferRegion& r : piece.regions()) {
       EXPECT_EQ(r.buffer_id(), 7u);

@@ -82,7 +82,9 @@ class InprocDevice : public Device {
     if (request.launch_id() != snapshot_launch_id_) {
       replica_.SnapshotForLaunch();
       snapshot_launch_id_ = request.launch_id();
+      calls_ = 0;
     }
+    const uint64_t sequence = ++calls_;  // calls run one at a time: this is the order they ran
     if (!plan_ || plan_->generation != replica_.generation()) {
       absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan;
       try {
@@ -167,6 +169,7 @@ class InprocDevice : public Device {
         v1::TileResult partial;
         partial.set_launch_id(request.launch_id());
         partial.set_tile_index(kFinalTileIndex);
+        partial.set_call_sequence(sequence);
         arena.execute([&] { replica_.TakeWrittenRegions(&partial); });
         if (partial.regions_size() > 0) on_result(std::move(partial));
       }
@@ -175,6 +178,7 @@ class InprocDevice : public Device {
     v1::TileResult final_result;
     final_result.set_launch_id(request.launch_id());
     final_result.set_tile_index(kFinalTileIndex);
+    final_result.set_call_sequence(sequence);
     // Taken even when the call failed, so that marks of unfinished tiles do not leak into the
     // next call's regions.
     arena.execute([&] { replica_.TakeWrittenRegions(&final_result); });
@@ -216,6 +220,7 @@ class InprocDevice : public Device {
   // TESSERA_LAUNCH_TIMING: where a call's time went, on stderr (api/src/launch.cc).
   const bool timing_ = scheduler::LaunchTimingEnabled();
   uint64_t snapshot_launch_id_ = 0;  // the launch whose start the replica's snapshots record
+  uint64_t calls_ = 0;               // calls of that launch run so far
 };
 
 }  // namespace

@@ -256,6 +256,9 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
   last_write = std::chrono::steady_clock::now();
   while (!done) {
     std::deque<v1::TileResult> batch = results.Take(kCancelPoll, &done);
+    // The device is done with this call and its results are messages: the next call may trace
+    // while they go out (they carry the call's sequence, by which the host orders calls).
+    if (done) held.Release();
     if (context->IsCancelled()) cancel = true;
     if (batch.empty() && !done && writable &&
         std::chrono::steady_clock::now() - last_write >= kHeartbeatInterval) {

@@ -57,10 +57,15 @@ class WorkerService final : public v1::Worker::Service {
       turn_cv.notify_all();
     }
   };
-  // Releases a session taken with `mu.Lock()`/`TryLock()` when the call ends.
+  // Releases a session taken with `mu.Lock()`/`TryLock()` when the call ends, or earlier.
   struct Held {
     Session* session;
-    ~Held() { session->Release(); }
+    bool released = false;
+    void Release() {
+      if (!released) session->Release();
+      released = true;
+    }
+    ~Held() { Release(); }
   };
 
   std::shared_ptr<Session> FindSession(uint64_t id, bool create);

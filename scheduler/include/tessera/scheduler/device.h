@@ -36,7 +36,9 @@ class Device {
   // kFinalTileIndex carry, as regions, every element of an OUTPUT or INPUT_OUTPUT buffer (not
   // GPU_LOCAL) that the call's programs accessed: one or more at the end, or some earlier (a
   // worker's call in rounds); an element in several carries its latest value in the last, so they
-  // must be applied in the order they came. Returns when all tiles are done, or early once
+  // must be applied in the order they came, and they carry the call's place in the order the
+  // device ran this launch's calls (call_sequence) so that the host can apply calls in that
+  // order (0: unordered). Returns when all tiles are done, or early once
   // `cancel` becomes true. A device that is gone (process killed, connection lost, silent past its
   // deadline) answers UNAVAILABLE or DEADLINE_EXCEEDED: its tiles can run elsewhere. ABORTED means
   // the device's process crashed while running a program: running its tiles elsewhere would crash

@@ -14,6 +14,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -38,6 +39,7 @@ struct FinishedBatch {
   size_t device = 0;
   size_t tiles = 0;
   std::vector<v1::TileResult> results;
+  uint64_t sequence = 0;  // the call's place in its device's order (TileResult.call_sequence)
 };
 
 // A device that stopped answering or died during the launch.
@@ -57,7 +59,10 @@ class Dispatcher {
   Dispatcher& operator=(const Dispatcher&) = delete;
 
   // Launching thread: moves finished batches into `out`, waiting for one until `deadline`.
-  // Returns true once every device thread has ended and nothing is left to take.
+  // A device's batches come in the order the device ran them (their call sequence), which is
+  // not always the order its calls ended on the host: a device starts its next call while the
+  // last one's results are still on their way. Returns true once every device thread has ended
+  // and nothing is left to take.
   bool Wait(std::chrono::steady_clock::time_point deadline, std::vector<FinishedBatch>* out);
 
   // Stops handing out tiles and cancels running calls (the timeout callback asked to stop).
@@ -82,6 +87,12 @@ class Dispatcher {
   // Hands the tiles of lost device `d` (its batch and, for stable ownership, its queue) on.
   void Requeue(size_t d, std::vector<v1::Tile> batch) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   void Fail(size_t d, absl::Status status) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+  // Hands a finished batch to the launching thread once the device's earlier calls are handed
+  // over; batches without a sequence go at once.
+  void Deliver(FinishedBatch batch) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+  // Hands over device `d`'s held batches whatever came before them: the calls they wait for
+  // failed or will never end (the device was lost, the launch failed or every thread ended).
+  void Release(size_t d) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
 
   std::vector<DispatchDevice> devices_;
   const bool stable_;
@@ -98,6 +109,10 @@ class Dispatcher {
   uint64_t remaining_ ABSL_GUARDED_BY(mu_) = 0;        // tiles not yet finished
   size_t running_threads_ ABSL_GUARDED_BY(mu_) = 0;
   std::vector<FinishedBatch> finished_ ABSL_GUARDED_BY(mu_);
+  // Per device: batches that ended before an earlier-run call, by sequence, and the sequence
+  // handed over next.
+  std::vector<std::map<uint64_t, FinishedBatch>> held_ ABSL_GUARDED_BY(mu_);
+  std::vector<uint64_t> next_sequence_ ABSL_GUARDED_BY(mu_);
   absl::Status status_ ABSL_GUARDED_BY(mu_);
   int failed_device_ ABSL_GUARDED_BY(mu_) = -1;
   bool cancelled_ ABSL_GUARDED_BY(mu_) = false;
