@@ -266,4 +266,6 @@ void SetModuleCacheDirectory(const std::string& dir) {
 
 std::string ModuleCacheDirectory() { return worker::ModuleCache::Get().directory(); }
 
+void RemoveTemporaryModuleCaches() { worker::RemoveTemporaryModuleCaches(); }
+
 }  // namespace tessera

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 #include <random>
 #include <vector>
 
@@ -22,6 +23,16 @@ namespace {
 const char* Env(const char* name) {
   const char* value = std::getenv(name);
   return value != nullptr && *value != '\0' ? value : nullptr;
+}
+
+// The fallback directories of this process, removed when it ends.
+struct TemporaryCacheList {
+  std::mutex mu;
+  std::vector<std::string> dirs;
+};
+TemporaryCacheList& TemporaryCaches() {
+  static auto* list = new TemporaryCacheList;  // never destroyed: used by an exit handler
+  return *list;
 }
 
 bool ReadWholeFile(const std::string& path, std::string* out) {
@@ -71,7 +82,19 @@ std::string PrepareModuleCacheDir(const std::string& dir) {
   }
   std::fprintf(stderr, "tessera: module cache %s is not usable (%s); using %s instead\n",
                dir.c_str(), why.c_str(), temp.c_str());
+  std::lock_guard<std::mutex> lock(TemporaryCaches().mu);
+  if (TemporaryCaches().dirs.empty()) std::atexit(RemoveTemporaryModuleCaches);
+  TemporaryCaches().dirs.push_back(temp);
   return temp;
+}
+
+void RemoveTemporaryModuleCaches() {
+  std::lock_guard<std::mutex> lock(TemporaryCaches().mu);
+  for (const std::string& dir : TemporaryCaches().dirs) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  TemporaryCaches().dirs.clear();
 }
 
 std::string ModuleFilePath(const std::string& dir, const std::string& hash) {

@@ -34,6 +34,11 @@ std::string DefaultModuleCacheDir();
 // instead, announced by one line on stderr. A device must not fail for want of a cache.
 std::string PrepareModuleCacheDir(const std::string& dir);
 
+// Removes the temporary directories PrepareModuleCacheDir fell back to in this process (also run
+// at exit; a worker's shutdown, which skips exit handlers, calls it itself): they hold copies
+// that nothing else will use.
+void RemoveTemporaryModuleCaches();
+
 std::string ModuleFilePath(const std::string& dir, const std::string& hash);
 
 // Whether `dir` holds module `hash` with the bytes the hash names.

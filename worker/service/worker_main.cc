@@ -108,8 +108,10 @@ int Serve(const std::string& listen, int threads,
   server->Wait();
   // Skip the orderly teardown: gRPC 1.51's library shutdown can block for up to 10 s joining an
   // executor thread that sits in epoll_wait, and a parent waiting for us would SIGKILL us first.
-  // Nothing is left to save (stdout is flushed; sessions live in memory only).
+  // Nothing is left to save (stdout is flushed; sessions live in memory only), and a temporary
+  // module cache goes with us.
   std::fflush(nullptr);
+  tessera::RemoveTemporaryModuleCaches();
   std::_Exit(0);
 }
 

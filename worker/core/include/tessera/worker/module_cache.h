@@ -16,6 +16,9 @@ void SetModuleCacheDirectory(const std::string& dir);
 // on stderr, if it cannot be created or written.
 std::string ModuleCacheDirectory();
 
+// Removes such temporary directories (exit handlers do it too, for processes that run them).
+void RemoveTemporaryModuleCaches();
+
 }  // namespace tessera
 
 #endif  // TESSERA_WORKER_MODULE_CACHE_H_
