@@ -17,6 +17,7 @@
 #include "status.h"
 #include "tessera/scheduler/dispatcher.h"
 #include "tessera/scheduler/launch_timing.h"
+#include "tessera/scheduler/result_pool.h"
 #include "tessera/scheduler/tiling.h"
 #include "validate.h"
 
@@ -278,6 +279,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     for (scheduler::FinishedBatch& batch : batches) {
       const auto start = std::chrono::steady_clock::now();
       gather.Apply(batch);
+      for (v1::TileResult& r : batch.results) scheduler::RecycleTileResult(std::move(r));
       timing.apply += std::chrono::steady_clock::now() - start;
     }
     batches.clear();

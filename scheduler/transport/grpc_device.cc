@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "tessera/scheduler/result_pool.h"
 #include "tessera/v1/worker.grpc.pb.h"
 #include "transport/call_watchdog.h"
 #include "transport/credentials.h"
@@ -132,14 +133,18 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
   bool silent = false;
   {
     WatchedCall watcher(&context, cancel, SilenceDeadline());
-    v1::TileResult result;
+    // Parsed into messages that held results before (result_pool.h): their buffers are reused.
+    v1::TileResult result = scheduler::TakeTileResult();
     while (reader->Read(&result)) {
       watcher.Heard();
       // Heartbeats only say the worker is alive. The written regions come as several results
       // with kFinalTileIndex; whoever called collects the whole call before applying any of it.
-      if (result.tile_index() != kHeartbeatTileIndex) on_result(std::move(result));
-      result.Clear();
+      if (result.tile_index() != kHeartbeatTileIndex) {
+        on_result(std::move(result));
+        result = scheduler::TakeTileResult();
+      }
     }
+    scheduler::RecycleTileResult(std::move(result));  // the one taken for a read that never came
     status = reader->Finish();
     silent = watcher.silent();
   }

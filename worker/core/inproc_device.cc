@@ -18,6 +18,7 @@
 #include "runtime.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/launch_timing.h"
+#include "tessera/scheduler/result_pool.h"
 #include "tessera/scheduler/tiling.h"
 #include "tile_pieces.h"
 
@@ -166,7 +167,7 @@ class InprocDevice : public Device {
         // What this round wrote goes out while the next round traces. Between rounds no program
         // runs, so the marks are complete; a later round that writes an element again sends it
         // again, after this, and the host applies a call's results in order.
-        v1::TileResult partial;
+        v1::TileResult partial = scheduler::TakeTileResult();
         partial.set_launch_id(request.launch_id());
         partial.set_tile_index(kFinalTileIndex);
         partial.set_call_sequence(sequence);
@@ -175,7 +176,8 @@ class InprocDevice : public Device {
       }
     }
     const auto traced = std::chrono::steady_clock::now();
-    v1::TileResult final_result;
+    // Packed into a message that held results before, when there is one (result_pool.h).
+    v1::TileResult final_result = scheduler::TakeTileResult();
     final_result.set_launch_id(request.launch_id());
     final_result.set_tile_index(kFinalTileIndex);
     final_result.set_call_sequence(sequence);

@@ -12,6 +12,7 @@
 // (with the real port when asked for port 0), so that a parent process can read where it is.
 // SIGTERM or SIGINT stops it.
 #include <grpcpp/grpcpp.h>
+#include <malloc.h>
 #include <signal.h>
 
 #include <CLI/CLI.hpp>
@@ -119,6 +120,12 @@ int Serve(const std::string& listen, int threads,
 
 int main(int argc, char** argv) {
   tessera::InstallCrashReporter();
+  // Every call builds messages of up to a few MiB of results and frees them once sent. With
+  // glibc's defaults those come from fresh pages each time (mmap, or a heap trimmed back to the
+  // kernel): a page fault per 4 KiB, about a fifth of a one-thread worker's time on gathering
+  // launches. Kept in the heap instead, the pages are reused.
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   CLI::App app{
       "tessera-worker: serves a Tessera device (context replica, tiles, Embree) over gRPC"};
   std::string listen = "127.0.0.1:0";
