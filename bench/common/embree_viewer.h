@@ -26,9 +26,8 @@ std::optional<std::string> FindExecutable(const std::string& name);
 std::optional<double> ParseMraysAverage(const std::string& output);
 
 // Runs `viewer -i MODEL --size W H --shader eyelight --benchmark WARMUP RUNS [--threads N]
-// <camera flags>` and
-// returns BENCHMARK_RENDER_MRAYPS_AVG. Throws std::runtime_error (with viewer's output) when it
-// fails or prints no such line. `command_out` receives the command line as run.
+// <camera flags>` and returns BENCHMARK_RENDER_MRAYPS_AVG. Throws std::runtime_error (with viewer's
+// output) when it fails or prints no such line. `command_out` receives the command line as run.
 double RunEmbreeViewer(const ViewerRun& run, std::string* command_out);
 
 }  // namespace tessera::bench

@@ -75,9 +75,9 @@ class EmbreeReference {
       all_.clear();
     }
   }
-  // The line with both medians, and Embree's efficiency on every core (0 when not measured).
-  double Report(double tessera_efficiency) const {
-    if (one_.empty() || all_.empty()) return 0;
+  // The line with both medians and Embree's efficiency on every core, when measured.
+  void Report(double tessera_efficiency) const {
+    if (one_.empty() || all_.empty()) return;
     const double one = Median(one_), all = Median(all_);
     const double efficiency = all / one / cores_;
     std::printf(
@@ -85,7 +85,6 @@ class EmbreeReference {
         "%.1f Mrays/s, speedup %.2f, efficiency %.2f; Tessera's headline is %.2f of it\n",
         run_.model.c_str(), one, cores_, all, all / one, efficiency,
         tessera_efficiency / efficiency);
-    return efficiency;
   }
 
  private:

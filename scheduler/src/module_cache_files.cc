@@ -5,35 +5,29 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <string_view>
 #include <vector>
+
+#include "absl/strings/match.h"
+#include "absl/strings/string_view.h"
+#include "tessera/scheduler/module_hash.h"
 
 namespace tessera::scheduler {
 namespace fs = std::filesystem;
 namespace {
 
-bool IsLowerHex(std::string_view s) {
-  return std::all_of(s.begin(), s.end(),
-                     [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
-}
-
-bool EndsWith(std::string_view s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
-}
-
 // The module a file name holds, "" when it is no module: a worker's `<sha256>.so` or a host
 // compile's `<xxh64>.so`.
-std::string_view ModuleStem(std::string_view name) {
-  if (!EndsWith(name, ".so")) return {};
-  std::string_view stem = name.substr(0, name.size() - 3);
-  return (stem.size() == 64 || stem.size() == 16) && IsLowerHex(stem) ? stem : std::string_view{};
+absl::string_view ModuleStem(absl::string_view name) {
+  if (!absl::EndsWith(name, ".so")) return {};
+  absl::string_view stem = name.substr(0, name.size() - 3);
+  return (stem.size() == 64 || stem.size() == 16) && IsLowerHex(stem) ? stem : absl::string_view{};
 }
 
 // A temporary file of a write into the cache: removable once old enough that no write can still
 // be going on.
-bool IsTemporary(std::string_view name) {
-  if (EndsWith(name, ".tmp")) return true;
-  return EndsWith(name, ".cpp") && name.size() > 17 && name[16] == '.' &&
+bool IsTemporary(absl::string_view name) {
+  if (absl::EndsWith(name, ".tmp")) return true;
+  return absl::EndsWith(name, ".cpp") && name.size() > 17 && name[16] == '.' &&
          IsLowerHex(name.substr(0, 16));
 }
 
@@ -83,7 +77,7 @@ size_t TrimModuleCache(const std::string& dir, uint64_t max_bytes, const std::st
       if (now - used > std::chrono::hours(1)) fs::remove(e.path(), entry_ec);
       continue;
     }
-    const std::string_view stem = ModuleStem(name);
+    const absl::string_view stem = ModuleStem(name);
     if (stem.empty()) continue;  // not ours
     const uint64_t bytes = e.file_size(entry_ec);
     if (entry_ec) continue;

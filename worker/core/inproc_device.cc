@@ -172,7 +172,11 @@ class InprocDevice : public Device {
         partial.set_tile_index(kFinalTileIndex);
         partial.set_call_sequence(sequence);
         arena.execute([&] { replica_.TakeWrittenRegions(&partial); });
-        if (partial.regions_size() > 0) on_result(std::move(partial));
+        if (partial.regions_size() > 0) {
+          on_result(std::move(partial));
+        } else {
+          scheduler::RecycleTileResult(std::move(partial));
+        }
       }
     }
     const auto traced = std::chrono::steady_clock::now();

@@ -44,14 +44,6 @@ bool ReadWholeFile(const std::string& path, std::string* out) {
 
 }  // namespace
 
-bool IsModuleHash(absl::string_view hash) {
-  if (hash.size() != 64) return false;
-  for (char c : hash) {
-    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
-  }
-  return true;
-}
-
 std::string DefaultModuleCacheDir() {
   if (const char* dir = Env("TESSERA_MODULE_CACHE")) return dir;
   if (const char* dir = Env("TESSERA_CACHE_DIR")) return dir;
@@ -82,8 +74,9 @@ std::string PrepareModuleCacheDir(const std::string& dir) {
   }
   std::fprintf(stderr, "tessera: module cache %s is not usable (%s); using %s instead\n",
                dir.c_str(), why.c_str(), temp.c_str());
+  static const bool kRemovedAtExit = std::atexit(RemoveTemporaryModuleCaches) == 0;
+  (void)kRemovedAtExit;
   std::lock_guard<std::mutex> lock(TemporaryCaches().mu);
-  if (TemporaryCaches().dirs.empty()) std::atexit(RemoveTemporaryModuleCaches);
   TemporaryCaches().dirs.push_back(temp);
   return temp;
 }

@@ -20,10 +20,8 @@
 
 namespace tessera::worker {
 
-using scheduler::ModuleHash;  // the wire's module hash, as the host computes it
-
-// 64 lowercase hex digits: the form of a module hash, and a safe file name.
-bool IsModuleHash(absl::string_view hash);
+using scheduler::IsModuleHash;  // 64 lowercase hex digits: also a safe file name
+using scheduler::ModuleHash;    // the wire's module hash, as the host computes it
 
 // $TESSERA_MODULE_CACHE, else $TESSERA_CACHE_DIR (where the host compiles modules, so that a host
 // that moved its cache keeps its in-process device's copies there too), else
