@@ -247,11 +247,19 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
   if (const char* dir = std::getenv("TESSERA_WORKER_LOG_DIR"); dir != nullptr && *dir != '\0') {
     // Kept after the worker is gone (say, to read TESSERA_LAUNCH_TIMING's per-call lines), one
     // file per spawn: a respawned worker does not overwrite the log of the one that crashed.
+    // A directory that cannot take them costs the logs, not the launch: they stay private.
     static std::atomic<int> spawns{0};
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
-    process->log_path_ =
-        absl::StrCat(dir, "/tessera-worker-", getpid(), "-", spawns++, "-w", options.index, ".log");
+    if (!ec && access(dir, W_OK | X_OK) == 0) {
+      process->log_path_ = absl::StrCat(dir, "/tessera-worker-", getpid(), "-", spawns++, "-w",
+                                        options.index, ".log");
+    } else if (static std::atomic<bool> warned{false}; !warned.exchange(true)) {
+      std::fprintf(stderr,
+                   "tessera: TESSERA_WORKER_LOG_DIR=%s cannot hold worker logs (%s); they stay "
+                   "in each worker's private directory\n",
+                   dir, ec ? ec.message().c_str() : std::strerror(errno));
+    }
   }
   std::string listen = options.listen;
   if (listen.empty()) {
@@ -285,8 +293,8 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
   };
   if (out[0] < 0 || out[1] < 0 || log_fd < 0 || null_fd < 0) {
     const std::string message =
-        log_fd < 0 ? Errno(absl::StrCat("opening the worker's log ", process->log_path_).c_str())
-                   : Errno("opening the worker's files");
+        Errno(log_fd < 0 ? absl::StrCat("opening the worker's log ", process->log_path_).c_str()
+                         : "opening the worker's files");
     close_all();
     return absl::UnavailableError(message);
   }

@@ -237,6 +237,16 @@ TEST(WorkerProcessTest, LogsStayInTheLogDirectoryWhenOneIsNamed) {
   EXPECT_EQ(access(first.c_str(), F_OK), 0) << "kept after the worker is gone";
   EXPECT_EQ(access(second.c_str(), F_OK), 0);
   std::filesystem::remove_all(dir);
+
+  // A directory that cannot take logs costs the logs, not the worker.
+  ASSERT_EQ(setenv("TESSERA_WORKER_LOG_DIR", "/proc/no/such/dir", 1), 0);
+  ::testing::internal::CaptureStderr();
+  std::unique_ptr<WorkerProcess> c = Spawn({});
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  unsetenv("TESSERA_WORKER_LOG_DIR");
+  ASSERT_NE(c, nullptr);
+  EXPECT_EQ(c->log_path().rfind("/proc/", 0), std::string::npos) << c->log_path();
+  EXPECT_NE(err.find("TESSERA_WORKER_LOG_DIR=/proc/no/such/dir"), std::string::npos) << err;
 }
 
 TEST(WorkerProcessTest, DestructionStopsTheWorker) {
