@@ -32,6 +32,7 @@ namespace {
 struct Options {
   int width = 1920, height = 1080;
   int repeats = 3;
+  int step = tutorial::kLastStep;  // the headline figure is for the last step
   int max_devices = 0;            // 0: the core count
   bool thread_sweep = false;      // inproc rows for 2, 4, 8 … threads too
   std::vector<std::string> only;  // --devices: just these specs after the baseline
@@ -145,7 +146,7 @@ int Run(const Options& o) {
   std::printf(
       "tutorial step %d at %dx%d, %d cores, median of %d launches after one warm-up, "
       "load average before: %.2f\n",
-      tutorial::kLastStep, o.width, o.height, cores, o.repeats, LoadAverage());
+      o.step, o.width, o.height, cores, o.repeats, LoadAverage());
 
   std::vector<Config> configs;
   configs.push_back(MakeConfig("inproc", 1, 1));
@@ -170,6 +171,7 @@ int Run(const Options& o) {
     TutorialOptions scene_options;
     scene_options.devices = c.devices;
     scene_options.num_threads = c.num_threads;
+    scene_options.step = o.step;
     scene_options.width = o.width;
     scene_options.height = o.height;
     scene_options.module_dir = o.module_dir;
@@ -239,6 +241,11 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", o.repeats, "timed launches per configuration (median)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_option("--step", o.step,
+                 "tutorial step (the headline figure is for the last, the default; step 1 is "
+                 "primary rays only)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, tessera::tutorial::kLastStep));
   app.add_flag("--thread-sweep", o.thread_sweep,
                "also one inproc device with 2, 4, 8 … threads (reference rows)");
   app.add_option("--max-devices", o.max_devices,

@@ -4,7 +4,6 @@
 // GPU_LOCAL copies stay per device and accumulate per launch index.
 #include <cstdint>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "multi_device_fixture.h"
@@ -286,14 +285,11 @@ TEST_P(OneDeviceBufferTest, AccumulationComesBackWhole) {
   RTbuffer bins = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {4}, "bins");
   RayGen("count_into_bins");
   constexpr unsigned kN = 1u << 16;
-  Transfer before = Stats();
   Launch1D(kN);
+  // A worker with several threads sends what closed write epochs hold while it traces (the whole
+  // launch is one call here); totals every piece keeps touching go out with the last epoch, and
+  // any sent earlier are applied before it: the complete totals stay.
   EXPECT_EQ(Contents<unsigned>(bins), std::vector<unsigned>(4, kN / 4));
-  // A worker with several threads sends the totals after each round of its call (the whole
-  // launch here), and the host applies them in order: the last, complete totals stay.
-  if (std::string(GetParam().spec) == "local:1" && std::thread::hardware_concurrency() > 1) {
-    EXPECT_GT((Stats() - before).received, 4 * sizeof(unsigned)) << "one round only";
-  }
 }
 
 const DeviceCase kOneDeviceCases[] = {{"Inproc", "inproc", 1}, {"Local1", "local:1", 1}};

@@ -162,7 +162,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
   const auto& buffers = b.module->buffers();
   for (unsigned slot = 0; slot < buffers.size(); ++slot) {
     const ModuleBuffer& mb = buffers[slot];
-    TesseraBufferView view{nullptr, {0, 1, 1}, mb.element_size, 0, nullptr, nullptr};
+    TesseraBufferView view{nullptr, {0, 1, 1}, mb.element_size, 0, nullptr, nullptr, nullptr};
     const Value* value = Lookup(scopes, mb.name);
     if (value != nullptr) {
       if (value->type != RT_OBJECTTYPE_BUFFER) {
@@ -195,6 +195,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
         if (!buf->written.empty()) {
           view.written = const_cast<unsigned char*>(buf->written.data());
           view.written_blocks = const_cast<unsigned char*>(buf->written_blocks.data());
+          view.write_epoch = replica.write_epoch();
         }
       }
     }

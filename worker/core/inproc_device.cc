@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -35,16 +36,72 @@ struct TileState {
   bool abandoned = false;  // a piece stopped at a cancel
 };
 
-// Launch indices per thread in a round of a call whose results go out in rounds: enough that a
-// round's barrier (its threads wait for its last piece) costs little, small enough that a call of
-// the dispatcher's usual size (16384 per thread) makes several rounds.
-constexpr uint64_t kRoundIndicesPerThread = 4096;
-constexpr uint64_t kMaxRounds = 8;
+// Launch indices per thread in a write epoch of a call whose results go out while it traces:
+// small enough that a call of the dispatcher's usual size (16384 per thread) makes several.
+constexpr uint64_t kEpochIndicesPerThread = 4096;
+constexpr uint64_t kMaxEpochs = 8;
+
+// The write epochs of one call (TesseraBufferView::write_epoch). Pieces start in the current
+// epoch, which moves on as pieces finish; once no piece that started in an epoch is left, no
+// program can mark with it any more and its elements can go out while later pieces trace.
+class WriteEpochs {
+ public:
+  WriteEpochs(worker::Replica& replica, size_t pieces, unsigned char epochs)
+      : replica_(replica), pieces_(pieces), epochs_(epochs) {
+    replica_.SetWriteEpoch(1);
+  }
+  // A piece starts; returns its epoch, for Finished.
+  unsigned char Started() {
+    std::lock_guard<std::mutex> lock(mu_);
+    ++running_[current_];
+    return current_;
+  }
+  // A piece of `epoch` ended. Returns the epochs (*after, upto] the caller is to send (upto 0:
+  // none); the caller then calls Sent(upto). One caller sends at a time, in epoch order.
+  unsigned char Finished(unsigned char epoch, unsigned char* after) {
+    std::lock_guard<std::mutex> lock(mu_);
+    --running_[epoch];
+    ++finished_;
+    if (current_ < epochs_ && finished_ >= pieces_ * current_ / epochs_) {
+      replica_.SetWriteEpoch(++current_);
+    }
+    return ClaimLocked(after);
+  }
+  unsigned char Sent(unsigned char upto, unsigned char* after) {
+    std::lock_guard<std::mutex> lock(mu_);
+    sent_ = upto;
+    sending_ = false;
+    return ClaimLocked(after);
+  }
+  unsigned char sent() const { return sent_; }  // after every piece ended
+
+ private:
+  unsigned char ClaimLocked(unsigned char* after) {
+    if (sending_) return 0;
+    unsigned char closed = sent_;
+    while (closed + 1 < current_ && running_[closed + 1] == 0) ++closed;
+    if (closed == sent_) return 0;
+    sending_ = true;
+    *after = sent_;
+    return closed;
+  }
+
+  worker::Replica& replica_;
+  const size_t pieces_;
+  const unsigned char epochs_;
+  std::mutex mu_;
+  unsigned char current_ = 1;
+  unsigned char sent_ = 0;  // epochs up to this one went out
+  bool sending_ = false;
+  size_t finished_ = 0;
+  std::array<int, kMaxEpochs + 1> running_{};
+};
 
 class InprocDevice : public Device {
  public:
   InprocDevice(int num_threads, bool results_in_rounds)
       : results_in_rounds_(results_in_rounds),
+        forced_epochs_(ForcedEpochs()),
         num_threads_(num_threads > 0 ? num_threads
                                      : static_cast<int>(std::thread::hardware_concurrency())),
         embree_(rtcNewDevice(nullptr)),
@@ -153,31 +210,39 @@ class InprocDevice : public Device {
       state.result.set_tile_index(request.tiles(piece.tile).index());
       on_result(std::move(state.result));
     };
+    // Results go out in write epochs while later pieces trace (no barrier: nobody waits for a
+    // round's last piece).
+    WriteEpochs epochs(replica_, pieces.size(), Epochs(request, threads, pieces.size()));
+    auto send_closed = [&](unsigned char after, unsigned char upto) {
+      while (upto != 0) {
+        if (!stop.load() && !cancel.load()) {
+          v1::TileResult partial = scheduler::TakeTileResult();
+          partial.set_launch_id(request.launch_id());
+          partial.set_tile_index(kFinalTileIndex);
+          partial.set_call_sequence(sequence);
+          replica_.TakeWrittenRegions(&partial, after, upto, /*last=*/false);
+          if (partial.regions_size() > 0) {
+            on_result(std::move(partial));
+          } else {
+            scheduler::RecycleTileResult(std::move(partial));
+          }
+        }
+        upto = epochs.Sent(upto, &after);
+      }
+    };
     // Everything parallel in this call runs in an arena of the device's threads: a worker
     // process started with --threads 1 must not wake TBB threads for the other cores.
     tbb::task_arena arena(threads);
     if (!empty) {  // the all-zero launch only builds accelerations
-      const size_t rounds = Rounds(request, threads);
-      for (size_t r = 0; r < rounds; ++r) {
-        const size_t begin = pieces.size() * r / rounds, end = pieces.size() * (r + 1) / rounds;
-        arena.execute([&] {
-          tbb::parallel_for(begin, end, size_t{1}, [&](size_t i) { run_piece(pieces[i]); });
+      arena.execute([&] {
+        tbb::parallel_for(size_t{0}, pieces.size(), size_t{1}, [&](size_t i) {
+          const unsigned char epoch = epochs.Started();
+          run_piece(pieces[i]);
+          unsigned char after = 0;
+          const unsigned char upto = epochs.Finished(epoch, &after);
+          send_closed(after, upto);
         });
-        if (r + 1 == rounds || stop.load() || cancel.load()) break;
-        // What this round wrote goes out while the next round traces. Between rounds no program
-        // runs, so the marks are complete; a later round that writes an element again sends it
-        // again, after this, and the host applies a call's results in order.
-        v1::TileResult partial = scheduler::TakeTileResult();
-        partial.set_launch_id(request.launch_id());
-        partial.set_tile_index(kFinalTileIndex);
-        partial.set_call_sequence(sequence);
-        arena.execute([&] { replica_.TakeWrittenRegions(&partial); });
-        if (partial.regions_size() > 0) {
-          on_result(std::move(partial));
-        } else {
-          scheduler::RecycleTileResult(std::move(partial));
-        }
-      }
+      });
     }
     const auto traced = std::chrono::steady_clock::now();
     // Packed into a message that held results before, when there is one (result_pool.h).
@@ -187,7 +252,9 @@ class InprocDevice : public Device {
     final_result.set_call_sequence(sequence);
     // Taken even when the call failed, so that marks of unfinished tiles do not leak into the
     // next call's regions.
-    arena.execute([&] { replica_.TakeWrittenRegions(&final_result); });
+    arena.execute(
+        [&] { replica_.TakeWrittenRegions(&final_result, epochs.sent(), 0, /*last=*/true); });
+    replica_.SetWriteEpoch(1);  // bounding-box programs of the next call's builds mark with it
     if (timing_) {
       auto ms = [](std::chrono::steady_clock::duration d) {
         return std::chrono::duration<double, std::milli>(d).count();
@@ -207,16 +274,27 @@ class InprocDevice : public Device {
   }
 
  private:
-  // How many rounds a call runs in: one unless results go out in rounds and several threads
-  // would otherwise wait while one sends (a single thread has no one to wait for it).
-  size_t Rounds(const v1::LaunchRequest& request, int threads) const {
-    if (!results_in_rounds_ || threads <= 1) return 1;
-    uint64_t indices = 0;
-    for (const v1::Tile& t : request.tiles()) indices += scheduler::TileIndices(t);
-    return std::clamp<uint64_t>(indices / (kRoundIndicesPerThread * threads), 1, kMaxRounds);
+  // How many write epochs a call runs in: one unless results go out while the call traces and
+  // several threads would otherwise wait while one sends (a single thread has no one to wait for
+  // it). TESSERA_WRITE_EPOCHS sets the number (tests: many epochs in small launches).
+  unsigned char Epochs(const v1::LaunchRequest& request, int threads, size_t pieces) const {
+    if (!results_in_rounds_ || threads <= 1 || pieces <= 1) return 1;
+    uint64_t epochs = forced_epochs_;
+    if (epochs == 0) {
+      uint64_t indices = 0;
+      for (const v1::Tile& t : request.tiles()) indices += scheduler::TileIndices(t);
+      epochs = indices / (kEpochIndicesPerThread * threads);
+    }
+    return static_cast<unsigned char>(std::clamp<uint64_t>(epochs, 1, kMaxEpochs));
+  }
+
+  static uint64_t ForcedEpochs() {
+    const char* env = std::getenv("TESSERA_WRITE_EPOCHS");
+    return env != nullptr ? std::strtoull(env, nullptr, 10) : 0;
   }
 
   const bool results_in_rounds_;
+  const uint64_t forced_epochs_;  // 0: by launch size
   int num_threads_;
   RTCDevice embree_;
   worker::Replica replica_;

@@ -72,7 +72,8 @@ constexpr size_t kPackedRegionBytes = size_t{4} << 20;
 // whole image; copying and first-touching tens of MiB on one thread held every launch up).
 class RegionPacker {
  public:
-  RegionPacker(uint64_t id, const BufferRec& b, v1::TileResult* out) : id_(id), b_(b), out_(out) {}
+  // `b` is not const: an INPUT_OUTPUT buffer's `before` becomes what was sent.
+  RegionPacker(uint64_t id, BufferRec& b, v1::TileResult* out) : id_(id), b_(b), out_(out) {}
   // Adds the elements [begin, end).
   void Add(size_t begin, size_t end) {
     uint64_t offset = begin * b_.element_size;
@@ -107,8 +108,11 @@ class RegionPacker {
       std::string* data = out_->mutable_regions(first + static_cast<int>(k))->mutable_data();
       data->resize(region.bytes);
       char* to = data->data();
+      const bool record = b_.before.size() == b_.data.size();
       for (size_t i = region.run_begin; i < region.run_end; ++i) {
         std::memcpy(to, b_.data.data() + runs_[i].offset, runs_[i].bytes);
+        // The bytes sent, not the buffer again: a program may be rewriting them right now.
+        if (record) std::memcpy(b_.before.data() + runs_[i].offset, to, runs_[i].bytes);
         to += runs_[i].bytes;
       }
     });
@@ -123,7 +127,7 @@ class RegionPacker {
     uint64_t bytes;
   };
   const uint64_t id_;
-  const BufferRec& b_;
+  BufferRec& b_;
   v1::TileResult* const out_;
   std::vector<Run> runs_;
   std::vector<Region> regions_;
@@ -131,57 +135,50 @@ class RegionPacker {
 
 }  // namespace
 
-void Replica::TakeWrittenRegions(v1::TileResult* out) {
+void Replica::TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsigned char upto,
+                                 bool last) {
   constexpr size_t kBlock = size_t{1} << TESSERA_WRITTEN_BLOCK_SHIFT;
+  // Marks may be raised concurrently (never to an epoch in range unless `last`): read each once.
+  auto load = [](const unsigned char* m) { return __atomic_load_n(m, __ATOMIC_RELAXED); };
+  auto taken = [&](unsigned char m) { return m > after && (last || m <= upto); };
   for (auto& [id, b] : buffers) {
     if (b.written.empty()) continue;
     unsigned char* marks = b.written.data();
     unsigned char* blocks = b.written_blocks.data();
     const size_t n = b.written.size();
-    const size_t block_count = b.written_blocks.size();
     const size_t size = b.element_size;
     const bool compare = b.before.size() == b.data.size();
+    // Only elements that changed since the host last heard of them: the rest were read, or
+    // rewritten with the value every device already has.
+    auto changed = [&](size_t e) {
+      return std::memcmp(b.data.data() + e * size, b.before.data() + e * size, size) != 0;
+    };
     RegionPacker packer(id, b, out);
-    // Spans of touched blocks first (a batch touches a small part of a large buffer), then runs
-    // of marked elements inside them; a run never leaves its span.
-    size_t next_block = 0;
-    while (next_block < block_count) {
-      auto* hit = static_cast<unsigned char*>(
-          std::memchr(blocks + next_block, 1, block_count - next_block));
-      if (hit == nullptr) break;
-      const size_t first_block = hit - blocks;
-      size_t last_block = first_block;
-      while (last_block < block_count && blocks[last_block] != 0) ++last_block;
-      std::memset(blocks + first_block, 0, last_block - first_block);
-      next_block = last_block;
-      const size_t span_end = std::min(n, last_block * kBlock);
-      size_t i = first_block * kBlock;
-      while (i < span_end) {
-        auto* first = static_cast<unsigned char*>(std::memchr(marks + i, 1, span_end - i));
-        if (first == nullptr) break;
-        size_t begin = first - marks, end = begin;
-        while (end < span_end && marks[end] != 0) ++end;
-        std::memset(marks + begin, 0, end - begin);
-        if (!compare) {
-          packer.Add(begin, end);
-        } else {
-          // Only elements that changed since the launch began: the rest were read, or
-          // rewritten with the value every device already has.
-          auto changed = [&](size_t e) {
-            return std::memcmp(b.data.data() + e * size, b.before.data() + e * size, size) != 0;
-          };
-          size_t e = begin;
-          while (e < end) {
-            while (e < end && !changed(e)) ++e;
-            size_t run = e;
-            while (run < end && changed(run)) ++run;
-            if (run > e) packer.Add(e, run);
-            e = run;
+    // Touched blocks first (a batch touches a small part of a large buffer), then runs of taken
+    // elements inside them. A block's mark is its highest element's: one marked up to `after`
+    // holds nothing new.
+    bool open = false;
+    size_t run_begin = 0, run_end = 0;  // the run being built, [begin, end)
+    for (size_t block = 0; block < b.written_blocks.size(); ++block) {
+      const unsigned char block_mark = load(blocks + block);
+      const size_t begin = block * kBlock, end = std::min(n, begin + kBlock);
+      if (block_mark > after) {
+        for (size_t e = begin; e < end; ++e) {
+          if (!taken(load(marks + e)) || (compare && !changed(e))) continue;
+          if (!open || run_end != e) {
+            if (open) packer.Add(run_begin, run_end);
+            run_begin = e;
+            open = true;
           }
+          run_end = e + 1;
         }
-        i = end;
+      }
+      if (last && block_mark != 0) {
+        std::memset(marks + begin, 0, end - begin);
+        blocks[block] = 0;
       }
     }
+    if (open) packer.Add(run_begin, run_end);
     packer.Finish();
   }
 }

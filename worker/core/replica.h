@@ -37,13 +37,14 @@ struct BufferRec {
   std::array<uint64_t, 3> dims{0, 1, 1};
   unsigned ndims = 0;
   std::vector<unsigned char> data;
-  // Gathered buffers (OUTPUT or INPUT_OUTPUT, not GPU_LOCAL): one byte per element that programs
-  // set on access (TesseraBufferView::written); TakeWrittenRegions collects and clears them.
+  // Gathered buffers (OUTPUT or INPUT_OUTPUT, not GPU_LOCAL): one byte per element, the write
+  // epoch in which programs last accessed it (TesseraBufferView::written), 0 for none since the
+  // last call; TakeWrittenRegions collects them.
   std::vector<unsigned char> written;
   std::vector<unsigned char> written_blocks;  // per 2^TESSERA_WRITTEN_BLOCK_SHIFT elements
-  // INPUT_OUTPUT: the contents when the launch began. Programs mark the elements they read too,
-  // and an element that still holds its old value must not travel back: it would undo another
-  // device's write of it.
+  // INPUT_OUTPUT: the contents when the launch began, then as last sent to the host. Programs
+  // mark the elements they read too, and an element that still holds the value the host has from
+  // this device must not travel back: it would undo another device's write of it.
   std::vector<unsigned char> before;
   uint64_t Elements() const { return dims[0] * dims[1] * dims[2]; }
   uint64_t Bytes() const { return element_size * Elements(); }
@@ -102,9 +103,18 @@ class Replica {
   // Applies a delta: checks it whole first (sequence, ids, chunk bounds), so a rejected delta
   // leaves the replica as it was.
   absl::Status Apply(const v1::StateDelta& delta);
-  // Appends to `out` the elements of gathered buffers that programs marked since the last call,
-  // as runs of adjacent elements, and clears the marks.
-  void TakeWrittenRegions(v1::TileResult* out);
+  // Appends to `out` the elements of gathered buffers that programs marked in write epochs
+  // (after, upto], as runs of adjacent elements. Programs may run meanwhile provided none of them
+  // can still mark with an epoch up to `upto` (the write epoch is past it and every program that
+  // read an earlier one has returned): an element they write again gets a later epoch and
+  // travels again. With `last` (no program running) it takes every epoch after `after` and
+  // clears all marks for the next call.
+  void TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsigned char upto, bool last);
+  // The epoch programs mark with (TesseraBufferView::write_epoch): 1 at the start of a call.
+  const unsigned char* write_epoch() const { return &write_epoch_; }
+  void SetWriteEpoch(unsigned char epoch) {
+    __atomic_store_n(&write_epoch_, epoch, __ATOMIC_RELEASE);
+  }
   // Records the contents of INPUT_OUTPUT buffers at the start of a launch (see BufferRec::before).
   void SnapshotForLaunch();
 
@@ -131,6 +141,7 @@ class Replica {
   uint64_t session_id_ = 0;
   uint64_t sequence_ = 0;
   uint64_t generation_ = 0;
+  alignas(64) unsigned char write_epoch_ = 1;  // its own cache line: every marking access reads it
 };
 
 }  // namespace tessera::worker

@@ -229,18 +229,23 @@ class buffer {
                                  : kChecked == 2 ? y * v.size[0] + x
                                                  : (z * v.size[1] + y) * v.size[0] + x;
     // operator[] cannot tell a read from a write: any access of a gathered buffer marks the
-    // element (a relaxed byte store; concurrent marks of one element are benign).
+    // element and its block with the device's write epoch.
     if (v.written != nullptr) {
-      // Set only when clear: threads working on one block would otherwise take turns owning
-      // its cache line with every access.
-      unsigned char* mark = &v.written[i];
-      unsigned char* block = &v.written_blocks[i >> TESSERA_WRITTEN_BLOCK_SHIFT];
-      if (__atomic_load_n(mark, __ATOMIC_RELAXED) == 0) __atomic_store_n(mark, 1, __ATOMIC_RELAXED);
-      if (__atomic_load_n(block, __ATOMIC_RELAXED) == 0) {
-        __atomic_store_n(block, 1, __ATOMIC_RELAXED);
-      }
+      const unsigned char epoch = __atomic_load_n(v.write_epoch, __ATOMIC_RELAXED);
+      MarkAtLeast(&v.written[i], epoch);
+      MarkAtLeast(&v.written_blocks[i >> TESSERA_WRITTEN_BLOCK_SHIFT], epoch);
     }
     return static_cast<T*>(v.data)[i];
+  }
+
+  // Raises a mark to `epoch`, never lowers it (a thread still in an older epoch must not hide a
+  // newer write from the engine). Written only when lower: threads working on one block would
+  // otherwise take turns owning its cache line with every access.
+  static void MarkAtLeast(unsigned char* mark, unsigned char epoch) {
+    unsigned char seen = __atomic_load_n(mark, __ATOMIC_RELAXED);
+    while (seen < epoch && !__atomic_compare_exchange_n(mark, &seen, epoch, /*weak=*/true,
+                                                        __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+    }
   }
 
   unsigned slot_;

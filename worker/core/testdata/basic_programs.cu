@@ -107,3 +107,15 @@ RT_PROGRAM void bad_intersect(int) {
   Payload p;
   rtTrace(top_object, ray, p);
 }
+
+// Scatter across pieces (write epochs): every launch index counts itself into a bin far from its
+// own row; the first index to run sets a flag that the last one to run puts back.
+rtBuffer<unsigned int, 1> counts;
+rtBuffer<unsigned int, 1> tickets;
+rtBuffer<int, 1> flags;
+RT_PROGRAM void scatter_counts() {
+  atomicAdd(&counts[(launch_index.x * 7u + launch_index.y * 13u) % counts.size()], 1u);
+  const unsigned ticket = atomicAdd(&tickets[0], 1u);
+  if (ticket == 0) flags[0] = 7;
+  if (ticket + 1 == launch_dim.x * launch_dim.y) flags[0] = 0;
+}

@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 3u
+#define TESSERA_MODULE_ABI_VERSION 4u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -39,13 +39,18 @@ typedef struct {
   size_t size[3]; /* unused dimensions are 1 */
   size_t element_size;
   unsigned long long id;
-  /* One byte per element, set when a program indexes the element; null for buffers that never
-   * travel back to the host (INPUT, GPU_LOCAL). The engine ships exactly the marked elements, so
-   * devices never overwrite each other's results with stale copies. */
+  /* One byte per element: the write epoch (below) in which a program last indexed the element,
+   * raised but never lowered while a device call runs; null for buffers that never travel back
+   * to the host (INPUT, GPU_LOCAL). The engine ships exactly the marked elements, so devices
+   * never overwrite each other's results with stale copies. */
   unsigned char* written;
-  /* One byte per block of 2^TESSERA_WRITTEN_BLOCK_SHIFT elements, set with `written`: the engine
-   * scans only the blocks programs touched, not the whole buffer, after every batch of tiles. */
+  /* One byte per block of 2^TESSERA_WRITTEN_BLOCK_SHIFT elements, marked with `written`: the
+   * engine scans only the blocks programs touched, not the whole buffer. */
   unsigned char* written_blocks;
+  /* The device's current write epoch (1, 2, ...), read atomically at every marking access. The
+   * engine raises it while programs run and sends the elements of a closed epoch (one no running
+   * program can mark any more) while later ones trace. */
+  const unsigned char* write_epoch;
 } TesseraBufferView;
 
 #define TESSERA_WRITTEN_BLOCK_SHIFT 12
