@@ -12,6 +12,7 @@
 #include "tessera/v1/worker.grpc.pb.h"
 #include "transport/call_watchdog.h"
 #include "transport/credentials.h"
+#include "transport/result_arena.h"
 #include "transport/worker_wire.h"
 
 namespace tessera::transport {
@@ -126,10 +127,21 @@ absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
 
 absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                                 const std::function<void(v1::TileResult&&)>& on_result) {
+  // A worker this host spawned puts large written regions in memory both share (a slot leased
+  // to this call); others, or with every slot busy, send them in the messages.
+  ResultArena* arena = process_ != nullptr ? process_->result_arena() : nullptr;
+  const ResultArena::Lease lease = arena != nullptr ? arena->Acquire() : ResultArena::Lease{};
+  v1::LaunchRequest leased;
+  if (lease.slot >= 0) {
+    leased = request;
+    leased.set_arena_slot(static_cast<uint32_t>(lease.slot));
+    leased.set_arena_token(lease.token);
+  }
   grpc::ClientContext context;
   std::unique_ptr<grpc::ClientReader<v1::TileResult>> reader =
-      stub_->worker->Launch(&context, request);
+      stub_->worker->Launch(&context, lease.slot >= 0 ? leased : request);
   grpc::Status status;
+  absl::Status restored;
   bool silent = false;
   {
     WatchedCall watcher(&context, cancel, SilenceDeadline());
@@ -140,6 +152,11 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
       // Heartbeats only say the worker is alive. The written regions come as several results
       // with kFinalTileIndex; whoever called collects the whole call before applying any of it.
       if (result.tile_index() != kHeartbeatTileIndex) {
+        if (arena != nullptr) restored = arena->Restore(lease, &result);
+        if (!restored.ok()) {
+          context.TryCancel();
+          break;
+        }
         on_result(std::move(result));
         result = scheduler::TakeTileResult();
       }
@@ -147,6 +164,12 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
     scheduler::RecycleTileResult(std::move(result));  // the one taken for a read that never came
     status = reader->Finish();
     silent = watcher.silent();
+  }
+  // The slot goes back however the call ended: a worker still sending for it finds the next
+  // lease's token there and keeps its bytes in the messages.
+  if (arena != nullptr) arena->Release(lease);
+  if (!restored.ok()) {
+    return absl::DataLossError(absl::StrCat("worker ", address_, ": ", restored.message()));
   }
   if (cancel.load()) return absl::CancelledError("launch cancelled");
   if (silent) {

@@ -31,6 +31,7 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "absl/time/clock.h"
+#include "transport/result_arena.h"
 
 #ifndef TESSERA_WORKER_BUILD_PATH
 #define TESSERA_WORKER_BUILD_PATH ""
@@ -38,6 +39,9 @@
 
 namespace tessera::transport {
 namespace {
+
+// The worker's descriptor of the result arena (--result-arena-fd): the first after stderr.
+constexpr int kArenaChildFd = 3;
 
 constexpr char kReadyPrefix[] = "tessera-worker listening on ";
 constexpr char kWorkerName[] = "tessera-worker";
@@ -267,7 +271,22 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
     listen = absl::StrCat("unix:", process->socket_path_);
   }
 
+  // Shared memory for results; without it (no memfd here, or TESSERA_RESULT_ARENA=0) results
+  // take the socket.
+  const char* arena_env = std::getenv("TESSERA_RESULT_ARENA");
+  if (options.result_arena_slot_bytes > 0 &&
+      (arena_env == nullptr || std::string(arena_env) != "0")) {
+    absl::StatusOr<std::unique_ptr<ResultArena>> arena =
+        ResultArena::Create(options.result_arena_slot_bytes);
+    if (arena.ok()) process->arena_ = *std::move(arena);
+  }
+  const int arena_fd = process->arena_ != nullptr ? process->arena_->fd() : -1;
+
   std::vector<std::string> args = {options.binary, "--listen", listen};
+  if (arena_fd >= 0) {
+    args.push_back("--result-arena-fd");
+    args.push_back(std::to_string(kArenaChildFd));
+  }
   if (options.threads > 0) {
     args.push_back("--threads");
     args.push_back(std::to_string(options.threads));
@@ -319,9 +338,20 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
       std::memset(&dfl, 0, sizeof(dfl));
       dfl.sa_handler = SIG_DFL;
       for (int sig : {SIGTERM, SIGINT, SIGHUP, SIGPIPE, SIGCHLD}) sigaction(sig, &dfl, nullptr);
+      // The result arena becomes descriptor 3 (dup2 clears close-on-exec; an arena that is
+      // already 3 only needs it cleared). Whatever 3 held is one of the above, duplicated.
+      int first_closed = 3;
+      if (arena_fd >= 0) {
+        if (arena_fd == kArenaChildFd) {
+          fcntl(kArenaChildFd, F_SETFD, 0);
+        } else {
+          dup2(arena_fd, kArenaChildFd);
+        }
+        first_closed = kArenaChildFd + 1;
+      }
       // Descriptors the application left inheritable stay with the application.
-      if (syscall(SYS_close_range, 3u, ~0u, 0u) != 0) {
-        for (int fd = 3; fd < 4096; ++fd) close(fd);
+      if (syscall(SYS_close_range, static_cast<unsigned>(first_closed), ~0u, 0u) != 0) {
+        for (int fd = first_closed; fd < 4096; ++fd) close(fd);
       }
       execv(argv[0], argv.data());
       static const char kMessage[] = "tessera-worker: exec failed\n";
@@ -337,6 +367,7 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
   log_fd = -1;
   close(null_fd);
   null_fd = -1;
+  if (process->arena_ != nullptr) process->arena_->CloseFd();  // the mapping stays
   if (pid < 0) {
     close_all();
     errno = fork_errno;

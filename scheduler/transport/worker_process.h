@@ -6,6 +6,7 @@
 
 #include <sys/types.h>
 
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -21,6 +22,8 @@ namespace tessera::transport {
 // place tried.
 absl::StatusOr<std::string> FindWorkerBinary();
 
+class ResultArena;
+
 class WorkerProcess {
  public:
   struct Options {
@@ -34,6 +37,9 @@ class WorkerProcess {
     absl::Duration start_timeout = absl::Seconds(20);
     // Between SIGTERM and SIGKILL on destruction.
     absl::Duration stop_grace = absl::Seconds(2);
+    // Memory shared with the worker for written regions (result_arena.h), bytes per slot; 0:
+    // none, regions travel through the socket.
+    uint64_t result_arena_slot_bytes = uint64_t{16} << 20;
   };
 
   // Starts the worker and waits until it listens. UNAVAILABLE if it exits or stays silent past
@@ -59,6 +65,9 @@ class WorkerProcess {
   // from several threads (both calls in flight of a device see it go): all see the same answer.
   std::string WaitForExit(absl::Duration timeout, bool* crashed);
 
+  // The memory the worker shares for written regions; null when there is none.
+  ResultArena* result_arena() const { return arena_.get(); }
+
  private:
   WorkerProcess() = default;
 
@@ -71,6 +80,7 @@ class WorkerProcess {
   std::string log_path_;
   std::string socket_path_;  // empty unless the worker listens in `directory_`
   absl::Duration stop_grace_;
+  std::unique_ptr<ResultArena> arena_;
 };
 
 }  // namespace tessera::transport

@@ -16,6 +16,7 @@
 
 #include "tessera/rt.h"
 #include "transport/grpc_device.h"
+#include "transport/result_arena.h"
 #include "transport/worker_wire.h"
 #include "write_index_delta.h"
 
@@ -259,6 +260,56 @@ TEST(WorkerProcessTest, DestructionStopsTheWorker) {
   EXPECT_EQ(kill(pid, 0), -1) << "reaped, not a zombie";
   EXPECT_EQ(errno, ESRCH);
   EXPECT_NE(access(log.c_str(), F_OK), 0) << "its directory is removed";
+}
+
+// A worker this host spawned shares memory with it: written regions come back through it, the
+// same bytes as through the socket; TESSERA_RESULT_ARENA=0 keeps them in the messages.
+std::string LaunchThroughWorker(bool arena, uint64_t* restored) {
+  if (!arena) setenv("TESSERA_RESULT_ARENA", "0", 1);
+  std::unique_ptr<WorkerProcess> worker = Spawn({});
+  unsetenv("TESSERA_RESULT_ARENA");
+  if (worker == nullptr) return "";
+  EXPECT_EQ(worker->result_arena() != nullptr, arena);
+  auto connected = GrpcDevice::Connect(std::move(worker));
+  EXPECT_TRUE(connected.ok()) << connected.status();
+  if (!connected.ok()) return "";
+  GrpcDevice& device = **connected;
+  EXPECT_TRUE(device.Apply(WriteIndexDelta(1, 128, 96)).ok());
+  std::atomic<bool> cancel{false};
+  std::string image(128 * 96 * 16, '\0');
+  absl::Status s = device.Launch(TwoTiles(128, 96), cancel, [&](v1::TileResult&& r) {
+    for (const v1::BufferRegion& region : r.regions()) {
+      EXPECT_EQ(region.arena_size(), 0u) << "restored before the host sees it";
+      if (region.run_offsets_size() == 0) {
+        image.replace(region.offset(), region.data().size(), region.data());
+        continue;
+      }
+      size_t at = 0;
+      for (int i = 0; i < region.run_offsets_size(); ++i) {
+        image.replace(region.run_offsets(i), region.run_sizes(i), region.data(), at,
+                      region.run_sizes(i));
+        at += region.run_sizes(i);
+      }
+    }
+  });
+  EXPECT_TRUE(s.ok()) << s;
+  *restored = device.process()->result_arena() != nullptr
+                  ? device.process()->result_arena()->restored_bytes()
+                  : 0;
+  return image;
+}
+
+TEST(WorkerProcessTest, SpawnedWorkersReturnRegionsThroughSharedMemory) {
+  uint64_t through_arena = 0, through_socket = 0;
+  const std::string a = LaunchThroughWorker(true, &through_arena);
+  const std::string b = LaunchThroughWorker(false, &through_socket);
+  EXPECT_EQ(through_arena, 128u * 96u * 16u);
+  EXPECT_EQ(through_socket, 0u);
+  EXPECT_EQ(a, b);
+  std::vector<float> f(a.size() / 4);
+  std::memcpy(f.data(), a.data(), a.size());
+  EXPECT_EQ(f[4 * (95 * 128 + 127)], 127.f);
+  EXPECT_EQ(f[4 * (95 * 128 + 127) + 1], 95.f);
 }
 
 }  // namespace

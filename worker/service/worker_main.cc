@@ -26,6 +26,7 @@
 #include "tessera/scheduler/module_cache_files.h"
 #include "tessera/worker/crash_report.h"
 #include "tessera/worker/module_cache.h"
+#include "transport/result_arena.h"
 #include "transport/worker_wire.h"
 #include "worker_service.h"
 
@@ -34,7 +35,7 @@ namespace {
 // Pings from clients' keepalive (scheduler/transport/grpc_device.cc) must not count as abuse.
 constexpr int kMinPingIntervalMs = 10000;
 
-int Serve(const std::string& listen, int threads,
+int Serve(const std::string& listen, int threads, tessera::transport::ResultArena* arena,
           const tessera::worker::SecurityOptions& security) {
   absl::StatusOr<std::string> token = tessera::worker::ResolveToken(
       security.token_file, std::getenv(tessera::worker::kWorkerTokenEnv));
@@ -63,7 +64,7 @@ int Serve(const std::string& listen, int threads,
   // program module must not kill the worker.
   signal(SIGPIPE, SIG_IGN);
 
-  tessera::worker::WorkerService service(threads);
+  tessera::worker::WorkerService service(threads, arena);
   // One line per refused call on stderr, where the host's log of a spawned worker also goes.
   tessera::worker::AuthenticatedWorker authenticated(&service, *token, [](const std::string& line) {
     std::fprintf(stderr, "%s\n", line.c_str());
@@ -150,6 +151,11 @@ int main(int argc, char** argv) {
   // to allow a non-loopback address without TLS or authentication, which nothing allows now.
   app.add_flag("--allow-remote", allow_remote,
                "no effect: a non-loopback address needs --tls-cert, --tls-key and a token");
+  int arena_fd = -1;
+  app.add_option("--result-arena-fd", arena_fd,
+                 "descriptor of memory shared with the host that spawned this worker, for "
+                 "written regions (the host passes it)")
+      ->check(CLI::NonNegativeNumber);
   std::string module_cache;
   app.add_option("--module-cache", module_cache,
                  "directory of the program modules hosts send, by content hash (default: "
@@ -161,5 +167,17 @@ int main(int argc, char** argv) {
   // reported at startup, where a host that spawned this worker passes it on.
   tessera::ModuleCacheDirectory();
   tessera::scheduler::ModuleCacheLimitBytes();
-  return Serve(listen, threads, security);
+  std::unique_ptr<tessera::transport::ResultArena> arena;
+  if (arena_fd >= 0) {
+    absl::StatusOr<std::unique_ptr<tessera::transport::ResultArena>> mapped =
+        tessera::transport::ResultArena::Map(arena_fd);
+    if (!mapped.ok()) {
+      // Results still travel, through the socket.
+      std::fprintf(stderr, "tessera-worker: %s\n", std::string(mapped.status().message()).c_str());
+    } else {
+      arena = *std::move(mapped);
+      arena->CloseFd();  // the mapping stays
+    }
+  }
+  return Serve(listen, threads, arena.get(), security);
 }

@@ -131,8 +131,8 @@ class ResultQueue {
 
 }  // namespace
 
-WorkerService::WorkerService(int threads)
-    : threads_(ResolveThreads(threads)), name_(DeviceName()) {}
+WorkerService::WorkerService(int threads, transport::ResultArena* arena)
+    : threads_(ResolveThreads(threads)), name_(DeviceName()), arena_(arena) {}
 
 WorkerService::~WorkerService() = default;
 
@@ -254,6 +254,8 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
   bool done = false;
   bool writable = true;
   last_write = std::chrono::steady_clock::now();
+  // Large regions go through the memory shared with the host, while the call's slot has room.
+  transport::ResultArena::Writer arena_writer(arena_, *request);
   while (!done) {
     std::deque<v1::TileResult> batch = results.Take(kCancelPoll, &done);
     // The device is done with this call and its results are messages: the next call may trace
@@ -267,6 +269,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     if (!batch.empty()) last_write = std::chrono::steady_clock::now();
     for (v1::TileResult& result : batch) {
       if (!writable) break;
+      arena_writer.Move(&result);
       for (v1::TileResult& piece : SplitTileResult(std::move(result))) {
         if (!writer->Write(piece)) {  // the client went away
           writable = false;

@@ -16,13 +16,15 @@
 #include "absl/synchronization/mutex.h"
 #include "tessera/scheduler/device.h"
 #include "tessera/v1/worker.grpc.pb.h"
+#include "transport/result_arena.h"
 
 namespace tessera::worker {
 
 class WorkerService final : public v1::Worker::Service {
  public:
-  // `threads` <= 0: one per core. Every session's launches run on that many threads.
-  explicit WorkerService(int threads);
+  // `threads` <= 0: one per core. Every session's launches run on that many threads. `arena`:
+  // memory shared with the host that spawned this worker, for written regions (may be null).
+  explicit WorkerService(int threads, transport::ResultArena* arena = nullptr);
   ~WorkerService() override;
 
   int thread_count() const { return threads_; }
@@ -74,6 +76,7 @@ class WorkerService final : public v1::Worker::Service {
 
   const int threads_;
   const std::string name_;
+  transport::ResultArena* const arena_;
   absl::Mutex mu_;  // taken after a Session::mu, never before
   absl::flat_hash_map<uint64_t, std::shared_ptr<Session>> sessions_ ABSL_GUARDED_BY(mu_);
 };
