@@ -1,5 +1,6 @@
 #include "transport/result_arena.h"
 
+#include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -43,6 +44,13 @@ absl::StatusOr<std::unique_ptr<ResultArena>> ResultArena::Create(uint64_t slot_b
   const uint64_t bytes = kHeaderBytes + kSlots * slot_bytes;
   int fd = memfd_create("tessera-results", MFD_CLOEXEC);
   if (fd < 0) return absl::UnavailableError(Errno("memfd_create"));
+  if (fd <= STDERR_FILENO) {
+    // An application that closed stdio: a child's stdio set-up would clobber the arena.
+    const int moved = fcntl(fd, F_DUPFD_CLOEXEC, STDERR_FILENO + 1);
+    close(fd);
+    if (moved < 0) return absl::UnavailableError(Errno("moving the result arena's descriptor"));
+    fd = moved;
+  }
   if (ftruncate(fd, static_cast<off_t>(bytes)) != 0) {
     std::string message = Errno("ftruncate of the result arena");
     close(fd);
