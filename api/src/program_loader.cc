@@ -15,6 +15,7 @@
 #include "hash.h"
 #include "module_compiler.h"
 #include "status.h"
+#include "tessera/scheduler/module_symbol.h"
 
 namespace tessera::api {
 namespace fs = std::filesystem;
@@ -47,11 +48,11 @@ absl::Status CheckModule(const std::string& path, const std::string& function) {
                                 "': ", why != nullptr ? why : "unknown error"));
   }
   dlerror();
-  void* symbol = dlsym(handle, function.c_str());
+  void* symbol = scheduler::FindModuleFunction(handle, function.c_str());
   dlclose(handle);
   if (symbol == nullptr) {
     return RtError(RT_ERROR_INVALID_SOURCE,
-                   absl::StrCat("program module '", path, "' has no function '", function,
+                   absl::StrCat("program module '", path, "' defines no function '", function,
                                 "' (declare it with RT_PROGRAM)"));
   }
   return absl::OkStatus();

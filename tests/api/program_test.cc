@@ -61,6 +61,8 @@ TEST_F(HostProgramTest, ModulesAreCheckedForTheFunction) {
   std::string message = ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
   EXPECT_NE(message.find("no_such_function"), std::string::npos) << message;
   EXPECT_NE(message.find("api_test_programs.so"), std::string::npos) << message;
+  // What the module's libraries define is no program of it.
+  EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, kTestModule, "getpid", &p), RT_ERROR_INVALID_SOURCE);
 
   EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, "/nonexistent/module.so", "f", &p),
             RT_ERROR_FILE_NOT_FOUND);

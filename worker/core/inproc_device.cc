@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <limits>
 #include <mutex>
+#include <new>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
@@ -136,6 +137,13 @@ class InprocDevice : public Device {
             absl::StrCat("launch dimension ", d, " exceeds launch indices (unsigned int)"));
       }
     }
+    for (const v1::Tile& t : request.tiles()) {
+      if (t.origin_size() != request.dims_size() || t.size_size() != request.dims_size()) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "tile ", t.index(), " has ", t.origin_size(), " origin and ", t.size_size(),
+            " size entries in a launch of ", request.dims_size(), " dimensions"));
+      }
+    }
     // Before the plan: building accelerations runs bounding-box programs, which may write.
     if (request.launch_id() != snapshot_launch_id_) {
       replica_.SnapshotForLaunch();
@@ -149,6 +157,9 @@ class InprocDevice : public Device {
         plan = worker::MakePlan(replica_, scenes_);
       } catch (const FatalError& e) {
         plan = e.status;
+      } catch (const std::bad_alloc&) {
+        plan = absl::ResourceExhaustedError(
+            "the device ran out of memory building the launch's programs and accelerations");
       }
       if (!plan.ok()) return plan.status();
       plan_ = std::move(*plan);

@@ -16,6 +16,7 @@
 #include "absl/strings/strip.h"
 #include "module_store.h"
 #include "runtime.h"
+#include "tessera/scheduler/module_symbol.h"
 #include "tessera/worker/module_cache.h"
 
 namespace tessera::worker {
@@ -82,7 +83,9 @@ void* const* Module::Slots() const {
   return slots.data();
 }
 
-void* Module::Function(const std::string& name) const { return dlsym(handle_, name.c_str()); }
+void* Module::Function(const std::string& name) const {
+  return scheduler::FindModuleFunction(handle_, name.c_str());
+}
 
 ModuleCache& ModuleCache::Get() {
   static ModuleCache* cache = new ModuleCache();

@@ -56,7 +56,7 @@ class Module {
   size_t per_call_bytes() const { return per_call_bytes_; }
   // The calling thread's slot addresses, one per variable (cached per thread).
   void* const* Slots() const;
-  // Null if the module has no such exported function.
+  // Null if the module itself defines no global function of that name.
   void* Function(const std::string& name) const;
 
  private:

@@ -13,6 +13,10 @@ namespace {
 // Bytes of OptiX stack one nested rtTrace costs; the context's stack size divided by this is the
 // deepest trace allowed (default 1024 bytes: 8 levels). See docs/COMPATIBILITY.md.
 constexpr uint64_t kStackBytesPerTrace = 128;
+// The deepest nesting a device allows whatever the stack size: every level also takes native
+// stack (a release build ran out of a thread's 8 MiB near 12,000 levels; sanitizers take several
+// times more per level) and a frame per thread (a stack size of 2^40 asked for 2^33 frames).
+constexpr uint64_t kMaxTraceDepth = 1024;
 
 void CollectRoots(const Scope& scope, std::vector<uint64_t>& roots) {
   for (const auto& [name, v] : scope) {
@@ -60,12 +64,17 @@ void SplitInvariants(LaunchPlan& plan) {
 // Resolves every graph node once, so traversal never searches the replica.
 void IndexNodes(LaunchPlan& plan) {
   const Replica& r = *plan.replica;
+  // Only scenes this plan built or checked: a cached one that no object variable reaches may
+  // hold geometries of instances since changed, pointing into an earlier, freed plan.
+  auto scene = [&](uint64_t id) -> const SceneEntry* {
+    const SceneEntry* e = plan.scenes->Find(id);
+    return e != nullptr && e->plan_serial == plan.serial ? e : nullptr;
+  };
   for (const auto& [id, g] : r.geometry_groups) {
-    plan.nodes[id] =
-        NodeInfo{RT_OBJECTTYPE_GEOMETRY_GROUP, plan.scenes->Find(id), nullptr, nullptr};
+    plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_GEOMETRY_GROUP, scene(id), nullptr, nullptr};
   }
   for (const auto& [id, g] : r.groups) {
-    plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_GROUP, plan.scenes->Find(id), nullptr, nullptr};
+    plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_GROUP, scene(id), nullptr, nullptr};
   }
   for (const auto& [id, s] : r.selectors) plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_SELECTOR};
   for (const auto& [id, t] : r.transforms) {
@@ -100,7 +109,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   plan->replica = &replica;
   plan->scenes = &scenes;
   const ContextRec& ctx = replica.context();
-  plan->max_depth = std::max<uint64_t>(1, ctx.stack_size / kStackBytesPerTrace);
+  plan->max_depth = std::clamp<uint64_t>(ctx.stack_size / kStackBytesPerTrace, 1, kMaxTraceDepth);
   plan->ray_type_count = ctx.ray_type_count;
   plan->exception_mask = ctx.exception_mask;
   plan->user_exceptions = ctx.user_exceptions;
@@ -157,8 +166,12 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
         return absl::NotFoundError(
             absl::StrCat("geometry instance #", id, " uses unknown material #", mid));
       }
-      std::vector<HitGroup> groups(ctx.ray_type_count);
-      for (uint32_t rt = 0; rt < ctx.ray_type_count; ++rt) {
+      // Hit groups for the ray types the material has programs for, not for the context's
+      // count of them: that may be anything up to 2^32.
+      const size_t types =
+          std::min<size_t>(ctx.ray_type_count, std::max(m->closest_hit.size(), m->any_hit.size()));
+      std::vector<HitGroup> groups(types);
+      for (uint32_t rt = 0; rt < types; ++rt) {
         uint64_t ch = rt < m->closest_hit.size() ? m->closest_hit[rt] : 0;
         uint64_t ah = rt < m->any_hit.size() ? m->any_hit[rt] : 0;
         auto chb = bind(ProgramKind::kClosestHit, ch, {&gi.vars, &m->vars, context_scope});

@@ -27,7 +27,8 @@ struct InstancePlan {
   uint64_t id = 0;
   const BoundProgram* intersection = nullptr;
   const BoundProgram* bounds = nullptr;
-  std::vector<std::vector<HitGroup>> materials;  // [material index][ray type]
+  // [material index][ray type]; ray types past a material's end have no programs.
+  std::vector<std::vector<HitGroup>> materials;
   bool has_any_hit = false;
 };
 
@@ -49,6 +50,9 @@ struct ChildInfo {
 struct SceneEntry {
   RTCScene scene = nullptr;
   uint64_t stamp = 0;
+  // The last plan that built or checked this scene: its geometries point into that plan, so no
+  // other plan may traverse it.
+  uint64_t plan_serial = 0;
   std::vector<std::unique_ptr<GeometryInfo>> geometries;
   std::vector<std::unique_ptr<ChildInfo>> children;
   std::array<float, 6> bounds{};

@@ -1,9 +1,12 @@
 #include "replica.h"
 
 #include <tbb/parallel_for.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
+#include <new>
+#include <unordered_set>
 
 #include "absl/strings/str_cat.h"
 #include "module.h"
@@ -26,6 +29,50 @@ std::vector<T> ToVector(const google::protobuf::RepeatedField<T>& f) {
   return std::vector<T>(f.begin(), f.end());
 }
 
+uint64_t ObjectId(const v1::Object& o) {
+  switch (o.kind_case()) {
+    case v1::Object::kProgram:
+      return o.program().id();
+    case v1::Object::kBuffer:
+      return o.buffer().id();
+    case v1::Object::kGeometry:
+      return o.geometry().id();
+    case v1::Object::kMaterial:
+      return o.material().id();
+    case v1::Object::kGeometryInstance:
+      return o.geometry_instance().id();
+    case v1::Object::kGeometryGroup:
+      return o.geometry_group().id();
+    case v1::Object::kGroup:
+      return o.group().id();
+    case v1::Object::kTransform:
+      return o.transform().id();
+    case v1::Object::kSelector:
+      return o.selector().id();
+    case v1::Object::kAcceleration:
+      return o.acceleration().id();
+    case v1::Object::KIND_NOT_SET:
+      break;
+  }
+  return 0;
+}
+
+// "geometry_instance" for messages.
+std::string KindName(v1::Object::KindCase kind) {
+  const auto* field = v1::Object::descriptor()->FindFieldByNumber(kind);
+  return field != nullptr ? field->name() : "object";
+}
+
+// Bytes of memory this machine has: a buffer larger than that cannot be held, and allocating it
+// lazily would only end the process later, when its pages are touched.
+uint64_t PhysicalMemory() {
+  static const uint64_t bytes = [] {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) : ~uint64_t{0};
+  }();
+  return bytes;
+}
+
 absl::Status CheckBuffer(const v1::Buffer& b) {
   if (b.dims_size() > 3) {
     return absl::InvalidArgumentError(
@@ -45,7 +92,35 @@ absl::Status CheckBuffer(const v1::Buffer& b) {
   return absl::OkStatus();
 }
 
+// Embree counts primitives in 32 bits (so does rtGeometrySetPrimitiveCount), and a user geometry
+// keeps 24 bytes of bounds per primitive while its acceleration builds.
+absl::Status CheckGeometry(const v1::Geometry& g) {
+  constexpr uint64_t kMaxPrimitives = 0xFFFFFFFFu;
+  if (g.primitive_count() > kMaxPrimitives) {
+    return absl::InvalidArgumentError(absl::StrCat("geometry #", g.id(), " has ",
+                                                   g.primitive_count(), " primitives (at most ",
+                                                   kMaxPrimitives, ")"));
+  }
+  if (g.primitive_count() * 24 > PhysicalMemory()) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("geometry #", g.id(), " has ", g.primitive_count(),
+                     " primitives, whose bounds need ", g.primitive_count() * 24,
+                     " bytes; this device has ", PhysicalMemory(), " bytes of memory"));
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
+
+// A buffer of a delta as the delta leaves it: its shape, and new storage where the shape or the
+// marks change. Allocated while the delta is checked, so that a buffer this device cannot hold
+// rejects the delta before anything changed.
+struct Replica::StagedBuffer {
+  BufferRec rec;            // shape; `data`, `written` and `written_blocks` when replaced
+  uint64_t held_marks = 0;  // marks the replica holds for it (none when the delta removes it)
+  bool reshaped = false;    // new contents: zeros, like a new buffer (the host resends INPUT ones)
+  bool remarked = false;    // new marks
+};
 
 bool BufferRec::Gathered() const {
   return (desc & RT_BUFFER_OUTPUT) != 0 && (desc & RT_BUFFER_GPU_LOCAL) == 0;
@@ -193,17 +268,32 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
     return absl::FailedPreconditionError(absl::StrCat(
         "state delta ", delta.sequence(), " out of order (expected ", sequence_ + 1, ")"));
   }
-  std::unordered_map<uint64_t, uint64_t> new_sizes;  // buffer id -> bytes after this delta
+  const std::unordered_set<uint64_t> removed(delta.removed().begin(), delta.removed().end());
+  std::unordered_map<uint64_t, v1::Object::KindCase> kinds;  // of the delta's objects, by id
+  std::unordered_map<uint64_t, StagedBuffer> staged;         // by buffer id
   for (const auto& o : delta.objects()) {
     if (o.kind_case() == v1::Object::KIND_NOT_SET) {
       return absl::InvalidArgumentError("state delta holds an object of no kind");
     }
+    // An id names one object: lookups by id (references, removals, graph nodes) must not find
+    // two of different kinds.
+    const uint64_t id = ObjectId(o);
+    if (id == 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("state delta holds a ", KindName(o.kind_case()), " with id 0 (none)"));
+    }
+    v1::Object::KindCase held = kinds.emplace(id, o.kind_case()).first->second;
+    if (held == o.kind_case() && removed.count(id) == 0) held = KindOf(id);
+    if (held != o.kind_case() && held != v1::Object::KIND_NOT_SET) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(KindName(o.kind_case()), " #", id, " has the id of a ", KindName(held)));
+    }
     if (o.has_buffer()) {
       if (absl::Status s = CheckBuffer(o.buffer()); !s.ok()) return s;
-      uint64_t bytes = o.buffer().element_size();
-      for (uint64_t d : o.buffer().dims()) bytes *= d;
-      if (o.buffer().dims_size() == 0) bytes = 0;
-      new_sizes[o.buffer().id()] = bytes;
+      Stage(o.buffer(), removed.count(id) != 0, staged);
+    }
+    if (o.has_geometry()) {
+      if (absl::Status s = CheckGeometry(o.geometry()); !s.ok()) return s;
     }
     if (o.has_transform() &&
         (o.transform().matrix_size() != 16 || o.transform().inverse_size() != 16)) {
@@ -213,9 +303,13 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
   }
   for (const auto& c : delta.chunks()) {
     uint64_t bytes = 0;
-    if (auto it = new_sizes.find(c.buffer_id()); it != new_sizes.end()) {
-      bytes = it->second;
+    if (auto it = staged.find(c.buffer_id()); it != staged.end()) {
+      bytes = it->second.rec.Bytes();
     } else if (auto b = buffers.find(c.buffer_id()); b != buffers.end()) {
+      if (removed.count(c.buffer_id()) != 0) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("buffer chunk for buffer #", c.buffer_id(), ", which this delta removes"));
+      }
       bytes = b->second.Bytes();
     } else {
       return absl::InvalidArgumentError(
@@ -227,8 +321,10 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
                                                 c.buffer_id(), " of ", bytes, " bytes"));
     }
   }
-  // Last: it stores the modules the delta carries (not replica state, and harmless to keep).
+  // It stores the modules the delta carries (not replica state, and harmless to keep).
   if (absl::Status s = ModuleCache::Get().Receive(delta); !s.ok()) return s;
+  // Last, as the costliest: a delta rejected for anything else allocates nothing.
+  if (absl::Status s = Allocate(staged); !s.ok()) return s;
 
   // ---- Apply.
   session_id_ = delta.session_id();
@@ -270,32 +366,8 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
             ProgramRec{p.module_path(), p.module_hash(), p.function(), ToScope(p.variables())};
         break;
       }
-      case v1::Object::kBuffer: {
-        const auto& b = o.buffer();
-        BufferRec& r = buffers[b.id()];
-        const uint32_t old_format = r.format;
-        const uint64_t old_element_size = r.element_size;
-        const std::array<uint64_t, 3> old_dims = r.dims;
-        r.desc = b.desc();
-        r.format = b.format();
-        r.element_size = b.element_size();
-        r.ndims = b.dims_size();
-        r.dims = {0, 1, 1};
-        for (int i = 0; i < b.dims_size(); ++i) r.dims[i] = b.dims(i);
-        if (r.ndims == 0) r.dims[0] = 0;
-        if (r.format != old_format || r.element_size != old_element_size || r.dims != old_dims) {
-          // A new shape starts zeroed, like a new buffer; the host resends INPUT contents.
-          r.data.assign(r.Bytes(), 0);
-        }
-        if (r.written.size() != (r.Gathered() ? r.Elements() : 0)) {
-          const uint64_t elements = r.Gathered() ? r.Elements() : 0;
-          r.written.assign(elements, 0);
-          r.written_blocks.assign((elements + (uint64_t{1} << TESSERA_WRITTEN_BLOCK_SHIFT) - 1) >>
-                                      TESSERA_WRITTEN_BLOCK_SHIFT,
-                                  0);
-        }
-        break;
-      }
+      case v1::Object::kBuffer:
+        break;  // below, as staged
       case v1::Object::kGeometry: {
         const auto& g = o.geometry();
         geometries[g.id()] = GeometryRec{g.primitive_count(), g.intersection_program(),
@@ -355,9 +427,95 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
         break;
     }
   }
+  for (auto& [id, staged_buffer] : staged) {
+    BufferRec& from = staged_buffer.rec;
+    BufferRec& r = buffers[id];
+    r.desc = from.desc;
+    r.format = from.format;
+    r.element_size = from.element_size;
+    r.ndims = from.ndims;
+    r.dims = from.dims;
+    if (staged_buffer.reshaped) r.data = std::move(from.data);
+    if (staged_buffer.remarked) {
+      r.written = std::move(from.written);
+      r.written_blocks = std::move(from.written_blocks);
+    }
+  }
   for (const auto& ch : delta.chunks()) {
-    BufferRec& b = buffers[ch.buffer_id()];
+    if (ch.data().empty()) continue;
+    BufferRec& b = buffers.at(ch.buffer_id());
     std::memcpy(b.data.data() + ch.offset(), ch.data().data(), ch.data().size());
+  }
+  return absl::OkStatus();
+}
+
+v1::Object::KindCase Replica::KindOf(uint64_t id) const {
+  if (programs.count(id) != 0) return v1::Object::kProgram;
+  if (buffers.count(id) != 0) return v1::Object::kBuffer;
+  if (geometries.count(id) != 0) return v1::Object::kGeometry;
+  if (materials.count(id) != 0) return v1::Object::kMaterial;
+  if (instances.count(id) != 0) return v1::Object::kGeometryInstance;
+  if (accelerations.count(id) != 0) return v1::Object::kAcceleration;
+  if (geometry_groups.count(id) != 0) return v1::Object::kGeometryGroup;
+  if (groups.count(id) != 0) return v1::Object::kGroup;
+  if (transforms.count(id) != 0) return v1::Object::kTransform;
+  if (selectors.count(id) != 0) return v1::Object::kSelector;
+  return v1::Object::KIND_NOT_SET;
+}
+
+void Replica::Stage(const v1::Buffer& b, bool removed,
+                    std::unordered_map<uint64_t, StagedBuffer>& staged) const {
+  auto [it, first] = staged.try_emplace(b.id());
+  BufferRec& r = it->second.rec;
+  if (first) {  // the shape the device holds, unless the delta removes the buffer first
+    auto held = buffers.find(b.id());
+    if (held != buffers.end() && !removed) {
+      r.desc = held->second.desc;
+      r.format = held->second.format;
+      r.element_size = held->second.element_size;
+      r.ndims = held->second.ndims;
+      r.dims = held->second.dims;
+      it->second.held_marks = held->second.written.size();
+    }
+  }
+  const uint32_t old_format = r.format;
+  const uint64_t old_element_size = r.element_size;
+  const std::array<uint64_t, 3> old_dims = r.dims;
+  r.desc = b.desc();
+  r.format = b.format();
+  r.element_size = b.element_size();
+  r.ndims = b.dims_size();
+  r.dims = {0, 1, 1};
+  for (int i = 0; i < b.dims_size(); ++i) r.dims[i] = b.dims(i);
+  if (r.ndims == 0) r.dims[0] = 0;
+  if (r.format != old_format || r.element_size != old_element_size || r.dims != old_dims) {
+    it->second.reshaped = true;
+  }
+}
+
+absl::Status Replica::Allocate(std::unordered_map<uint64_t, StagedBuffer>& staged) const {
+  for (auto& [id, s] : staged) {
+    BufferRec& r = s.rec;
+    const uint64_t marks = r.Gathered() ? r.Elements() : 0;
+    s.remarked = marks != s.held_marks;
+    const uint64_t bytes = (s.reshaped ? r.Bytes() : 0) + (s.remarked ? marks : 0);
+    if (bytes > PhysicalMemory()) {
+      return absl::ResourceExhaustedError(absl::StrCat("buffer #", id, " needs ", bytes,
+                                                       " bytes; this device has ", PhysicalMemory(),
+                                                       " bytes of memory"));
+    }
+    try {
+      if (s.reshaped) r.data.assign(r.Bytes(), 0);
+      if (s.remarked) {
+        r.written.assign(marks, 0);
+        r.written_blocks.assign((marks + (uint64_t{1} << TESSERA_WRITTEN_BLOCK_SHIFT) - 1) >>
+                                    TESSERA_WRITTEN_BLOCK_SHIFT,
+                                0);
+      }
+    } catch (const std::bad_alloc&) {
+      return absl::ResourceExhaustedError(
+          absl::StrCat("buffer #", id, ": cannot allocate ", bytes, " bytes"));
+    }
   }
   return absl::OkStatus();
 }

@@ -137,6 +137,15 @@ class Replica {
   uint64_t generation() const { return generation_; }  // bumps with every applied delta
 
  private:
+  struct StagedBuffer;
+  // The kind of object the replica holds under `id`, if any.
+  v1::Object::KindCase KindOf(uint64_t id) const;
+  // Records what buffer `b` of a delta makes of the buffer the replica holds (none if `removed`).
+  void Stage(const v1::Buffer& b, bool removed,
+             std::unordered_map<uint64_t, StagedBuffer>& staged) const;
+  // Allocates the storage staged buffers need: RESOURCE_EXHAUSTED naming the buffer if it cannot.
+  absl::Status Allocate(std::unordered_map<uint64_t, StagedBuffer>& staged) const;
+
   ContextRec context_;
   uint64_t session_id_ = 0;
   uint64_t sequence_ = 0;

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "absl/hash/hash.h"
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "callbacks.h"
 #include "plan.h"
@@ -113,14 +114,21 @@ struct TriangleSource {
   size_t vertex_stride = 12, index_stride = 12;
 };
 
-bool FindTriangles(const Replica& r, const AccelRec& a, const InstanceRec& gi, const GeometryRec& g,
-                   TriangleSource& t) {
+// Whether acceleration `accel_id` takes the geometry as native triangles, and from where.
+absl::StatusOr<bool> FindTriangles(const Replica& r, uint64_t accel_id, const AccelRec& a,
+                                   const InstanceRec& gi, const GeometryRec& g, TriangleSource& t) {
   if (!TriangleBuilder(a)) return false;
   t.vertices = FindBuffer(r, gi, g, Property(a, "vertex_buffer_name", "vertex_buffer"));
   t.indices = FindBuffer(r, gi, g, Property(a, "index_buffer_name", "index_buffer"));
   if (t.vertices == nullptr || t.indices == nullptr) return false;
-  t.vertex_stride = std::stoul(Property(a, "vertex_buffer_stride", "0"));
-  t.index_stride = std::stoul(Property(a, "index_buffer_stride", "0"));
+  for (const auto& [name, stride] : {std::pair{"vertex_buffer_stride", &t.vertex_stride},
+                                     std::pair{"index_buffer_stride", &t.index_stride}}) {
+    const std::string text = Property(a, name, "0");
+    if (!absl::SimpleAtoi(text, stride)) {
+      return absl::InvalidArgumentError(absl::StrCat("acceleration #", accel_id, ": property ",
+                                                     name, " is '", text, "', not a byte count"));
+    }
+  }
   if (t.vertex_stride == 0) t.vertex_stride = t.vertices->element_size;
   if (t.index_stride == 0) t.index_stride = t.indices->element_size;
   return t.vertex_stride >= 12 && t.index_stride >= 12;
@@ -200,17 +208,25 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
           absl::StrCat("geometry group #", id, ": child #", gid, " has no geometry"));
     }
     auto ip = plan.instances.find(gid);
-    stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count,
-                         ip != plan.instances.end() && ip->second.has_any_hit);
+    // Checked for a scene kept from an earlier plan too: traversal runs the intersection
+    // program of every geometry (triangles report their attributes through it).
+    if (ip == plan.instances.end() || ip->second.intersection == nullptr) {
+      return absl::FailedPreconditionError(absl::StrCat("geometry group #", id, ": geometry #",
+                                                        gi->geometry, " of child #", gid,
+                                                        " has no intersection program"));
+    }
+    stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count, ip->second.has_any_hit);
   }
   auto& slot = entries_[id];
   if (slot && slot->stamp == stamp) {
     for (auto& info : slot->geometries) info->plan = &plan.instances[info->instance_id];
+    slot->plan_serial = plan.serial;
     return slot.get();
   }
 
   auto entry = std::make_unique<SceneEntry>();
   entry->stamp = stamp;
+  entry->plan_serial = plan.serial;
   entry->scene = rtcNewScene(device_);
   bool any_filter = false;
   for (uint64_t gid : gg->children) any_filter |= plan.instances[gid].has_any_hit;
@@ -229,7 +245,9 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
     info->filter = ip.has_any_hit;
     RTCGeometry geom;
     TriangleSource tris;
-    if (FindTriangles(r, *accel, gi, g, tris)) {
+    absl::StatusOr<bool> triangles = FindTriangles(r, gg->acceleration, *accel, gi, g, tris);
+    if (!triangles.ok()) return triangles.status();
+    if (*triangles) {
       info->triangles = true;
       size_t nverts = tris.vertices->data.size() / tris.vertex_stride;
       size_t ntris =
@@ -245,10 +263,11 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
       for (size_t i = 0; i < ntris; ++i) {
         std::memcpy(idx + 3 * i, tris.indices->data.data() + i * tris.index_stride, 12);
         for (int k = 0; k < 3; ++k) {
-          if (idx[3 * i + k] >= nverts) {
+          // Read before the release below frees the index buffer.
+          if (const uint32_t vertex = idx[3 * i + k]; vertex >= nverts) {
             rtcReleaseGeometry(geom);
             return absl::OutOfRangeError(absl::StrCat("geometry instance #", gid, ": triangle ", i,
-                                                      " uses vertex ", idx[3 * i + k],
+                                                      " uses vertex ", vertex,
                                                       " but the vertex buffer holds ", nverts));
           }
         }
@@ -320,10 +339,14 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
   // A child rebuilt elsewhere changes its bounds or leaves them; traversal looks the child's
   // scene up at trace time, so equal bounds need no rebuild here.
   auto& slot = entries_[id];
-  if (slot && slot->stamp == stamp) return slot.get();
+  if (slot && slot->stamp == stamp) {
+    slot->plan_serial = plan.serial;
+    return slot.get();
+  }
 
   auto entry = std::make_unique<SceneEntry>();
   entry->stamp = stamp;
+  entry->plan_serial = plan.serial;
   entry->scene = rtcNewScene(device_);
   rtcSetSceneBuildQuality(entry->scene, RTC_BUILD_QUALITY_MEDIUM);
   for (size_t i = 0; i < group->children.size(); ++i) {

@@ -16,9 +16,15 @@ std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::T
     const v1::Tile& tile = tiles[t];
     TilePiece whole;
     whole.tile = t;
-    for (int i = 0; i < tile.origin_size() && i < 3; ++i) whole.origin[i] = tile.origin(i);
-    for (int i = 0; i < tile.size_size() && i < 3; ++i) whole.size[i] = tile.size(i);
-    // Rows inside the launch: edge tiles reach past it.
+    // Clipped to the launch in 64 bits: an origin or size past 32 bits must not wrap into it.
+    for (int i = 0; i < tile.origin_size() && i < 3; ++i) {
+      whole.origin[i] = static_cast<uint32_t>(std::min<uint64_t>(tile.origin(i), dims[i]));
+    }
+    for (int i = 0; i < tile.size_size() && i < 3; ++i) {
+      whole.size[i] =
+          static_cast<uint32_t>(std::min<uint64_t>(tile.size(i), dims[i] - whole.origin[i]));
+    }
+    // Rows inside the launch.
     const uint64_t begin = whole.origin[axis];
     const uint64_t end = std::min<uint64_t>(begin + whole.size[axis], dims[axis]);
     const uint64_t rows = end > begin ? end - begin : 0;

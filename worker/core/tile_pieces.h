@@ -23,7 +23,8 @@ inline constexpr int kPiecesPerThread = 128;
 
 // Splits every tile of `tiles` into bands of whole rows (along y for 2D and 3D launches, along x
 // for 1D), as many per tile as make about kPiecesPerThread * threads pieces in all. A tile is
-// never split when threads is 1. Pieces of a tile are adjacent in the result, in row order.
+// never split when threads is 1. Pieces of a tile are adjacent in the result, in row order, and
+// clipped to `dims`.
 std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::Tile>& tiles,
                                   const Index3& dims, int threads);
 

@@ -144,6 +144,17 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   CopyXform(f.hit.xform, f.xform);
 }
 
+// Whether a ray may be traced: what Embree takes (origin and direction within +-1.844e18, its
+// FLT_LARGE; it asserts on anything else, which ends the process), 0 <= tmin <= tmax. A NaN fails.
+inline bool ValidRay(const RayData& r) {
+  constexpr float kLarge = 1.844e18f;
+  bool ok = (r.tmin >= 0.f) & (r.tmin <= r.tmax);
+  for (int i = 0; i < 3; ++i) {
+    ok &= (std::fabs(r.origin[i]) <= kLarge) & (std::fabs(r.direction[i]) <= kLarge);
+  }
+  return ok;
+}
+
 // Intersects one node; `ray` is in the node's parent space. Hits are committed to the top frame.
 void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, RayData ray) {
   Frame& f = ts.top();
@@ -155,18 +166,26 @@ void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, RayData ra
     case RT_OBJECTTYPE_GEOMETRY_GROUP:
     case RT_OBJECTTYPE_GROUP:
       if (node->scene == nullptr) {
-        throw FatalError{absl::FailedPreconditionError(
-            absl::StrCat("node #", id, " has no acceleration structure on the device"))};
+        throw FatalError{absl::FailedPreconditionError(absl::StrCat(
+            "node #", id,
+            " has no acceleration structure on the device: no variable of object type reaches "
+            "it"))};
       }
       IntersectScene(ts, *node->scene, ray, node->type == RT_OBJECTTYPE_GEOMETRY_GROUP);
       return;
     case RT_OBJECTTYPE_TRANSFORM: {
       const TransformRec& t = *node->transform;
+      const RayData object_ray = ToObject(ray, t.inverse);
+      if (!ValidRay(object_ray)) {  // a degenerate inverse (infinite or huge entries)
+        Raise(RT_EXCEPTION_INVALID_RAY,
+              absl::StrCat("the ray is invalid in the space of transform #", id));
+        return;  // the exception is disabled: nothing below the transform is hit
+      }
       Xform saved = f.xform;
       f.xform.to_world = saved.active ? Mul(saved.to_world, t.matrix) : t.matrix;
       f.xform.to_object = saved.active ? Mul(t.inverse, saved.to_object) : t.inverse;
       f.xform.active = true;
-      TraverseNode(ts, t.child.id, node->child, ToObject(ray, t.inverse));
+      TraverseNode(ts, t.child.id, node->child, object_ray);
       f.xform = saved;
       return;
     }
@@ -215,14 +234,6 @@ void Guard(ThreadState& ts, F&& f) {
   } catch (...) {
     ts.pending = std::current_exception();
   }
-}
-
-// Whether a ray may be traced: finite origin and direction, 0 <= tmin <= tmax (a NaN fails).
-inline bool ValidRay(const RayData& r) {
-  // x - x is 0 for a finite x and NaN for an infinite or NaN one.
-  float z = 0.f;
-  for (int i = 0; i < 3; ++i) z += (r.origin[i] - r.origin[i]) + (r.direction[i] - r.direction[i]);
-  return z == 0.f && r.tmin >= 0.f && r.tmin <= r.tmax;
 }
 
 // An rtTrace that cannot run: too deep, an invalid ray, or a ray type the context lacks.
@@ -294,7 +305,7 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
       RunIntersection(ts, h.instance, h.primitive, h.object_ray, IntersectMode::kDeferred, h.t);
     }
     const auto& groups = f.hit.instance->materials;
-    if (f.hit.material < groups.size()) {
+    if (f.hit.material < groups.size() && ray.ray_type < groups[f.hit.material].size()) {
       if (const BoundProgram* ch = groups[f.hit.material][ray.ray_type].closest_hit) {
         Shade(ts, *ch, f);
       }
@@ -351,7 +362,8 @@ int RtReportIntersection(unsigned material) {
   c.primitive = is.primitive;
   StoreAttributes(is_module, isp, c.attributes);
 
-  const BoundProgram* ah = inst->materials[material][f.ray.ray_type].any_hit;
+  const std::vector<HitGroup>& types = inst->materials[material];
+  const BoundProgram* ah = f.ray.ray_type < types.size() ? types[f.ray.ray_type].any_hit : nullptr;
   if (ah == nullptr) {
     Commit(ts, f, c, false);
     return 1;
