@@ -41,6 +41,8 @@ struct TileState {
 // small enough that a call of the dispatcher's usual size (16384 per thread) makes several.
 constexpr uint64_t kEpochIndicesPerThread = 4096;
 constexpr uint64_t kMaxEpochs = 8;
+// The most threads a call runs on, whatever the context asks for.
+constexpr uint32_t kMaxThreads = 256;
 
 // The write epochs of one call (TesseraBufferView::write_epoch). Pieces start in the current
 // epoch, which moves on as pieces finish; once no piece that started in an epoch is left, no
@@ -175,9 +177,12 @@ class InprocDevice : public Device {
           absl::StrCat("entry point ", request.entry_point(), " out of range"));
     }
 
-    int threads = replica_.context().num_threads > 0
-                      ? static_cast<int>(replica_.context().num_threads)
-                      : num_threads_;
+    // CPU_NUM_THREADS comes from the host as any 32-bit count; more threads than kMaxThreads
+    // only cost memory (TBB itself warns past 1024).
+    int threads =
+        replica_.context().num_threads > 0
+            ? static_cast<int>(std::min<uint32_t>(replica_.context().num_threads, kMaxThreads))
+            : num_threads_;
     std::mutex result_mu;
     std::atomic<bool> stop{false};
     std::atomic<int64_t> piece_ns{0};

@@ -1027,6 +1027,26 @@ TEST_F(ReplicaFuzz, TransformWithInfiniteInverseRaisesInvalidRayInsteadOfAbortin
   }
 }
 
+// Embree finds the triangle; its intersection program (the sphere's) never reports it. The hit is
+// shaded with zeroed attributes, not with the normal an earlier hit of the thread left: the
+// closest-hit program normalizes a zero normal, NaN, in every launch.
+TEST_F(ReplicaFuzz, TriangleHitItsProgramDoesNotReportShadesWithZeroedAttributes) {
+  v1::StateDelta d = scene_;
+  const float far_away[4] = {100.f, 100.f, 100.f, 1.f};
+  for (v1::Variable& v :
+       *ObjectById(d, kTriangleGeometry)->mutable_geometry()->mutable_variables()) {
+    if (v.name() == "sphere") v.set_data(far_away, sizeof(far_away));
+  }
+  std::unique_ptr<Device> device = DeviceWith(d);
+  for (uint64_t launch = 1; launch <= 3; ++launch) {
+    LaunchOutcome out = RunLaunch(*device, ValidRequest(1, launch));
+    ASSERT_TRUE(out.status.ok()) << out.status;
+    ASSERT_EQ(out.output.size(), kWidth * kHeight * 16);
+    const float* triangle = reinterpret_cast<const float*>(out.output.data()) + 4 * (kWidth - 1);
+    EXPECT_TRUE(std::isnan(triangle[0])) << "launch " << launch << ": " << triangle[0];
+  }
+}
+
 // Tile origins and sizes are 64-bit on the wire and launch indices 32-bit: an origin of 2^32 ran
 // row 0, a size of 2^32 + 1 ran one column.
 TEST_F(ReplicaFuzz, TileBeyondThirtyTwoBitsIsClippedNotWrapped) {

@@ -302,7 +302,13 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   if (f.hit.instance != nullptr) {
     if (f.hit.deferred) {
       Hit& h = f.hit;
-      RunIntersection(ts, h.instance, h.primitive, h.object_ray, IntersectMode::kDeferred, h.t);
+      if (!RunIntersection(ts, h.instance, h.primitive, h.object_ray, IntersectMode::kDeferred,
+                           h.t)) {
+        // The program did not report the hit Embree found (its own test rejected it): shade it
+        // with zeroed attributes and material 0 rather than what an earlier ray left.
+        std::memset(h.attributes, 0, plan.attribute_bytes);
+        h.material = 0;
+      }
     }
     const auto& groups = f.hit.instance->materials;
     if (f.hit.material < groups.size() && ray.ray_type < groups[f.hit.material].size()) {
