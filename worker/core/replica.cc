@@ -260,6 +260,10 @@ void Replica::TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsig
 
 absl::Status Replica::Apply(const v1::StateDelta& delta) {
   // ---- Check everything before changing anything.
+  if (delta.session_id() == 0) {
+    // 0 is "no session yet" here: a replica that took it would accept any session after it.
+    return absl::InvalidArgumentError("state delta for session 0 (hosts number sessions from 1)");
+  }
   if (session_id_ != 0 && delta.session_id() != session_id_) {
     return absl::FailedPreconditionError(absl::StrCat(
         "state delta for session ", delta.session_id(), " sent to session ", session_id_));

@@ -1047,6 +1047,21 @@ TEST_F(ReplicaFuzz, TriangleHitItsProgramDoesNotReportShadesWithZeroedAttributes
   }
 }
 
+// Session 0 means "none yet" to a replica: one that took it would take any session after it.
+TEST_F(ReplicaFuzz, SessionZeroIsRefused) {
+  std::unique_ptr<Device> device = CreateInprocDevice(2, /*results_in_rounds=*/true);
+  v1::StateDelta d = scene_;
+  d.set_session_id(0);
+  absl::Status s = device->Apply(d);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << s;
+  EXPECT_NE(s.message().find("session 0"), std::string::npos) << s;
+  EXPECT_TRUE(device->Apply(scene_).ok());
+  d = scene_;
+  d.set_session_id(scene_.session_id() + 1);
+  d.set_sequence(scene_.sequence() + 1);
+  EXPECT_EQ(device->Apply(d).code(), absl::StatusCode::kFailedPrecondition);
+}
+
 // Tile origins and sizes are 64-bit on the wire and launch indices 32-bit: an origin of 2^32 ran
 // row 0, a size of 2^32 + 1 ran one column.
 TEST_F(ReplicaFuzz, TileBeyondThirtyTwoBitsIsClippedNotWrapped) {
