@@ -33,9 +33,9 @@ struct Options {
   int width = 1920, height = 1080;
   int repeats = 3;
   int step = tutorial::kLastStep;  // the headline figure is for the last step
-  int max_devices = 0;            // 0: the core count
-  bool thread_sweep = false;      // inproc rows for 2, 4, 8 … threads too
-  std::vector<std::string> only;  // --devices: just these specs after the baseline
+  int max_devices = 0;             // 0: the core count
+  bool thread_sweep = false;       // inproc rows for 2, 4, 8 … threads too
+  std::vector<std::string> only;   // --devices: just these specs after the baseline
   std::string module_dir;
   bool check = false;
   std::string viewer = "viewer";  // Embree's, for the reference rows; "none" skips them

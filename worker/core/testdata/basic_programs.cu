@@ -28,8 +28,8 @@ RT_PROGRAM void write_index() {
 
 RT_PROGRAM void camera() {
   float2 d = (make_float2(launch_index) + 0.5f) / make_float2(launch_dim) * 2.f - 1.f;
-  Ray r = make_Ray(make_float3(d.x * 2.f, d.y * 2.f, -5.f), make_float3(0.f, 0.f, 1.f), 0,
-                   0.001f, RT_DEFAULT_MAX);
+  Ray r = make_Ray(make_float3(d.x * 2.f, d.y * 2.f, -5.f), make_float3(0.f, 0.f, 1.f), 0, 0.001f,
+                   RT_DEFAULT_MAX);
   Payload p;
   p.color = make_float3(0.f);
   p.depth = 0;
@@ -50,8 +50,7 @@ RT_PROGRAM void recursive_hit() {
     Payload p;
     p.color = make_float3(0.f);
     p.depth = payload.depth + 1;
-    Ray r = make_Ray(ray.origin + t_hit * ray.direction, ray.direction, 0, 0.001f,
-                     RT_DEFAULT_MAX);
+    Ray r = make_Ray(ray.origin + t_hit * ray.direction, ray.direction, 0, 0.001f, RT_DEFAULT_MAX);
     rtTrace(top_object, r, p);
     payload.color = p.color + make_float3(1.f, 0.f, 0.f);
   } else {
@@ -92,9 +91,7 @@ RT_PROGRAM void sphere_intersect(int) {
 }
 
 RT_PROGRAM void throw_user() { rtThrow(RT_EXCEPTION_USER + 5); }
-RT_PROGRAM void read_out_of_bounds() {
-  output[make_uint2(launch_dim.x + 3, 0)] = make_float4(1.f);
-}
+RT_PROGRAM void read_out_of_bounds() { output[make_uint2(launch_dim.x + 3, 0)] = make_float4(1.f); }
 RT_PROGRAM void print_index() { rtPrintf("index %u %u\n", launch_index.x, launch_index.y); }
 
 RT_PROGRAM void exception() {
