@@ -152,7 +152,7 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
       // Heartbeats only say the worker is alive. The written regions come as several results
       // with kFinalTileIndex; whoever called collects the whole call before applying any of it.
       if (result.tile_index() != kHeartbeatTileIndex) {
-        if (arena != nullptr) restored = arena->Restore(lease, &result);
+        restored = ResultArena::Restore(arena, lease, &result);
         if (!restored.ok()) {
           context.TryCancel();
           break;

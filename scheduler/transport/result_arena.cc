@@ -112,21 +112,30 @@ void ResultArena::Release(const Lease& lease) {
   leased_[lease.slot] = false;
 }
 
-absl::Status ResultArena::Restore(const Lease& lease, v1::TileResult* result) {
+absl::Status ResultArena::Restore(ResultArena* arena, const Lease& lease, v1::TileResult* result) {
   for (v1::BufferRegion& r : *result->mutable_regions()) {
     if (r.arena_size() == 0) continue;
-    if (lease.slot < 0 || r.arena_offset() > slot_bytes_ ||
-        r.arena_size() > slot_bytes_ - r.arena_offset()) {
-      return absl::DataLossError(absl::StrCat("a result names arena bytes [", r.arena_offset(),
-                                              ", +", r.arena_size(), ") outside its slot of ",
-                                              slot_bytes_, " bytes"));
+    if (arena == nullptr) {
+      return absl::DataLossError(absl::StrCat("a result names ", r.arena_size(),
+                                              " bytes in shared memory this host never gave it"));
     }
-    r.mutable_data()->assign(reinterpret_cast<const char*>(SlotData(lease.slot)) + r.arena_offset(),
-                             r.arena_size());
-    restored_bytes_.fetch_add(r.arena_size(), std::memory_order_relaxed);
-    r.clear_arena_offset();
-    r.clear_arena_size();
+    if (absl::Status s = arena->RestoreRegion(lease, r); !s.ok()) return s;
   }
+  return absl::OkStatus();
+}
+
+absl::Status ResultArena::RestoreRegion(const Lease& lease, v1::BufferRegion& r) {
+  if (lease.slot < 0 || r.arena_offset() > slot_bytes_ ||
+      r.arena_size() > slot_bytes_ - r.arena_offset()) {
+    return absl::DataLossError(absl::StrCat("a result names arena bytes [", r.arena_offset(), ", +",
+                                            r.arena_size(), ") outside its slot of ", slot_bytes_,
+                                            " bytes"));
+  }
+  r.mutable_data()->assign(reinterpret_cast<const char*>(SlotData(lease.slot)) + r.arena_offset(),
+                           r.arena_size());
+  restored_bytes_.fetch_add(r.arena_size(), std::memory_order_relaxed);
+  r.clear_arena_offset();
+  r.clear_arena_size();
   return absl::OkStatus();
 }
 

@@ -49,8 +49,9 @@ class ResultArena {
   Lease Acquire();
   void Release(const Lease& lease);
   // Puts the bytes of `result`'s regions that lie in the leased slot back into the regions.
-  // An error for a region outside the slot (a malformed result).
-  absl::Status Restore(const Lease& lease, v1::TileResult* result);
+  // An error for a region outside the slot, or for any arena region when `arena` is null (a
+  // worker this host did not give an arena): a malformed result, whose bytes would be lost.
+  static absl::Status Restore(ResultArena* arena, const Lease& lease, v1::TileResult* result);
   // Bytes Restore took from the arena so far (tests, measurements).
   uint64_t restored_bytes() const { return restored_bytes_.load(std::memory_order_relaxed); }
 
@@ -71,6 +72,7 @@ class ResultArena {
 
  private:
   ResultArena(int fd, unsigned char* base, uint64_t bytes);
+  absl::Status RestoreRegion(const Lease& lease, v1::BufferRegion& r);
   std::atomic<uint64_t>& State(int slot) const;
   unsigned char* SlotData(int slot) const;
 

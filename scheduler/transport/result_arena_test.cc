@@ -49,7 +49,7 @@ TEST(ResultArena, LargeRegionsTravelThroughTheArenaAndComeBack) {
   EXPECT_TRUE(r.regions(0).data().empty());
   EXPECT_EQ(r.regions(0).arena_size(), 10000u);
   EXPECT_EQ(r.regions(1).data(), std::string(100, 's')) << "small regions stay in the message";
-  ASSERT_TRUE(p.host->Restore(lease, &r).ok());
+  ASSERT_TRUE(ResultArena::Restore(p.host.get(), lease, &r).ok());
   EXPECT_EQ(r.regions(0).data(), std::string(10000, 'L'));
   EXPECT_EQ(r.regions(0).arena_size(), 0u);
   EXPECT_EQ(p.host->restored_bytes(), 10000u);
@@ -80,7 +80,7 @@ TEST(ResultArena, AWorkerOfACallTheHostGaveUpOnCannotWriteTheNextLease) {
   v1::TileResult stale = Result(8192, 0);
   late.Move(&stale);
   EXPECT_EQ(stale.regions(0).arena_size(), 0u) << "the late writer keeps its bytes";
-  ASSERT_TRUE(p.host->Restore(next, &mine).ok());
+  ASSERT_TRUE(ResultArena::Restore(p.host.get(), next, &mine).ok());
   EXPECT_EQ(mine.regions(0).data(), std::string(8192, 'L'));
 }
 
@@ -101,12 +101,15 @@ TEST(ResultArena, ARegionOutsideItsSlotIsAnError) {
   v1::BufferRegion* region = r.add_regions();
   region->set_arena_offset(p.host->slot_bytes() - 10);
   region->set_arena_size(11);
-  absl::Status s = p.host->Restore(lease, &r);
+  absl::Status s = ResultArena::Restore(p.host.get(), lease, &r);
   EXPECT_EQ(s.code(), absl::StatusCode::kDataLoss) << s;
   EXPECT_NE(s.message().find("outside its slot"), std::string::npos) << s;
   region->set_arena_offset(0);
   region->set_arena_size(1);
-  EXPECT_FALSE(p.host->Restore(ResultArena::Lease{}, &r).ok()) << "no lease, no arena bytes";
+  EXPECT_FALSE(ResultArena::Restore(p.host.get(), ResultArena::Lease{}, &r).ok())
+      << "no lease, no arena bytes";
+  s = ResultArena::Restore(nullptr, ResultArena::Lease{}, &r);
+  EXPECT_EQ(s.code(), absl::StatusCode::kDataLoss) << "a worker given no arena: " << s;
 }
 
 TEST(ResultArena, ADescriptorThatIsNoArenaIsRefused) {
