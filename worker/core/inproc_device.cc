@@ -229,13 +229,19 @@ class InprocDevice : public Device {
     // Results go out in write epochs while later pieces trace (no barrier: nobody waits for a
     // round's last piece).
     WriteEpochs epochs(replica_, pieces.size(), Epochs(request, threads, pieces.size()));
+    // A message for written regions, packed into one that held results before when there is
+    // one (result_pool.h).
+    auto regions_result = [&] {
+      v1::TileResult r = scheduler::TakeTileResult();
+      r.set_launch_id(request.launch_id());
+      r.set_tile_index(kFinalTileIndex);
+      r.set_call_sequence(sequence);
+      return r;
+    };
     auto send_closed = [&](unsigned char after, unsigned char upto) {
       while (upto != 0) {
         if (!stop.load() && !cancel.load()) {
-          v1::TileResult partial = scheduler::TakeTileResult();
-          partial.set_launch_id(request.launch_id());
-          partial.set_tile_index(kFinalTileIndex);
-          partial.set_call_sequence(sequence);
+          v1::TileResult partial = regions_result();
           replica_.TakeWrittenRegions(&partial, after, upto, /*last=*/false);
           if (partial.regions_size() > 0) {
             on_result(std::move(partial));
@@ -261,11 +267,7 @@ class InprocDevice : public Device {
       });
     }
     const auto traced = std::chrono::steady_clock::now();
-    // Packed into a message that held results before, when there is one (result_pool.h).
-    v1::TileResult final_result = scheduler::TakeTileResult();
-    final_result.set_launch_id(request.launch_id());
-    final_result.set_tile_index(kFinalTileIndex);
-    final_result.set_call_sequence(sequence);
+    v1::TileResult final_result = regions_result();
     // Taken even when the call failed, so that marks of unfinished tiles do not leak into the
     // next call's regions.
     arena.execute(

@@ -13,7 +13,6 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstring>
-#include <filesystem>
 #include <iterator>
 #include <limits>
 #include <mutex>
@@ -32,7 +31,6 @@
 #include "tessera/rt.h"
 #include "tessera/scheduler/tiling.h"
 #include "tessera/worker/inproc_device.h"
-#include "tessera/worker/module_cache.h"
 #include "testdata/replica_fuzz_scene.h"
 #include "testdata/write_index_delta.h"
 

@@ -5,14 +5,12 @@
 #define TESSERA_WORKER_CORE_TESTDATA_REPLICA_FUZZ_SCENE_H_
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
-#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -22,7 +20,6 @@
 
 #include "absl/status/status.h"
 #include "tessera/worker/inproc_device.h"
-#include "tessera/worker/module_cache.h"
 
 namespace tessera::fuzz {
 
@@ -139,13 +136,8 @@ void EraseObject(v1::StateDelta& d, uint64_t id);
 
 class ReplicaFuzz : public ::testing::Test {
  protected:
+  // Modules the devices receive go to the test binary's private cache (module_store_test.cc).
   void SetUp() override {
-    // Modules the devices receive go to a private cache directory.
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "tessera-replica-fuzz-XXXXXX").string();
-    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
-    module_cache_ = pattern;
-    SetModuleCacheDirectory(module_cache_);
     scene_ = SceneDelta();
     for (uint32_t entry : {0u, 1u}) {
       std::unique_ptr<Device> device = DeviceWith(scene_);
@@ -155,12 +147,6 @@ class ReplicaFuzz : public ::testing::Test {
       reference_[entry] = out.output;
     }
   }
-  void TearDown() override {
-    SetModuleCacheDirectory("");
-    std::error_code ec;
-    std::filesystem::remove_all(module_cache_, ec);
-  }
-
   // Whether `device` renders both entry points as the valid scene does.
   void ExpectRendersScene(Device& device, const std::string& context) {
     for (uint32_t entry : {0u, 1u}) {
@@ -171,7 +157,6 @@ class ReplicaFuzz : public ::testing::Test {
     }
   }
 
-  std::string module_cache_;
   v1::StateDelta scene_;
   std::string reference_[2];
   uint64_t launch_id_ = 100;
