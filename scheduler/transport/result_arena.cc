@@ -69,7 +69,9 @@ absl::StatusOr<std::unique_ptr<ResultArena>> ResultArena::Create(uint64_t slot_b
 
 absl::StatusOr<std::unique_ptr<ResultArena>> ResultArena::Map(int fd) {
   struct stat st {};
-  if (fstat(fd, &st) != 0) return absl::InvalidArgumentError(Errno("result arena descriptor"));
+  if (fstat(fd, &st) != 0) {
+    return absl::InvalidArgumentError(Errno(absl::StrCat("result arena descriptor ", fd).c_str()));
+  }
   const uint64_t bytes = static_cast<uint64_t>(st.st_size);
   if (bytes <= kHeaderBytes || (bytes - kHeaderBytes) % (kSlots * uint64_t{4096}) != 0) {
     return absl::InvalidArgumentError(

@@ -173,7 +173,8 @@ int main(int argc, char** argv) {
         tessera::transport::ResultArena::Map(arena_fd);
     if (!mapped.ok()) {
       // Results still travel, through the socket.
-      std::fprintf(stderr, "tessera-worker: %s\n", std::string(mapped.status().message()).c_str());
+      std::fprintf(stderr, "tessera-worker: %s; results go through the socket\n",
+                   std::string(mapped.status().message()).c_str());
     } else {
       arena = *std::move(mapped);
       arena->CloseFd();  // the mapping stays
