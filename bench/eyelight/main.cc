@@ -31,6 +31,7 @@ struct Options {
   std::string devices = "inproc";
   unsigned width = 1024, height = 1024;
   int warmup = 5, runs = 20;
+  int threads = 0;  // 0: every core, for Tessera and the viewer alike
   bool check = false;
 };
 
@@ -60,7 +61,7 @@ int RunBenchmark(const Options& o, const Mesh& mesh, const Camera& camera) {
   double ours = 0, utilization = 0;
   int threads = 0;
   {
-    EyelightScene scene(mesh, camera, o.width, o.height, o.module, o.devices);
+    EyelightScene scene(mesh, camera, o.width, o.height, o.module, o.devices, o.threads);
     LaunchTimes times = TimeLaunches([&] { scene.Launch(); }, o.warmup, o.runs);
     ours = rays / times.Median() / 1e6;
     utilization = times.Utilization();
@@ -87,6 +88,7 @@ int RunBenchmark(const Options& o, const Mesh& mesh, const Camera& camera) {
   run.warmup = o.warmup;
   run.runs = o.runs;
   run.camera_flags = camera.ViewerFlags();
+  run.threads = o.threads;
   std::string command;
   double theirs = RunEmbreeViewer(run, &command);
   std::printf("embree: %s\n", command.c_str());
@@ -121,6 +123,11 @@ int main(int argc, char** argv) {
   app.add_option("--runs", o.runs, "timed launches")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_option("--threads", o.threads,
+                 "tracing threads for Tessera (CPU_NUM_THREADS) and the viewer (--threads); "
+                 "0: every core")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--out", o.out, "write the image (e.g. eyelight.png)");
   app.add_option("--module", o.module, "program module built from eyelight.cu")
       ->capture_default_str();

@@ -67,11 +67,16 @@ RTprogram EyelightScene::Program(const char* function) {
 
 EyelightScene::EyelightScene(const Mesh& mesh, const Camera& camera, unsigned width,
                              unsigned height, const std::string& module_path,
-                             const std::string& devices)
+                             const std::string& devices, int threads)
     : width_(width), height_(height), module_path_(module_path) {
   if (RTresult r = rtContextCreate(&context_); r != RT_SUCCESS) {
     context_ = nullptr;
     Check(r, "rtContextCreate");
+  }
+  if (threads > 0) {
+    Check(rtContextSetAttribute(context_, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, sizeof(threads),
+                                &threads),
+          "rtContextSetAttribute(CPU_NUM_THREADS)");
   }
   Check(tesseraContextSetDeviceSpec(context_, devices.c_str()), "tesseraContextSetDeviceSpec");
   Check(rtContextSetRayTypeCount(context_, 1), "rtContextSetRayTypeCount");

@@ -43,10 +43,10 @@ struct Image {
 class EyelightScene {
  public:
   // Builds the whole context on `devices` (a device spec); `module_path` is the bench_eyelight
-  // program module. Throws std::runtime_error with rtContextGetErrorString's message on any
-  // failure.
+  // program module; `threads` > 0 sets RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS. Throws
+  // std::runtime_error with rtContextGetErrorString's message on any failure.
   EyelightScene(const Mesh& mesh, const Camera& camera, unsigned width, unsigned height,
-                const std::string& module_path, const std::string& devices);
+                const std::string& module_path, const std::string& devices, int threads = 0);
   ~EyelightScene();
   EyelightScene(const EyelightScene&) = delete;
   EyelightScene& operator=(const EyelightScene&) = delete;

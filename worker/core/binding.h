@@ -73,6 +73,10 @@ struct BoundProgram {
   // Variables declared with each semantic (a module may declare one several times, e.g. a
   // radiance and a shadow payload).
   std::vector<SlotRef> launch_index, launch_dim, ray, payload, distance;
+  // Set once a call showed that the function does not write through the bounding-box result
+  // pointer every call passes (CallProgram). Written and read with relaxed atomics by the
+  // threads of a launch; it only ever goes from false to true.
+  mutable bool arguments_checked = false;
 };
 
 // Binds `program_id` with scopes searched in order (the program's own scope comes first).

@@ -370,6 +370,46 @@ TEST(InprocDevice, TraceFromIntersectionProgramFailsTheLaunchWithAMessage) {
   EXPECT_NE(r.status.message().find("intersection"), std::string::npos) << r.status;
 }
 
+// A module's functions carry no signature: a bounding box program set as another kind would
+// write its bounds through whatever its second argument register held. Every call passes a
+// scratch pointer instead, and a program that writes there fails the launch by name.
+TEST_F(SphereTest, BoundingBoxProgramSetAsClosestHitFailsTheLaunchByName) {
+  uint64_t gg = s.SphereGroup(0, 0, 0, 1, s.Program("sphere_bounds"));
+  Scene::SetObject(s.ContextVars(), "top_object", RT_OBJECTTYPE_GEOMETRY_GROUP, gg);
+  auto device = CreateInprocDevice(2);
+  Result r = Launch(*device, s.delta(), {kSize, kSize});
+  ASSERT_EQ(r.status.code(), absl::StatusCode::kFailedPrecondition) << r.status;
+  EXPECT_NE(r.status.message().find("sphere_bounds"), std::string::npos) << r.status;
+  EXPECT_NE(r.status.message().find("closest hit"), std::string::npos) << r.status;
+  EXPECT_NE(r.status.message().find("bounding box"), std::string::npos) << r.status;
+}
+
+TEST(InprocDevice, BoundingBoxProgramSetAsRayGenerationFailsTheLaunchByName) {
+  auto device = CreateInprocDevice(1);
+  Scene s;
+  s.Context()->add_ray_generation(s.Program("sphere_bounds"));
+  Result r = Launch(*device, s.delta(), {2, 2});
+  ASSERT_EQ(r.status.code(), absl::StatusCode::kFailedPrecondition) << r.status;
+  EXPECT_NE(r.status.message().find("sphere_bounds"), std::string::npos) << r.status;
+}
+
+// A bounding box program that writes nothing (here a closest-hit program set in its place)
+// leaves its primitive's bounds invalid: the primitive is never hit, rather than a box at the
+// origin.
+TEST_F(SphereTest, BoundsLeftUnwrittenMeanThePrimitiveIsNeverHit) {
+  uint64_t gg = s.SphereGroup(0, 0, 0, 1, s.Program("closest_hit"));
+  for (auto& o : *s.delta().mutable_objects()) {
+    if (o.has_geometry()) o.mutable_geometry()->set_bounding_box_program(s.Program("closest_hit"));
+  }
+  Scene::SetObject(s.ContextVars(), "top_object", RT_OBJECTTYPE_GEOMETRY_GROUP, gg);
+  auto device = CreateInprocDevice(1);
+  Result r = Launch(*device, s.delta(), {kSize, kSize});
+  ASSERT_TRUE(r.status.ok()) << r.status;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) EXPECT_EQ(Pixel(r, out, x, y, kSize)[2], 1.f);  // misses
+  }
+}
+
 TEST(InprocDevice, OutOfOrderDeltaIsRejectedAndStateKept) {
   Scene s;
   s.Context()->add_ray_generation(s.Program("write_index"));

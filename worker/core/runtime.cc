@@ -88,6 +88,25 @@ void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_inde
   ms.loaded = nullptr;
 }
 
+void CallProgramChecked(ThreadState& ts, const BoundProgram& p, int primitive) {
+  // A quiet NaN no bounding box program computes by accident.
+  constexpr uint32_t kUntouched = 0x7fc0a5a5u;
+  for (float& f : ts.scratch_result) std::memcpy(&f, &kUntouched, sizeof(f));
+  reinterpret_cast<void (*)(int, float*)>(p.function)(primitive, ts.scratch_result);
+  for (const float& f : ts.scratch_result) {
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof(bits));
+    if (bits != kUntouched) {
+      throw FatalError{absl::FailedPreconditionError(absl::StrCat(
+          p.name, " is set as a ", KindName(p.kind),
+          " program but wrote through a bounding box result pointer: it looks like a bounding box "
+          "program (void f(int, float result[6])), which only rtGeometrySetBoundingBoxProgram "
+          "takes"))};
+    }
+  }
+  __atomic_store_n(&p.arguments_checked, true, __ATOMIC_RELAXED);
+}
+
 void Raise(unsigned code, std::string details) {
   if (TS().plan->ExceptionEnabled(code)) throw ExceptionSignal{code, std::move(details)};
 }
@@ -293,7 +312,7 @@ __attribute__((noinline)) void HandleException(ThreadState& ts, const LaunchPlan
   if (ex != nullptr) {
     try {
       Enter(ts, *ex);
-      reinterpret_cast<void (*)()>(ex->function)();
+      CallProgram(ts, *ex);
     } catch (ExceptionSignal&) {
       // An exception inside the exception program ends this launch index.
     }
@@ -314,7 +333,7 @@ inline void RunIndex(ThreadState& ts, const LaunchPlan& plan, unsigned entry,
   if (__builtin_expect(static_cast<bool>(ts.pending), 0)) ts.pending = nullptr;
   try {
     Enter(ts, rg);
-    reinterpret_cast<void (*)()>(rg.function)();
+    CallProgram(ts, rg);
   } catch (ExceptionSignal& e) {
     HandleException(ts, plan, entry, e);
   }

@@ -4,6 +4,7 @@
 // and index buffers and user geometry (intersection programs) otherwise.
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "absl/hash/hash.h"
 #include "absl/strings/numbers.h"
@@ -278,7 +279,8 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
         return absl::FailedPreconditionError(absl::StrCat(
             "geometry #", gi.geometry, " needs an intersection and a bounding box program"));
       }
-      info->bounds.resize(size_t{g.primitive_count} * 6);
+      // Bounds a program leaves unwritten stay NaN: invalid, so that primitive is never hit.
+      info->bounds.assign(size_t{g.primitive_count} * 6, std::numeric_limits<float>::quiet_NaN());
       for (uint64_t p = 0; p < g.primitive_count; ++p) {
         float* b = &info->bounds[p * 6];
         RunBoundsProgram(plan, *ip.bounds, static_cast<unsigned>(p), b);

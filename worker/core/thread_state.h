@@ -123,6 +123,8 @@ struct ThreadState {
   std::vector<unsigned char> scratch;
   uint64_t last_node_id = 0;
   const NodeInfo* last_node = nullptr;
+  // Where a program's `result` argument points when its kind passes none (CallProgram).
+  float scratch_result[6] = {};
 
   Frame& top() { return frames[depth - 1]; }
 };
@@ -271,6 +273,20 @@ constexpr unsigned Bit(ProgramKind k) { return 1u << static_cast<unsigned>(k); }
 [[noreturn]] void CallNotAllowed(const ThreadState& ts, const char* call);
 inline void CheckCall(ThreadState& ts, unsigned allowed, const char* call) {
   if (__builtin_expect(!(allowed & Bit(ts.kind)), 0)) CallNotAllowed(ts, call);
+}
+
+// Calls `p`'s function. A module's symbols carry no signature, so a bounding box program
+// (`void f(int primitive, float result[6])`) may be set as any kind; every kind is therefore
+// called with a primitive (0 where the kind has none) and a result pointer to per-thread scratch,
+// harmless for functions that take fewer arguments. The first calls of a program check the
+// scratch and fail the launch, naming the program, when it wrote there (runtime.cc).
+void CallProgramChecked(ThreadState& ts, const BoundProgram& p, int primitive);
+inline void CallProgram(ThreadState& ts, const BoundProgram& p, int primitive = 0) {
+  if (__builtin_expect(__atomic_load_n(&p.arguments_checked, __ATOMIC_RELAXED), 1)) {
+    reinterpret_cast<void (*)(int, float*)>(p.function)(primitive, ts.scratch_result);
+  } else {
+    CallProgramChecked(ts, p, primitive);
+  }
 }
 
 // Traversal entry points (trace.cc).

@@ -111,7 +111,7 @@ void Shade(ThreadState& ts, const BoundProgram& p, Frame& f) {
     WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
     LoadAttributes(ms, p, f.hit.attributes);
   }
-  reinterpret_cast<void (*)()>(p.function)();
+  CallProgram(ts, p);
   ReadPayload(*ts.current_module, p, f.payload, f.payload_size);
 }
 
@@ -209,7 +209,7 @@ bool RunIntersection(ThreadState& ts, const InstancePlan* instance, unsigned pri
   Enter(ts, p);
   WriteSlots<sizeof(RayData)>(*ts.current_module, p.ray, &ray);
   WriteSlots<sizeof(float)>(*ts.current_module, p.distance, &ts.top().hit.t);
-  reinterpret_cast<void (*)(int)>(p.function)(static_cast<int>(primitive));
+  CallProgram(ts, p, static_cast<int>(primitive));
   return ts.is.committed;
 }
 
@@ -385,7 +385,7 @@ int RtReportIntersection(unsigned material) {
   WriteSlots(ms, ah->payload, f.payload, f.payload_size);
   LoadAttributes(ms, *ah, c.attributes);
   ts.ah_ignore = ts.ah_terminate = false;
-  reinterpret_cast<void (*)()>(ah->function)();
+  CallProgram(ts, *ah);
   ReadPayload(ms, *ah, f.payload, f.payload_size);
   bool accepted = !ts.ah_ignore;
   bool terminate = ts.ah_terminate;
