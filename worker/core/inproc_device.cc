@@ -156,7 +156,7 @@ class InprocDevice : public Device {
     if (!plan_ || plan_->generation != replica_.generation()) {
       absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan;
       try {
-        plan = worker::MakePlan(replica_, scenes_);
+        plan = worker::MakePlan(replica_, scenes_, &cancel);
       } catch (const FatalError& e) {
         plan = e.status;
       } catch (const std::bad_alloc&) {

@@ -4,9 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstring>
 #include <map>
 #include <string>
+#include <thread>
 
 #include "tessera/rt.h"
 #include "testdata/module_delta.h"
@@ -409,6 +412,72 @@ TEST_F(SphereTest, BoundsLeftUnwrittenMeanThePrimitiveIsNeverHit) {
     for (int x = 0; x < kSize; ++x) EXPECT_EQ(Pixel(r, out, x, y, kSize)[2], 1.f);  // misses
   }
 }
+
+// A launch whose acceleration takes long to build stops soon after a cancel, without waiting
+// for the build: in the bounding box programs (`slow_last_only` 0) or in Embree's build, which
+// starts after the cancel (1: only the last primitive's bounds are slow).
+class CancelBuildTest : public SphereTest, public ::testing::WithParamInterface<int> {
+ protected:
+  v1::LaunchRequest Request(uint64_t launch_id) {
+    v1::LaunchRequest req;
+    req.set_session_id(1);
+    req.set_launch_id(launch_id);
+    v1::Tile* tile = req.add_tiles();
+    for (int i = 0; i < 2; ++i) {
+      req.add_dims(kSize);
+      tile->add_origin(0);
+      tile->add_size(kSize);
+    }
+    return req;
+  }
+};
+
+TEST_P(CancelBuildTest, CancelStopsTheBuildPromptlyAndTheDeviceGoesOn) {
+  constexpr int kPrimitives = 100000;
+  const int slow_last_only = GetParam();
+  const unsigned delay_us = slow_last_only ? 700000 : 100;  // 0.7 s once, or 10 s in all
+  Scene::SetValue(s.ContextVars(), "bounds_delay_us", RT_OBJECTTYPE_UNSIGNED_INT, &delay_us, 4);
+  Scene::SetValue(s.ContextVars(), "slow_last_only", RT_OBJECTTYPE_INT, &slow_last_only, 4);
+  Scene::SetValue(s.ContextVars(), "primitive_count", RT_OBJECTTYPE_INT, &kPrimitives, 4);
+  uint64_t slow = s.SphereGroup(0, 0, 0, 1, s.Program("closest_hit"));
+  for (auto& o : *s.delta().mutable_objects()) {
+    if (!o.has_geometry()) continue;
+    o.mutable_geometry()->set_primitive_count(kPrimitives);
+    o.mutable_geometry()->set_bounding_box_program(s.Program("slow_sphere_bounds"));
+  }
+  Scene::SetObject(s.ContextVars(), "top_object", RT_OBJECTTYPE_GEOMETRY_GROUP, slow);
+  auto device = CreateInprocDevice(1);
+  s.delta().set_sequence(1);
+  ASSERT_TRUE(device->Apply(s.delta()).ok());
+  std::atomic<bool> cancel{false};
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(slow_last_only ? 300 : 200));
+    cancel = true;
+  });
+  const auto start = std::chrono::steady_clock::now();
+  absl::Status status = device->Launch(Request(1), cancel, [](v1::TileResult&&) {});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  canceller.join();
+  EXPECT_EQ(status.code(), absl::StatusCode::kCancelled) << status;
+  EXPECT_NE(status.message().find(slow_last_only ? "building geometry group" : "bounding box"),
+            std::string::npos)
+      << status;
+  // Uncancelled, the bounds alone take 10 s (or 0.7 s, then Embree builds 100,000 boxes).
+  EXPECT_LT(seconds, slow_last_only ? 2.0 : 1.5) << status;
+
+  // The device goes on: a launch on a small sphere renders it.
+  s.delta().mutable_objects()->Clear();
+  uint64_t small = s.SphereGroup(0, 0, 0, 1, s.Program("closest_hit"));
+  for (v1::Variable& v : *s.ContextVars()) {
+    if (v.name() == "top_object") v.set_object_id(small);
+  }
+  Result r = Launch(*device, s.delta(), {kSize, kSize}, /*sequence=*/2);
+  ASSERT_TRUE(r.status.ok()) << r.status;
+  EXPECT_GT(Pixel(r, out, kSize / 2, kSize / 2, kSize)[0], 0.3f);  // the sphere's normal
+}
+
+INSTANTIATE_TEST_SUITE_P(InBoundsAndInEmbree, CancelBuildTest, ::testing::Values(0, 1));
 
 TEST(InprocDevice, OutOfOrderDeltaIsRejectedAndStateKept) {
   Scene s;

@@ -101,7 +101,8 @@ uint32_t LaunchPlan::NodeType(uint64_t id) const {
   return 0;
 }
 
-absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes) {
+absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes,
+                                                     const std::atomic<bool>* cancel) {
   static std::atomic<uint64_t> next_serial{1};
   auto plan = std::make_unique<LaunchPlan>();
   plan->serial = next_serial++;
@@ -190,7 +191,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   }
   SplitInvariants(*plan);
   plan->attribute_bytes = plan->attributes.used();
-  if (absl::Status s = scenes.Update(*plan, roots); !s.ok()) return s;
+  if (absl::Status s = scenes.Update(*plan, roots, cancel); !s.ok()) return s;
   IndexNodes(*plan);
   return plan;
 }

@@ -7,6 +7,7 @@
 #include <embree3/rtcore.h>
 
 #include <array>
+#include <atomic>
 #include <deque>
 #include <memory>
 #include <unordered_map>
@@ -106,8 +107,11 @@ struct LaunchPlan {
 class SceneCache {
  public:
   explicit SceneCache(RTCDevice device) : device_(device) {}
-  // Builds or refreshes the scenes of every node reachable from `roots`.
-  absl::Status Update(LaunchPlan& plan, const std::vector<uint64_t>& roots);
+  // Builds or refreshes the scenes of every node reachable from `roots`. When `cancel` becomes
+  // true, bounding box programs and Embree's builds stop within moments and Update returns
+  // CANCELLED; scenes finished before that stay cached, the interrupted one is dropped.
+  absl::Status Update(LaunchPlan& plan, const std::vector<uint64_t>& roots,
+                      const std::atomic<bool>* cancel = nullptr);
   const SceneEntry* Find(uint64_t id) const {
     auto it = entries_.find(id);
     return it == entries_.end() ? nullptr : it->second.get();
@@ -120,15 +124,24 @@ class SceneCache {
   absl::StatusOr<const SceneEntry*> BuildGeometryGroup(LaunchPlan& plan, uint64_t id);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
 
+  bool Cancelled() const { return cancel_ != nullptr && cancel_->load(std::memory_order_relaxed); }
+  // Embree's progress monitor: returning false stops the build (RTC_ERROR_CANCELLED).
+  static bool KeepBuilding(void* cache, double progress);
+  // Commits `scene` of `what` ("geometry group #3"), reporting a cancel or an Embree error.
+  absl::Status Commit(RTCScene scene, const std::string& what);
+
   RTCDevice device_;
+  const std::atomic<bool>* cancel_ = nullptr;  // during Update only
   std::unordered_map<uint64_t, std::unique_ptr<SceneEntry>> entries_;
   uint64_t built_ = 0;  // scenes (re)built, for tests and logs
  public:
   uint64_t built_count() const { return built_; }
 };
 
-// Builds the plan for `replica`: binds every program, then updates the scenes.
-absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes);
+// Builds the plan for `replica`: binds every program, then updates the scenes (CANCELLED when
+// `cancel` becomes true meanwhile).
+absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes,
+                                                     const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace tessera::worker
 

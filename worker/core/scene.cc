@@ -141,7 +141,30 @@ SceneEntry::~SceneEntry() {
   if (scene != nullptr) rtcReleaseScene(scene);
 }
 
-absl::Status SceneCache::Update(LaunchPlan& plan, const std::vector<uint64_t>& roots) {
+bool SceneCache::KeepBuilding(void* cache, double /*progress*/) {
+  return !static_cast<const SceneCache*>(cache)->Cancelled();
+}
+
+absl::Status SceneCache::Commit(RTCScene scene, const std::string& what) {
+  rtcSetSceneProgressMonitorFunction(scene, &SceneCache::KeepBuilding, this);
+  rtcCommitScene(scene);
+  const RTCError err = rtcGetDeviceError(device_);
+  if (err == RTC_ERROR_CANCELLED || Cancelled()) {
+    return absl::CancelledError(absl::StrCat("launch cancelled while building ", what));
+  }
+  if (err != RTC_ERROR_NONE) {
+    return absl::InternalError(absl::StrCat("Embree could not build ", what, " (error ", err, ")"));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status SceneCache::Update(LaunchPlan& plan, const std::vector<uint64_t>& roots,
+                                const std::atomic<bool>* cancel) {
+  cancel_ = cancel;
+  struct Reset {
+    const std::atomic<bool>*& cancel;
+    ~Reset() { cancel = nullptr; }
+  } reset{cancel_};
   for (uint64_t id : roots) {
     uint32_t type = plan.NodeType(id);
     if (type == 0) continue;  // reported when a program traces it
@@ -282,6 +305,11 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
       // Bounds a program leaves unwritten stay NaN: invalid, so that primitive is never hit.
       info->bounds.assign(size_t{g.primitive_count} * 6, std::numeric_limits<float>::quiet_NaN());
       for (uint64_t p = 0; p < g.primitive_count; ++p) {
+        if (p % 1024 == 0 && Cancelled()) {
+          return absl::CancelledError(
+              absl::StrCat("launch cancelled while running the bounding box program of geometry #",
+                           gi.geometry, " (primitive ", p, " of ", g.primitive_count, ")"));
+        }
         float* b = &info->bounds[p * 6];
         RunBoundsProgram(plan, *ip.bounds, static_cast<unsigned>(p), b);
         bool finite = true;
@@ -310,10 +338,8 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
     }
     entry->geometries.push_back(std::move(info));
   }
-  rtcCommitScene(entry->scene);
-  if (RTCError err = rtcGetDeviceError(device_); err != RTC_ERROR_NONE) {
-    return absl::InternalError(
-        absl::StrCat("Embree could not build geometry group #", id, " (error ", err, ")"));
+  if (absl::Status s = Commit(entry->scene, absl::StrCat("geometry group #", id)); !s.ok()) {
+    return s;
   }
   entry->bounds = entry->geometries.empty() ? EmptyBox() : SceneBounds(entry->scene);
   ++built_;
@@ -365,7 +391,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
     rtcReleaseGeometry(geom);
     entry->children.push_back(std::move(info));
   }
-  rtcCommitScene(entry->scene);
+  if (absl::Status s = Commit(entry->scene, absl::StrCat("group #", id)); !s.ok()) return s;
   entry->bounds = EmptyBox();
   for (const Box& b : bounds) {
     if (IsEmpty(b)) continue;

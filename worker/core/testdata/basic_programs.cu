@@ -1,5 +1,6 @@
 // Programs for worker/core tests: a sphere, a camera, shading and exceptions.
 #include <optix.h>
+#include <unistd.h>
 #include <optixu/optixu_math_namespace.h>
 
 using namespace optix;
@@ -67,6 +68,16 @@ RT_PROGRAM void sphere_bounds(int, float result[6]) {
   result[3] = c.x + r;
   result[4] = c.y + r;
   result[5] = c.z + r;
+}
+
+// sphere_bounds, slowly: `bounds_delay_us` microseconds for every primitive, or only for the last
+// one of `primitive_count` when `slow_last_only` is set.
+rtDeclareVariable(unsigned, bounds_delay_us, , ) = 0;
+rtDeclareVariable(int, slow_last_only, , ) = 0;
+rtDeclareVariable(int, primitive_count, , ) = 0;
+RT_PROGRAM void slow_sphere_bounds(int primitive, float result[6]) {
+  if (!slow_last_only || primitive == primitive_count - 1) usleep(bounds_delay_us);
+  sphere_bounds(primitive, result);
 }
 
 RT_PROGRAM void sphere_intersect(int) {
