@@ -74,6 +74,9 @@ int RunBenchmark(const Options& o, const Mesh& mesh, const Camera& camera) {
     std::printf("tessera launch times (ms):");
     for (double t : times.seconds) std::printf(" %.1f", 1e3 * t);
     std::printf("\n");
+    std::printf("tessera launch CPU times (ms):");
+    for (double t : times.cpu_seconds) std::printf(" %.1f", 1e3 * t);
+    std::printf("\n");
     if (!o.out.empty()) {
       WriteImage(scene.ReadImage(), o.out);
       std::printf("image written to %s\n", o.out.c_str());
