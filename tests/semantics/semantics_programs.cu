@@ -72,6 +72,20 @@ RT_PROGRAM void any_hit_terminate() {
 RT_PROGRAM void any_hit_ignore_first() {
   if (hit_id == 0.f) rtIgnoreIntersection();
 }
+// Code after rtIgnoreIntersection or rtTerminateRay never runs: both end the program, as in OptiX.
+static void IgnoreHere() { rtIgnoreIntersection(); }
+RT_PROGRAM void any_hit_ignore_first_then_count() {
+  if (hit_id == 0.f) {
+    IgnoreHere();
+    payload.hits += 100;
+  }
+  payload.hits += 1;
+}
+RT_PROGRAM void any_hit_terminate_then_count() {
+  payload.hits += 1;
+  rtTerminateRay();
+  payload.hits += 100;
+}
 
 // A sphere (center sphere.xyz, radius sphere.w) reporting its entry point in object space.
 RT_PROGRAM void sphere_bounds(int, float result_box[6]) {

@@ -235,6 +235,19 @@ TEST_F(AnyHitTest, IgnoreRestoresDistanceAndAttributes) {
   EXPECT_EQ(r[2], 1.f);            // its attribute, not the ignored one's
 }
 
+TEST_F(AnyHitTest, IgnoreEndsTheAnyHitProgram) {
+  Run("any_hit_ignore_first_then_count");
+  Float4 r = Read(result_)[0];
+  EXPECT_EQ(r[0], 1.f);  // the far slab's count; nothing after the near slab's ignore ran
+  EXPECT_NEAR(r[1], 12.f, 1e-4f);
+  EXPECT_EQ(r[2], 1.f);
+}
+
+TEST_F(AnyHitTest, TerminateEndsTheAnyHitProgram) {
+  Run("any_hit_terminate_then_count");
+  EXPECT_EQ(Read(result_)[0][0], 1.f);  // one call, and nothing after rtTerminateRay ran
+}
+
 TEST_F(AnyHitTest, IgnoringEverythingIsAMiss) {
   Run("any_hit_ignore");
   Float4 r = Read(result_)[0];

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <csetjmp>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -115,6 +116,8 @@ struct ThreadState {
   IntersectState is;
   Hit candidate;
   bool ah_ignore = false, ah_terminate = false;
+  // Where rtIgnoreIntersection and rtTerminateRay end the running any-hit program (RunAnyHit).
+  std::jmp_buf* ah_end = nullptr;
   unsigned exception_code = 0;
   std::string exception_details;
   std::exception_ptr pending;

@@ -226,6 +226,21 @@ void Commit(ThreadState& ts, Frame& f, const Hit& c, bool terminate) {
   if (terminate) f.terminated = true;
 }
 
+// Runs an any-hit program until it returns or ends itself: rtIgnoreIntersection and
+// rtTerminateRay do not return, as in OptiX, so a program's code after them never runs. They
+// longjmp back here; what that skips is the program's own frames (any-hit programs cannot trace,
+// so no engine state lives there) and the engine call itself, none with destructors to run.
+__attribute__((noinline)) void RunAnyHit(ThreadState& ts, const BoundProgram& ah) {
+  std::jmp_buf end;
+  struct Restore {
+    ThreadState& ts;
+    std::jmp_buf* outer;
+    ~Restore() { ts.ah_end = outer; }  // also when the program throws (rtThrow, a bad call)
+  } restore{ts, ts.ah_end};
+  ts.ah_end = &end;
+  if (setjmp(end) == 0) CallProgram(ts, ah);
+}
+
 template <typename F>
 void Guard(ThreadState& ts, F&& f) {
   if (ts.pending) return;
@@ -385,7 +400,7 @@ int RtReportIntersection(unsigned material) {
   WriteSlots(ms, ah->payload, f.payload, f.payload_size);
   LoadAttributes(ms, *ah, c.attributes);
   ts.ah_ignore = ts.ah_terminate = false;
-  CallProgram(ts, *ah);
+  RunAnyHit(ts, *ah);
   ReadPayload(ms, *ah, f.payload, f.payload_size);
   bool accepted = !ts.ah_ignore;
   bool terminate = ts.ah_terminate;
@@ -397,14 +412,19 @@ int RtReportIntersection(unsigned material) {
 }
 
 void RtIgnoreIntersection() {
-  CheckCall(TS(), Bit(ProgramKind::kAnyHit), "rtIgnoreIntersection");
-  TS().ah_ignore = true;
+  ThreadState& ts = TS();
+  CheckCall(ts, Bit(ProgramKind::kAnyHit), "rtIgnoreIntersection");
+  ts.ah_ignore = true;
+  std::longjmp(*ts.ah_end, 1);  // any-hit programs run only through RunAnyHit
 }
 
+// In a miss program there is no traversal left to end: the call returns and does nothing.
 void RtTerminateRay() {
-  CheckCall(TS(), Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss), "rtTerminateRay");
   ThreadState& ts = TS();
-  if (ts.kind == ProgramKind::kAnyHit) ts.ah_terminate = true;
+  CheckCall(ts, Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss), "rtTerminateRay");
+  if (ts.kind != ProgramKind::kAnyHit) return;
+  ts.ah_terminate = true;
+  std::longjmp(*ts.ah_end, 1);
 }
 
 void IntersectUserGeometry(const RTCIntersectFunctionNArguments* args) {
