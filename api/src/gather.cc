@@ -74,6 +74,12 @@ void LaunchGather::CheckRaces(size_t device, const Buffer& b, uint64_t offset,
   if (it == race_state_.end()) return;
   RaceState& state = it->second;
   const size_t size = b.element_size();
+  // The timeout callback resized or reformatted the buffer: its elements are no longer the ones
+  // the launch started with.
+  if (size == 0 || state.before.size() != b.byte_size() ||
+      state.owner.size() != b.byte_size() / size) {
+    return;
+  }
   const char* host = reinterpret_cast<const char*>(b.bytes());
   for (uint64_t at = 0; at + size <= data.size(); at += size) {
     const uint64_t byte = offset + at;
@@ -194,9 +200,10 @@ std::string BufferName(Context& context, uint64_t id) {
 absl::Status LaunchGather::Finish() {
   if (race_count_ > 0) {
     for (const Race& r : races_) {
-      Object* object = context_.FindById(r.buffer_id);
-      const auto* b = static_cast<const Buffer*>(object);
-      const uint64_t w = b->dim(0), h = b->dim(1);
+      // The timeout callback may have destroyed the buffer or emptied it since.
+      const auto* b = static_cast<const Buffer*>(context_.FindById(r.buffer_id));
+      const uint64_t w = b != nullptr ? std::max<uint64_t>(b->dim(0), 1) : 1;
+      const uint64_t h = b != nullptr ? std::max<uint64_t>(b->dim(1), 1) : 1;
       std::fprintf(stderr,
                    "tessera: race check: buffer %s element (%llu, %llu, %llu): devices '%s' and "
                    "'%s' wrote different values in one launch\n",
@@ -225,6 +232,10 @@ absl::Status LaunchGather::Finish() {
       for (size_t c = 0; c < writers.size() && c < hashes.size(); ++c) {
         if (writers[c] == kNoWriter) continue;
         const uint64_t begin = c * kChunkBytes;
+        if (begin >= b->byte_size()) {  // the timeout callback shrank the buffer since
+          hashes[c] = 0;
+          continue;
+        }
         const uint64_t n = std::min<uint64_t>(kChunkBytes, b->byte_size() - begin);
         hashes[c] = writers[c] == static_cast<int>(d) && b->ships_content()
                         ? ChunkHash(reinterpret_cast<const char*>(b->bytes()) + begin, n)

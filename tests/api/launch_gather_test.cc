@@ -1,4 +1,5 @@
 // What comes back from devices: output regions, prints, exceptions, errors, cancellation.
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <thread>
@@ -224,6 +225,95 @@ TEST_F(LaunchTest, TimeoutCallbackCannotPullTheRugFromDevices) {
   RTsize w = 0, h = 0;
   ASSERT_EQ(rtBufferGetSize2D(output, &w, &h), RT_SUCCESS);
   EXPECT_EQ(w * h, 1u);
+}
+
+// What the timeout callback does to a buffer after two devices' results were applied.
+enum class Meddle { kShrink, kEmpty, kDestroy, kReformatAndGrow };
+Meddle g_meddle = Meddle::kShrink;
+RTbuffer g_meddle_buffer = nullptr;
+std::atomic<int> g_devices_done{0};
+int g_calls_after_done = 0;
+constexpr uint64_t kMeddleFloats = 2 * (uint64_t{4} << 20) / sizeof(float);  // two 4 MiB chunks
+
+int MeddleAfterResults() {
+  if (g_devices_done.load() < 2) return 0;
+  if (++g_calls_after_done == 3) {  // the finished devices' batches are applied by now
+    switch (g_meddle) {
+      case Meddle::kShrink:
+        rtBufferSetSize1D(g_meddle_buffer, 1);
+        break;
+      case Meddle::kEmpty:
+        rtBufferSetSize1D(g_meddle_buffer, 0);
+        break;
+      case Meddle::kDestroy:
+        rtBufferDestroy(g_meddle_buffer);
+        break;
+      case Meddle::kReformatAndGrow:  // more, smaller elements, the same bytes and more
+        rtBufferSetFormat(g_meddle_buffer, RT_FORMAT_BYTE);
+        rtBufferSetSize1D(g_meddle_buffer, 2 * kMeddleFloats * sizeof(float));
+        break;
+    }
+    return 0;
+  }
+  return g_calls_after_done > 3;
+}
+
+// Devices 0 and 1 race on element 0 (device 0 also writes the second chunk alone) and finish;
+// device 2 runs until cancelled, then writes past the buffer's original bytes. In between the
+// timeout callback meddles with the buffer: the launch reports, never reads the old layout.
+class MeddleTest : public LaunchTest {
+ protected:
+  void LaunchAndMeddle(Meddle meddle) {
+    UseFakes(3);
+    ASSERT_EQ(tesseraContextSetRaceCheck(ctx, 1), RT_SUCCESS);
+    RTbuffer b = nullptr;
+    ASSERT_EQ(rtBufferCreate(ctx, RT_BUFFER_INPUT_OUTPUT, &b), RT_SUCCESS);
+    ASSERT_EQ(rtBufferSetFormat(b, RT_FORMAT_FLOAT), RT_SUCCESS);
+    ASSERT_EQ(rtBufferSetSize1D(b, kMeddleFloats), RT_SUCCESS);
+    BindObject(ctx_var("meddled"), b);
+    const uint64_t id = Id(b);
+    g_meddle = meddle;
+    g_meddle_buffer = b;
+    g_devices_done = 0;
+    g_calls_after_done = 0;
+    auto region = [id](v1::TileResult& r, uint64_t offset, float value) {
+      v1::BufferRegion* region = r.add_regions();
+      region->set_buffer_id(id);
+      region->set_offset(offset);
+      region->set_data(&value, sizeof(value));
+    };
+    for (int d = 0; d < 3; ++d) {
+      auto calls = std::make_shared<int>(0);
+      records[d]->answer = [=](const v1::LaunchRequest&, const std::atomic<bool>& cancel,
+                                 const std::function<void(v1::TileResult &&)>& on_result) {
+        v1::TileResult result;
+        if (d < 2 && (*calls)++ == 0) {
+          region(result, 0, 1.f + d);
+          if (d == 0) region(result, uint64_t{4} << 20, 5.f);
+          on_result(std::move(result));
+          ++g_devices_done;
+          return absl::OkStatus();
+        }
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (!cancel.load() && std::chrono::steady_clock::now() < deadline) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        if (d == 2) region(result, kMeddleFloats * sizeof(float) + 64, 7.f);  // past the old bytes
+        on_result(std::move(result));
+        return absl::OkStatus();
+      };
+    }
+    ASSERT_EQ(rtContextSetTimeoutCallback(ctx, &MeddleAfterResults, 0.005), RT_SUCCESS);
+    EXPECT_EQ(Launch(64, 64), RT_TIMEOUT_CALLBACK);
+    EXPECT_GE(g_calls_after_done, 4);
+  }
+};
+
+TEST_F(MeddleTest, TimeoutCallbackMayShrinkAWrittenBuffer) { LaunchAndMeddle(Meddle::kShrink); }
+TEST_F(MeddleTest, TimeoutCallbackMayEmptyARacedBuffer) { LaunchAndMeddle(Meddle::kEmpty); }
+TEST_F(MeddleTest, TimeoutCallbackMayDestroyARacedBuffer) { LaunchAndMeddle(Meddle::kDestroy); }
+TEST_F(MeddleTest, TimeoutCallbackMayReformatARaceCheckedBuffer) {
+  LaunchAndMeddle(Meddle::kReformatAndGrow);
 }
 
 TEST_F(LaunchTest, ExceptionReportsAreCounted) {
