@@ -97,6 +97,31 @@ TEST_F(GraphTest, TransformAtTheTopAndGroupsOfGroups) {
   EXPECT_EQ(Hits(top), Only({0, 9}));
 }
 
+// Each level holds the level below twice, once moved out of the rays' way: 2^30 paths through
+// 61 nodes. Building the accelerations visits each node once (a visit per path never ends).
+TEST_F(GraphTest, SubgraphsSharedAtEveryLevelAreBuiltOnce) {
+  Instance s = SmallSphere();
+  RTobject level = s.group;
+  for (int i = 0; i < 4; ++i) level = Group({level, Translate(level, float(1 << i))});
+  for (int i = 0; i < 26; ++i) {  // moved along -y: rays at y = 0 pass them by
+    RTtransform away = nullptr;
+    ASSERT_EQ(rtTransformCreate(ctx_, &away), RT_SUCCESS);
+    const float m[16] = {1, 0, 0, 0, 0, 1, 0, -10.f * float(1 << i), 0, 0, 1, 0, 0, 0, 0, 1};
+    ASSERT_EQ(rtTransformSetMatrix(away, 0, m, nullptr), RT_SUCCESS);
+    ASSERT_EQ(rtTransformSetChild(away, level), RT_SUCCESS);
+    level = Group({level, away});
+  }
+  EXPECT_EQ(Hits(level), std::vector<bool>(kW, true));
+  // The depth limit still holds for a shared subgraph reached again deeper down: this one is 61
+  // levels high, so under four more levels it is too deep, though its first visit was fine.
+  RTobject deeper = level;
+  for (int i = 0; i < 4; ++i) deeper = Group({deeper});
+  EXPECT_EQ(rtVariableSetObject(ContextVar("top_object"), Group({level, deeper})), RT_SUCCESS);
+  const RTresult r = rtContextLaunch2D(ctx_, 0, kW, 1);
+  EXPECT_NE(r, RT_SUCCESS);
+  EXPECT_NE(Error(r).find("graph deeper than 64 levels"), std::string::npos) << Error(r);
+}
+
 TEST_F(GraphTest, ChangingATransformMovesTheChild) {
   Instance s = SmallSphere();
   RTtransform t = Translate(s.group, 2.f);

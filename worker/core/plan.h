@@ -54,6 +54,9 @@ struct SceneEntry {
   // The last plan that built or checked this scene: its geometries point into that plan, so no
   // other plan may traverse it.
   uint64_t plan_serial = 0;
+  // Levels of nodes below this one (a Transform counts as one): a node that several parents
+  // share is checked against the depth limit without walking its subgraph again.
+  int height = 0;
   std::vector<std::unique_ptr<GeometryInfo>> geometries;
   std::vector<std::unique_ptr<ChildInfo>> children;
   std::array<float, 6> bounds{};
@@ -120,7 +123,9 @@ class SceneCache {
 
  private:
   absl::StatusOr<const SceneEntry*> Node(LaunchPlan& plan, NodeRef ref, int depth);
-  absl::StatusOr<std::array<float, 6>> Bounds(LaunchPlan& plan, NodeRef ref, int depth);
+  // The bounds of `ref`'s subgraph; `height` receives its levels of nodes below `ref`.
+  absl::StatusOr<std::array<float, 6>> Bounds(LaunchPlan& plan, NodeRef ref, int depth,
+                                              int* height);
   absl::StatusOr<const SceneEntry*> BuildGeometryGroup(LaunchPlan& plan, uint64_t id);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
 

@@ -2,6 +2,7 @@
 // geometries whose callback traverses the child, so graphs deeper than Debian Embree's single
 // instance level work; GeometryGroups use native triangles where the acceleration names vertex
 // and index buffers and user geometry (intersection programs) otherwise.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -175,10 +176,24 @@ absl::Status SceneCache::Update(LaunchPlan& plan, const std::vector<uint64_t>& r
   return absl::OkStatus();
 }
 
+namespace {
+absl::Status TooDeep(uint64_t id) {
+  return absl::InvalidArgumentError(absl::StrCat("graph deeper than ", kMaxGraphDepth,
+                                                 " levels at node #", id, " (is there a cycle?)"));
+}
+}  // namespace
+
 absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref, int depth) {
-  if (depth > kMaxGraphDepth) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "graph deeper than ", kMaxGraphDepth, " levels at node #", ref.id, " (is there a cycle?)"));
+  if (depth > kMaxGraphDepth) return TooDeep(ref.id);
+  if (ref.type == RT_OBJECTTYPE_GROUP || ref.type == RT_OBJECTTYPE_GEOMETRY_GROUP) {
+    // Built or checked earlier in this plan through another parent: a graph that shares
+    // subgraphs costs a visit per node, not per path (2^levels when each level shares one child
+    // twice).
+    auto it = entries_.find(ref.id);
+    if (it != entries_.end() && it->second != nullptr && it->second->plan_serial == plan.serial) {
+      if (depth + it->second->height > kMaxGraphDepth) return TooDeep(ref.id);
+      return it->second.get();
+    }
   }
   switch (ref.type) {
     case RT_OBJECTTYPE_GEOMETRY_GROUP:
@@ -202,13 +217,17 @@ absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref
   }
 }
 
-absl::StatusOr<Box> SceneCache::Bounds(LaunchPlan& plan, NodeRef ref, int depth) {
+absl::StatusOr<Box> SceneCache::Bounds(LaunchPlan& plan, NodeRef ref, int depth, int* height) {
   absl::StatusOr<const SceneEntry*> e = Node(plan, ref, depth);
   if (!e.ok()) return e.status();
-  if (ref.type != RT_OBJECTTYPE_TRANSFORM) return (*e)->bounds;
+  if (ref.type != RT_OBJECTTYPE_TRANSFORM) {
+    *height = (*e)->height;
+    return (*e)->bounds;
+  }
   const TransformRec* t = plan.replica->Find(plan.replica->transforms, ref.id);
-  absl::StatusOr<Box> child = Bounds(plan, t->child, depth + 1);
+  absl::StatusOr<Box> child = Bounds(plan, t->child, depth + 1, height);
   if (!child.ok()) return child.status();
+  ++*height;
   return TransformBox(t->matrix, *child);
 }
 
@@ -356,10 +375,13 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
     return absl::FailedPreconditionError(absl::StrCat("group #", id, " has no acceleration"));
   }
   std::vector<Box> bounds;
+  int height = 0;
   size_t stamp = absl::HashOf(group->acceleration, accel->build_epoch);
   for (const NodeRef& child : group->children) {
-    absl::StatusOr<Box> b = Bounds(plan, child, depth + 1);
+    int child_height = 0;
+    absl::StatusOr<Box> b = Bounds(plan, child, depth + 1, &child_height);
     if (!b.ok()) return b.status();
+    height = std::max(height, child_height + 1);
     bounds.push_back(*b);
     stamp = absl::HashOf(stamp, child.id, child.type, (*b)[0], (*b)[1], (*b)[2], (*b)[3], (*b)[4],
                          (*b)[5]);
@@ -369,12 +391,14 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
   auto& slot = entries_[id];
   if (slot && slot->stamp == stamp) {
     slot->plan_serial = plan.serial;
+    slot->height = height;
     return slot.get();
   }
 
   auto entry = std::make_unique<SceneEntry>();
   entry->stamp = stamp;
   entry->plan_serial = plan.serial;
+  entry->height = height;
   entry->scene = rtcNewScene(device_);
   rtcSetSceneBuildQuality(entry->scene, RTC_BUILD_QUALITY_MEDIUM);
   for (size_t i = 0; i < group->children.size(); ++i) {
