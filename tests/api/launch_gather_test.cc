@@ -285,7 +285,7 @@ class MeddleTest : public LaunchTest {
     for (int d = 0; d < 3; ++d) {
       auto calls = std::make_shared<int>(0);
       records[d]->answer = [=](const v1::LaunchRequest&, const std::atomic<bool>& cancel,
-                                 const std::function<void(v1::TileResult &&)>& on_result) {
+                               const std::function<void(v1::TileResult &&)>& on_result) {
         v1::TileResult result;
         if (d < 2 && (*calls)++ == 0) {
           region(result, 0, 1.f + d);
