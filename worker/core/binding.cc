@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string_view>
+#include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "tessera/rt.h"
@@ -31,6 +33,52 @@ unsigned CopySize(size_t declared, size_t value) {
 }
 
 constexpr size_t kRayBytes = 36;  // optix::Ray
+
+// The value types of rtVariableSet* by name, as programs declare them (optix:: optional).
+constexpr std::pair<const char*, uint32_t> kValueTypes[] = {
+    {"float", RT_OBJECTTYPE_FLOAT},
+    {"float2", RT_OBJECTTYPE_FLOAT2},
+    {"float3", RT_OBJECTTYPE_FLOAT3},
+    {"float4", RT_OBJECTTYPE_FLOAT4},
+    {"int", RT_OBJECTTYPE_INT},
+    {"int2", RT_OBJECTTYPE_INT2},
+    {"int3", RT_OBJECTTYPE_INT3},
+    {"int4", RT_OBJECTTYPE_INT4},
+    {"unsigned int", RT_OBJECTTYPE_UNSIGNED_INT},
+    {"unsigned", RT_OBJECTTYPE_UNSIGNED_INT},
+    {"uint", RT_OBJECTTYPE_UNSIGNED_INT},
+    {"uint2", RT_OBJECTTYPE_UNSIGNED_INT2},
+    {"uint3", RT_OBJECTTYPE_UNSIGNED_INT3},
+    {"uint4", RT_OBJECTTYPE_UNSIGNED_INT4},
+    {"Matrix2x2", RT_OBJECTTYPE_MATRIX_FLOAT2x2},
+    {"Matrix2x3", RT_OBJECTTYPE_MATRIX_FLOAT2x3},
+    {"Matrix2x4", RT_OBJECTTYPE_MATRIX_FLOAT2x4},
+    {"Matrix3x2", RT_OBJECTTYPE_MATRIX_FLOAT3x2},
+    {"Matrix3x3", RT_OBJECTTYPE_MATRIX_FLOAT3x3},
+    {"Matrix3x4", RT_OBJECTTYPE_MATRIX_FLOAT3x4},
+    {"Matrix4x2", RT_OBJECTTYPE_MATRIX_FLOAT4x2},
+    {"Matrix4x3", RT_OBJECTTYPE_MATRIX_FLOAT4x3},
+    {"Matrix4x4", RT_OBJECTTYPE_MATRIX_FLOAT4x4},
+};
+
+// The value type a declaration names, or 0 for any other type (a struct, a typedef of the
+// program's own, char or double …), whose values are checked by size only.
+uint32_t DeclaredValueType(std::string_view name) {
+  for (std::string_view prefix : {"::", "optix::"}) {
+    if (name.substr(0, prefix.size()) == prefix) name.remove_prefix(prefix.size());
+  }
+  for (const auto& [type_name, type] : kValueTypes) {
+    if (name == type_name) return type;
+  }
+  return 0;
+}
+
+const char* ValueTypeName(uint32_t type) {
+  for (const auto& [type_name, t] : kValueTypes) {
+    if (t == type) return type_name;
+  }
+  return type == RT_OBJECTTYPE_USER ? "user data" : "another type";
+}
 
 }  // namespace
 
@@ -150,6 +198,14 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
       }
       b.copies.push_back({i, &value->object_id, sizeof(uint64_t)});
       continue;
+    }
+    // As OptiX: a value set with rtVariableSet3i does not bind to a float3, though the bytes
+    // fit. User data (rtVariableSetUserData) binds to anything of its size.
+    if (const uint32_t declared = DeclaredValueType(v.type_name);
+        declared != 0 && value->type != RT_OBJECTTYPE_USER && value->type != declared) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(b.name, ": variable '", v.name, "' is declared as ", v.type_name,
+                       " but was set as ", ValueTypeName(value->type), " (type mismatch)"));
     }
     if (value->data.size() != v.size) {
       return absl::InvalidArgumentError(

@@ -207,6 +207,31 @@ TEST(InprocDevice, ContextVariableOverridesStaticInitializer) {
   EXPECT_EQ(Pixel(r, out, 1, 1, 2)[2], 7.5f);
 }
 
+// As in OptiX, a value binds only to a variable declared with its type, though the bytes fit;
+// user data binds to any declaration of its size.
+TEST(InprocDevice, ValueOfAnotherTypeIsATypeMismatchNamingTheVariable) {
+  auto device = CreateInprocDevice(1);
+  Scene s;
+  s.Context()->add_ray_generation(s.Program("write_index"));
+  uint64_t out = s.Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, 16, {2, 2});
+  Scene::SetObject(s.ContextVars(), "output", RT_OBJECTTYPE_BUFFER, out);
+  const int three = 3;
+  Scene::SetValue(s.ContextVars(), "scale", RT_OBJECTTYPE_INT, &three, 4);
+  Result r = Launch(*device, s.delta(), {2, 2});
+  ASSERT_EQ(r.status.code(), absl::StatusCode::kInvalidArgument) << r.status;
+  EXPECT_NE(r.status.message().find("'scale' is declared as float but was set as int"),
+            std::string::npos)
+      << r.status;
+
+  const float user = 4.5f;
+  s.delta().mutable_objects()->Clear();
+  s.ContextVars()->RemoveLast();
+  Scene::SetValue(s.ContextVars(), "scale", RT_OBJECTTYPE_USER, &user, 4);
+  r = Launch(*device, s.delta(), {2, 2}, /*sequence=*/2);
+  ASSERT_TRUE(r.status.ok()) << r.status;
+  EXPECT_EQ(Pixel(r, out, 1, 1, 2)[2], 4.5f);
+}
+
 class SphereTest : public ::testing::Test {
  protected:
   void SetUp() override {
