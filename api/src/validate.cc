@@ -1,5 +1,6 @@
 #include "validate.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "absl/container/flat_hash_map.h"
@@ -12,6 +13,7 @@
 #include "geometry.h"
 #include "nodes.h"
 #include "status.h"
+#include "tessera/scheduler/device.h"
 
 namespace tessera::api {
 namespace {
@@ -156,9 +158,12 @@ class Walker {
   const std::vector<Object*>& order() const { return order_; }
 
  private:
+  // Also checks the levels below every node against what devices traverse (kMaxGraphLevels):
+  // a node's height is 0 without traversal children, else one more than its highest child's.
   bool CheckCycles() {
     enum Color { kWhite, kGray, kBlack };
     absl::flat_hash_map<Object*, Color> color;
+    absl::flat_hash_map<Object*, int> height;
     for (Object* start : order_) {
       if (!IsNodeKind(start->kind()) || color[start] != kWhite) continue;
       // Iterative DFS: (node, next child index).
@@ -169,6 +174,18 @@ class Walker {
         std::vector<Object*> children = TraversalChildren(*node);
         if (next >= children.size()) {
           color[node] = kBlack;
+          int h = 0;
+          for (Object* child : children) {
+            if (child != nullptr) h = std::max(h, height[child] + 1);
+          }
+          height[node] = h;
+          if (h > kMaxGraphLevels) {
+            problem_.message =
+                absl::StrCat(node->Describe(), ": the graph below it is ", h,
+                             " levels deep; devices traverse at most ", kMaxGraphLevels,
+                             " levels of groups, selectors and transforms");
+            return false;
+          }
           stack.pop_back();
           continue;
         }

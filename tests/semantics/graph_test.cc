@@ -112,14 +112,18 @@ TEST_F(GraphTest, SubgraphsSharedAtEveryLevelAreBuiltOnce) {
     level = Group({level, away});
   }
   EXPECT_EQ(Hits(level), std::vector<bool>(kW, true));
-  // The depth limit still holds for a shared subgraph reached again deeper down: this one is 61
-  // levels high, so under four more levels it is too deep, though its first visit was fine.
+  // The depth limit holds for a shared subgraph reached again deeper down: this one is 61 levels
+  // high, so under four more levels it is too deep, though its first visit was fine. Validation
+  // says so before any device sees the graph.
   RTobject deeper = level;
   for (int i = 0; i < 4; ++i) deeper = Group({deeper});
   EXPECT_EQ(rtVariableSetObject(ContextVar("top_object"), Group({level, deeper})), RT_SUCCESS);
-  const RTresult r = rtContextLaunch2D(ctx_, 0, kW, 1);
-  EXPECT_NE(r, RT_SUCCESS);
-  EXPECT_NE(Error(r).find("graph deeper than 64 levels"), std::string::npos) << Error(r);
+  for (RTresult r : {rtContextValidate(ctx_), rtContextLaunch2D(ctx_, 0, kW, 1)}) {
+    EXPECT_NE(r, RT_SUCCESS);
+    EXPECT_NE(Error(r).find("the graph below it is 65 levels deep; devices traverse at most 64"),
+              std::string::npos)
+        << Error(r);
+  }
 }
 
 TEST_F(GraphTest, ChangingATransformMovesTheChild) {

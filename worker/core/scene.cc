@@ -14,11 +14,12 @@
 #include "plan.h"
 #include "runtime.h"
 #include "tessera/rt.h"
+#include "tessera/scheduler/device.h"
 
 namespace tessera::worker {
 namespace {
 
-constexpr int kMaxGraphDepth = 64;
+constexpr int kMaxGraphDepth = kMaxGraphLevels;
 
 using Box = std::array<float, 6>;
 
@@ -179,7 +180,9 @@ absl::Status SceneCache::Update(LaunchPlan& plan, const std::vector<uint64_t>& r
 namespace {
 absl::Status TooDeep(uint64_t id) {
   return absl::InvalidArgumentError(absl::StrCat("graph deeper than ", kMaxGraphDepth,
-                                                 " levels at node #", id, " (is there a cycle?)"));
+                                                 " levels at node #", id,
+                                                 ": Tessera traverses at most that many levels of "
+                                                 "Groups and Transforms"));
 }
 }  // namespace
 

@@ -54,6 +54,11 @@ inline constexpr uint32_t kFinalTileIndex = 0xFFFFFFFFu;
 // busy worker from a hung one.
 inline constexpr uint32_t kHeartbeatTileIndex = 0xFFFFFFFEu;
 
+// Levels of Groups and Transforms (a Selector counts as a Group) a device traverses below the node
+// a program traces: a GeometryGroup under 64 of them is the deepest it reaches. Deeper graphs
+// fail rtContextValidate (api/src/validate.cc) and, from a host that does not check, the launch.
+inline constexpr int kMaxGraphLevels = 64;
+
 // How a worker process that a program crashed starts the line it leaves on stderr (see
 // worker/core crash_report.h); the host looks for it to name the program in the launch's error.
 inline constexpr char kCrashReportPrefix[] = "tessera-worker: crashed: ";
