@@ -11,6 +11,7 @@
 #include "dirty.h"
 #include "hash.h"
 #include "status.h"
+#include "tessera/scheduler/device.h"
 
 namespace tessera::api {
 namespace {
@@ -67,6 +68,11 @@ absl::Status Buffer::SetElementSize(size_t size) {
                                 FormatName(format_)));
   }
   if (size == 0) return RtError(RT_ERROR_INVALID_VALUE, "element size must not be 0");
+  if (size > kMaxElementBytes) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat("element size ", size, " exceeds ", kMaxElementBytes,
+                                " bytes, the largest element devices accept"));
+  }
   if (mapped_) return MappedError();
   return Reallocate(dims_, format_, size);
 }

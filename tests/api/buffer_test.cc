@@ -114,6 +114,14 @@ TEST_F(HostBufferTest, UserFormatNeedsAnElementSize) {
   EXPECT_EQ(rtBufferValidate(b), RT_ERROR_INVALID_VALUE);
   EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("element size"), std::string::npos);
   EXPECT_EQ(rtBufferSetElementSize(b, 0), RT_ERROR_INVALID_VALUE);
+  // More than devices accept is refused here, also while the buffer holds no elements.
+  RTbuffer empty = Make();
+  ASSERT_EQ(rtBufferSetFormat(empty, RT_FORMAT_USER), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetSize2D(empty, 0, 0), RT_SUCCESS);
+  EXPECT_EQ(rtBufferSetElementSize(empty, ~RTsize{0}), RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("the largest element devices accept"),
+            std::string::npos);
+  EXPECT_EQ(rtBufferSetElementSize(empty, RTsize{1} << 20), RT_SUCCESS);
   ASSERT_EQ(rtBufferSetElementSize(b, 20), RT_SUCCESS);
   RTsize element = 0;
   ASSERT_EQ(rtBufferGetElementSize(b, &element), RT_SUCCESS);
@@ -219,11 +227,18 @@ TEST_F(HostBufferTest, OversizedBuffersAreRefusedAndLeaveTheBufferAsItWas) {
   EXPECT_EQ(rtBufferSetSize3D(b, RTsize{1} << 20, RTsize{1} << 20, RTsize{1} << 20),
             RT_ERROR_INVALID_VALUE);
   unchanged("SetSize3D");
-  // 1000 elements of 2^60 bytes.
+  // 1000 elements of 2^60 bytes: refused for the element alone.
   EXPECT_EQ(rtBufferSetElementSize(b, RTsize{1} << 60), RT_ERROR_INVALID_VALUE);
-  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("1000 of"), std::string::npos)
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("exceeds 1048576 bytes"),
+            std::string::npos)
       << ErrorString(ctx, RT_ERROR_INVALID_VALUE);
   unchanged("SetElementSize");
+  // 2^40 elements of 1 MiB.
+  ASSERT_EQ(rtBufferSetSize1D(b, 1), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetElementSize(b, RTsize{1} << 20), RT_SUCCESS);
+  EXPECT_EQ(rtBufferSetSize1D(b, RTsize{1} << 40), RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("too large"), std::string::npos)
+      << ErrorString(ctx, RT_ERROR_INVALID_VALUE);
 }
 
 TEST_F(HostBufferTest, DescriptionRules) {

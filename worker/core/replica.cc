@@ -12,6 +12,7 @@
 #include "module.h"
 #include "tessera/detail/module_abi.h"
 #include "tessera/rt.h"
+#include "tessera/scheduler/device.h"
 
 namespace tessera::worker {
 namespace {
@@ -85,7 +86,7 @@ absl::Status CheckBuffer(const v1::Buffer& b) {
     }
     count *= d;
   }
-  if (b.element_size() > (1u << 20)) {
+  if (b.element_size() > kMaxElementBytes) {
     return absl::InvalidArgumentError(
         absl::StrCat("buffer #", b.id(), " has element size ", b.element_size()));
   }

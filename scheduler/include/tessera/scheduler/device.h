@@ -59,6 +59,9 @@ inline constexpr uint32_t kHeartbeatTileIndex = 0xFFFFFFFEu;
 // fail rtContextValidate (api/src/validate.cc) and, from a host that does not check, the launch.
 inline constexpr int kMaxGraphLevels = 64;
 
+// The largest buffer element (RT_FORMAT_USER) devices accept; rtBufferSetElementSize refuses more.
+inline constexpr uint64_t kMaxElementBytes = uint64_t{1} << 20;
+
 // How a worker process that a program crashed starts the line it leaves on stderr (see
 // worker/core crash_report.h); the host looks for it to name the program in the launch's error.
 inline constexpr char kCrashReportPrefix[] = "tessera-worker: crashed: ";
