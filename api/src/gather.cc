@@ -57,11 +57,12 @@ LaunchGather::LaunchGather(Context& context, std::vector<DeviceSlot*> slots)
     : context_(context),
       slots_(std::move(slots)),
       check_races_(context.race_check() && slots_.size() > 1) {
-  if (!check_races_) return;
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() != Kind::kBuffer) continue;
     auto* b = static_cast<Buffer*>(object);
-    if (!b->gathers_content() || b->element_size() == 0) continue;
+    if (!b->gathers_content()) continue;
+    layouts_[id] = LayoutOf(*b);
+    if (!check_races_ || b->element_size() == 0) continue;
     RaceState& state = race_state_[id];
     state.before.assign(reinterpret_cast<const char*>(b->bytes()), b->byte_size());
     state.owner.assign(b->byte_size() / b->element_size(), -1);
@@ -117,8 +118,31 @@ void LaunchGather::Apply(scheduler::FinishedBatch& batch) {
   }
 }
 
+LaunchGather::Layout LaunchGather::LayoutOf(const Buffer& b) {
+  return Layout{b.format(), b.dimensionality(), {b.dim(0), b.dim(1), b.dim(2)}, b.element_size()};
+}
+
+bool LaunchGather::SameLayout(uint64_t id, const Buffer* b) {
+  auto it = layouts_.find(id);
+  if (it == layouts_.end() || (b != nullptr && it->second == LayoutOf(*b))) return true;
+  if (layout_reported_.insert(id).second) {
+    RecordError(RtError(
+        RT_ERROR_INVALID_VALUE,
+        absl::StrCat(b != nullptr ? b->Describe() : absl::StrCat("buffer #", id),
+                     b != nullptr ? " was resized or reformatted" : " was destroyed",
+                     " during the launch (by the timeout callback); what devices wrote to it "
+                     "was dropped")));
+  }
+  return false;
+}
+
 void LaunchGather::ApplyRegion(size_t device, const v1::BufferRegion& region) {
   Object* object = context_.FindById(region.buffer_id());
+  if (!SameLayout(region.buffer_id(), object != nullptr && object->kind() == Kind::kBuffer
+                                          ? static_cast<const Buffer*>(object)
+                                          : nullptr)) {
+    return;
+  }
   if (object == nullptr || object->kind() != Kind::kBuffer) {
     RecordError(
         RtError(RT_ERROR_LAUNCH_FAILED,

@@ -9,9 +9,11 @@
 #include <vector>
 
 #include "absl/container/flat_hash_map.h"
+#include "absl/container/flat_hash_set.h"
 #include "absl/status/status.h"
 #include "absl/strings/string_view.h"
 #include "device_sync.h"
+#include "tessera/rt.h"
 #include "tessera/scheduler/dispatcher.h"
 #include "tessera/v1/launch.pb.h"
 
@@ -46,6 +48,21 @@ class LaunchGather {
   void CheckRaces(size_t device, const Buffer& b, uint64_t offset, absl::string_view data);
   void RecordError(absl::Status status);
   void ReportExceptions();
+  // Whether `b` (nullptr: destroyed) still has the layout it had when the launch began; reports
+  // it once when not. The timeout callback may resize, reformat or destroy buffers mid-launch.
+  bool SameLayout(uint64_t id, const Buffer* b);
+
+  struct Layout {
+    RTformat format;
+    unsigned dimensionality;
+    size_t dims[3];
+    size_t element_size;
+    bool operator==(const Layout& o) const {
+      return format == o.format && dimensionality == o.dimensionality && dims[0] == o.dims[0] &&
+             dims[1] == o.dims[1] && dims[2] == o.dims[2] && element_size == o.element_size;
+    }
+  };
+  static Layout LayoutOf(const Buffer& b);
 
   struct RaceState {
     std::string before;          // contents before the launch
@@ -60,6 +77,8 @@ class LaunchGather {
   std::vector<DeviceSlot*> slots_;
   const bool check_races_;
   absl::flat_hash_map<uint64_t, RaceState> race_state_;
+  absl::flat_hash_map<uint64_t, Layout> layouts_;  // of every buffer results may land in
+  absl::flat_hash_set<uint64_t> layout_reported_;
   std::vector<Race> races_;
   uint64_t race_count_ = 0;
   // Per buffer id, per content chunk: which device wrote into it (or none, or several).

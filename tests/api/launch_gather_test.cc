@@ -227,6 +227,48 @@ TEST_F(LaunchTest, TimeoutCallbackCannotPullTheRugFromDevices) {
   EXPECT_EQ(w * h, 1u);
 }
 
+RTbuffer g_grow_output = nullptr;
+std::atomic<bool> g_grown{false};
+int GrowOutput() {
+  if (!g_grown.load()) {
+    rtBufferSetSize2D(g_grow_output, 64, 64);  // bigger than the fixture's 8x4
+    g_grown = true;
+  }
+  return 0;
+}
+
+// A buffer the timeout callback grows mid-launch has a new layout: what devices wrote for the old
+// one would land on the wrong elements, so the launch drops it and says so.
+TEST_F(LaunchTest, BufferGrownByTheTimeoutCallbackFailsTheLaunchNamingIt) {
+  g_grow_output = output;
+  g_grown = false;
+  const uint64_t id = Id(output);
+  records[0]->answer = [id](const v1::LaunchRequest&, const std::atomic<bool>& cancel,
+                            const std::function<void(v1::TileResult &&)>& on_result) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!g_grown.load() && !cancel.load() && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    v1::TileResult result;
+    v1::BufferRegion* region = result.add_regions();
+    region->set_buffer_id(id);
+    region->set_offset(0);
+    region->set_data(std::string(4 * kWidth, 'z'));  // the old first row
+    on_result(std::move(result));
+    return absl::OkStatus();
+  };
+  ASSERT_EQ(rtContextSetTimeoutCallback(ctx, &GrowOutput, 0.001), RT_SUCCESS);
+  EXPECT_EQ(Launch(), RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE)
+                .find("was resized or reformatted during the launch (by the timeout callback)"),
+            std::string::npos)
+      << ErrorString(ctx, RT_ERROR_INVALID_VALUE);
+  void* p = nullptr;
+  ASSERT_EQ(rtBufferMap(output, &p), RT_SUCCESS);
+  EXPECT_EQ(static_cast<const float*>(p)[0], 0.f);  // the grown buffer's zeros, not 'zzzz'
+  ASSERT_EQ(rtBufferUnmap(output), RT_SUCCESS);
+}
+
 // What the timeout callback does to a buffer after two devices' results were applied.
 enum class Meddle { kShrink, kEmpty, kDestroy, kReformatAndGrow };
 Meddle g_meddle = Meddle::kShrink;
