@@ -176,12 +176,19 @@ const float* Pixel(const Result& r, uint64_t buffer, int x, int y, int width) {
   return reinterpret_cast<const float*>(it->second.data() + offset);
 }
 
+// A scene whose ray generation program `write_index` writes (x, y, scale) into a FLOAT4 output
+// buffer of w x h; returns the buffer's id.
+uint64_t WriteIndexScene(Scene& s, uint64_t w, uint64_t h) {
+  s.Context()->add_ray_generation(s.Program("write_index"));
+  const uint64_t out = s.Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, 16, {w, h});
+  Scene::SetObject(s.ContextVars(), "output", RT_OBJECTTYPE_BUFFER, out);
+  return out;
+}
+
 TEST(InprocDevice, RayGenerationWritesEveryIndexWithStaticInitializer) {
   auto device = CreateInprocDevice(2);
   Scene s;
-  s.Context()->add_ray_generation(s.Program("write_index"));
-  uint64_t out = s.Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, 16, {7, 5});
-  Scene::SetObject(s.ContextVars(), "output", RT_OBJECTTYPE_BUFFER, out);
+  const uint64_t out = WriteIndexScene(s, 7, 5);
   Result r = Launch(*device, s.delta(), {7, 5});
   ASSERT_TRUE(r.status.ok()) << r.status;
   for (int y = 0; y < 5; ++y) {
@@ -197,9 +204,7 @@ TEST(InprocDevice, RayGenerationWritesEveryIndexWithStaticInitializer) {
 TEST(InprocDevice, ContextVariableOverridesStaticInitializer) {
   auto device = CreateInprocDevice(1);
   Scene s;
-  s.Context()->add_ray_generation(s.Program("write_index"));
-  uint64_t out = s.Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, 16, {2, 2});
-  Scene::SetObject(s.ContextVars(), "output", RT_OBJECTTYPE_BUFFER, out);
+  const uint64_t out = WriteIndexScene(s, 2, 2);
   float scale = 7.5f;
   Scene::SetValue(s.ContextVars(), "scale", RT_OBJECTTYPE_FLOAT, &scale, 4);
   Result r = Launch(*device, s.delta(), {2, 2});
@@ -212,9 +217,7 @@ TEST(InprocDevice, ContextVariableOverridesStaticInitializer) {
 TEST(InprocDevice, ValueOfAnotherTypeIsATypeMismatchNamingTheVariable) {
   auto device = CreateInprocDevice(1);
   Scene s;
-  s.Context()->add_ray_generation(s.Program("write_index"));
-  uint64_t out = s.Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, 16, {2, 2});
-  Scene::SetObject(s.ContextVars(), "output", RT_OBJECTTYPE_BUFFER, out);
+  const uint64_t out = WriteIndexScene(s, 2, 2);
   const int three = 3;
   Scene::SetValue(s.ContextVars(), "scale", RT_OBJECTTYPE_INT, &three, 4);
   Result r = Launch(*device, s.delta(), {2, 2});
