@@ -16,6 +16,7 @@
 #include "status.h"
 #include "subprocess.h"
 #include "tessera/scheduler/module_cache_files.h"
+#include "tessera/scheduler/module_file.h"
 
 #ifndef TESSERA_PROGRAM_INCLUDE_DIR
 #define TESSERA_PROGRAM_INCLUDE_DIR ""
@@ -105,7 +106,9 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   const std::string cache_dir = ModuleCacheDir();
   const std::string module_path = absl::StrCat(cache_dir, "/", HexHash(key), ".so");
   std::error_code ec;
-  if (fs::exists(module_path, ec)) {
+  // Anything else under the module's name (cut short, or not a file) is compiled over.
+  if (fs::is_regular_file(module_path, ec) &&
+      scheduler::CheckModuleFileComplete(module_path).ok()) {
     scheduler::TouchCacheFile(module_path);  // recently used: trimmed last
     return module_path;
   }

@@ -15,6 +15,7 @@
 #include "hash.h"
 #include "module_compiler.h"
 #include "status.h"
+#include "tessera/scheduler/module_file.h"
 #include "tessera/scheduler/module_symbol.h"
 
 namespace tessera::api {
@@ -40,6 +41,10 @@ bool IsSourcePath(const std::string& path) {
 // Loads the module only to see that `function` exists: the host never runs program code.
 // RTLD_LAZY so that a module is not refused for symbols only a device resolves.
 absl::Status CheckModule(const std::string& path, const std::string& function) {
+  if (absl::Status whole = scheduler::CheckModuleFileComplete(path); !whole.ok()) {
+    return RtError(RT_ERROR_INVALID_SOURCE,
+                   absl::StrCat("cannot load program module '", path, "': ", whole.message()));
+  }
   void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
   if (handle == nullptr) {
     const char* why = dlerror();

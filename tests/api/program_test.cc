@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "api_test_util.h"
@@ -90,6 +91,36 @@ TEST_F(HostProgramTest, SourceFilesCompileOnceIntoTheCache) {
   EXPECT_EQ(CachedModules(), 1u);
   // A missing function in a compiled module.
   EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "other", &p), RT_ERROR_INVALID_SOURCE);
+}
+
+TEST_F(HostProgramTest, AModuleCutShortIsInvalidSourceNotACrash) {
+  // Its ELF headers survive, its segments do not: dlopen would map it and the host die of SIGBUS.
+  std::ifstream in(kTestModule, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 4096u);
+  const std::string cut = Write("cut.so", bytes.substr(0, 1024));
+  RTprogram p = nullptr;
+  EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, cut.c_str(), "closest_hit", &p),
+            RT_ERROR_INVALID_SOURCE);
+  const std::string message = ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  EXPECT_NE(message.find("cut.so"), std::string::npos) << message;
+  EXPECT_NE(message.find("cut short"), std::string::npos) << message;
+}
+
+TEST_F(HostProgramTest, ACachedCompileCutShortIsCompiledAgain) {
+  const std::string source = "extern \"C\" void shade() {}\n";
+  RTprogram p = nullptr;
+  ASSERT_EQ(rtProgramCreateFromPTXString(ctx, source.c_str(), "shade", &p), RT_SUCCESS)
+      << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  ASSERT_EQ(CachedModules(), 1u);
+  fs::path cached;
+  for (const auto& e : fs::directory_iterator(dir_ / "cache")) cached = e.path();
+  const auto size = fs::file_size(cached);
+  fs::resize_file(cached, 1024);  // a disk that filled up, or a crash before the data reached it
+  ASSERT_EQ(rtProgramCreateFromPTXString(ctx, source.c_str(), "shade", &p), RT_SUCCESS)
+      << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  EXPECT_EQ(fs::file_size(cached), size);
+  EXPECT_EQ(CachedModules(), 1u);
 }
 
 TEST_F(HostProgramTest, CompileCacheStaysWithinItsBound) {

@@ -16,6 +16,7 @@
 #include "absl/strings/strip.h"
 #include "module_store.h"
 #include "runtime.h"
+#include "tessera/scheduler/module_file.h"
 #include "tessera/scheduler/module_symbol.h"
 #include "tessera/worker/module_cache.h"
 
@@ -196,6 +197,12 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
   // Messages name the host's file, which the user knows, and the copy that was loaded.
   const std::string path = origin.empty() ? file : absl::StrCat(origin, " (cached as ", file, ")");
 
+  // Bytes that match their hash may still be a module cut short, which dlopen would map and the
+  // process die of at first use.
+  if (absl::Status whole = scheduler::CheckModuleFileComplete(file); !whole.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("cannot load program module ", path, ": ", whole.message()));
+  }
   void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) {
     const char* err = dlerror();
