@@ -1,5 +1,7 @@
 #include "module_store.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -8,7 +10,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <mutex>
 #include <random>
 #include <vector>
@@ -35,11 +36,28 @@ TemporaryCacheList& TemporaryCaches() {
   return *list;
 }
 
+// Only a regular file counts: something else under a module's name (a directory, a FIFO) reads
+// as not stored, so that the module is sent and the write reports it, instead of the read throwing
+// (a directory) or the open blocking for good with the cache's lock held (a FIFO).
 bool ReadWholeFile(const std::string& path, std::string* out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  return !in.bad();
+  const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return false;
+  struct stat st {};
+  bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  out->clear();
+  if (ok) out->reserve(static_cast<size_t>(st.st_size));
+  char buffer[1 << 16];
+  while (ok) {
+    const ssize_t n = read(fd, buffer, sizeof(buffer));
+    if (n == 0) break;
+    if (n < 0) {
+      ok = errno == EINTR;
+      continue;
+    }
+    out->append(buffer, static_cast<size_t>(n));
+  }
+  close(fd);
+  return ok;
 }
 
 }  // namespace

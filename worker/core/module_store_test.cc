@@ -2,17 +2,20 @@
 // their hash, written once.
 #include "module_store.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "module.h"
@@ -260,6 +263,67 @@ TEST(ModuleStoreTest, CacheFileThatDoesNotMatchItsNameIsReplaced) {
   EXPECT_EQ(cache.Load(hash).status().code(), absl::StatusCode::kNotFound);
   ASSERT_TRUE(cache.Store(hash, bytes).ok());
   EXPECT_EQ(ReadFile(file), bytes);
+}
+
+TEST(ModuleStoreTest, DirectoryUnderAModulesNameIsNotAStoredModule) {
+  TempDir temp;
+  const std::string bytes = ReadFile(kModule);
+  const std::string hash = ModuleHash(bytes);
+  fs::create_directory(temp.path() + "/" + hash + ".so");
+  ModuleCache cache(temp.path());
+  EXPECT_FALSE(cache.Has(hash));  // so the host sends it
+  EXPECT_EQ(cache.Load(hash).status().code(), absl::StatusCode::kNotFound);
+  absl::Status s = cache.Store(hash, bytes);  // and cannot put it there
+  EXPECT_EQ(s.code(), absl::StatusCode::kInternal) << s;
+  EXPECT_NE(s.message().find(hash), std::string::npos) << s;
+}
+
+TEST(ModuleStoreTest, FifoUnderAModulesNameIsReplacedWithoutBlocking) {
+  TempDir temp;
+  const std::string bytes = ReadFile(kModule);
+  const std::string hash = ModuleHash(bytes);
+  const std::string file = temp.path() + "/" + hash + ".so";
+  ASSERT_EQ(mkfifo(file.c_str(), 0600), 0);
+  // Opening a FIFO to read waits for a writer: after a while this thread opens it to write (which
+  // succeeds only while a reader waits) and counts it, so that a blocking cache fails the test
+  // instead of hanging it.
+  std::atomic<bool> done{false};
+  std::atomic<int> unblocked{0};
+  std::thread watchdog([&] {
+    const auto start = std::chrono::steady_clock::now();
+    while (!done) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      if (std::chrono::steady_clock::now() - start < std::chrono::seconds(2)) continue;
+      const int fd = open(file.c_str(), O_WRONLY | O_NONBLOCK);
+      if (fd >= 0) {
+        ++unblocked;
+        close(fd);
+      }
+    }
+  });
+  ModuleCache cache(temp.path());
+  EXPECT_FALSE(cache.Has(hash));
+  absl::Status s = cache.Store(hash, bytes);
+  done = true;
+  watchdog.join();
+  EXPECT_EQ(unblocked, 0) << "reading the cache blocked on a FIFO";
+  ASSERT_TRUE(s.ok()) << s;
+  EXPECT_EQ(ReadFile(file), bytes);
+  EXPECT_TRUE(cache.Load(hash).ok());
+}
+
+TEST(ModuleStoreTest, AModuleCutShortIsRefusedNotLoaded) {
+  // Bytes that match their hash (a host may send anything) but end inside the module's segments:
+  // dlopen would map them and the worker die of SIGBUS.
+  TempDir temp;
+  const std::string bytes = ReadFile(kModule).substr(0, 1024);
+  const std::string hash = ModuleHash(bytes);
+  ModuleCache cache(temp.path());
+  ASSERT_TRUE(cache.Store(hash, bytes).ok());
+  absl::StatusOr<const Module*> module = cache.Load(hash, "/host/cut.so");
+  EXPECT_EQ(module.status().code(), absl::StatusCode::kInvalidArgument) << module.status();
+  EXPECT_NE(module.status().message().find("/host/cut.so"), std::string::npos) << module.status();
+  EXPECT_NE(module.status().message().find("cut short"), std::string::npos) << module.status();
 }
 
 TEST(ModuleStoreTest, UnusableDirectoryFallsBackToAPrivateTemporaryOne) {
