@@ -92,6 +92,31 @@ TEST(WorkerProcessTest, NonLoopbackAddressWithoutTlsAndTokenIsRefused) {
       << process.status();
 }
 
+TEST(WorkerProcessTest, AMalformedListenAddressIsRefused) {
+  // gRPC alone would listen on port 34463 (99999 wrapped), on 443 (no port), or at an empty
+  // unix path that no host can name, and report that as success.
+  for (const char* listen : {"127.0.0.1:99999", "127.0.0.1", "unix:"}) {
+    WorkerProcess::Options options;
+    options.listen = listen;
+    auto process = WorkerProcess::Spawn(options);
+    ASSERT_FALSE(process.ok()) << listen << " was taken";
+    EXPECT_NE(process.status().message().find(std::string("--listen ") + listen + ":"),
+              std::string::npos)
+        << process.status();
+    EXPECT_NE(process.status().message().find("exited with status 2"), std::string::npos)
+        << process.status();
+  }
+}
+
+TEST(WorkerProcessTest, AnUnservableThreadCountIsRefusedAtStart) {
+  // TBB crashed the worker at its first launch with an arena of this many threads.
+  WorkerProcess::Options options;
+  options.extra_args = {"--threads", "2147483647"};
+  auto process = WorkerProcess::Spawn(options);
+  ASSERT_FALSE(process.ok());
+  EXPECT_NE(process.status().message().find("--threads"), std::string::npos) << process.status();
+}
+
 TEST(WorkerProcessTest, AWorkerThatNeverListensTimesOutWithItsStderr) {
   char dir[] = "/tmp/tessera-e2e-XXXXXX";
   ASSERT_NE(mkdtemp(dir), nullptr);
@@ -125,6 +150,28 @@ TEST(WorkerProcessTest, ATakenPortIsNotShared) {
   auto second = WorkerProcess::Spawn(options);
   ASSERT_FALSE(second.ok()) << "two workers listen on " << first->address();
   EXPECT_NE(second.status().message().find("cannot listen"), std::string::npos) << second.status();
+}
+
+TEST(WorkerProcessTest, ATakenUnixSocketIsNotTakenOver) {
+  char dir[] = "/tmp/tessera-e2e-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  WorkerProcess::Options options;
+  options.listen = std::string("unix:") + dir + "/w.sock";
+  std::unique_ptr<WorkerProcess> first = Spawn(options);
+  ASSERT_NE(first, nullptr);
+  auto second = WorkerProcess::Spawn(options);
+  EXPECT_FALSE(second.ok()) << "a second worker took over " << options.listen;
+  if (!second.ok()) {
+    EXPECT_NE(second.status().message().find("another process is listening"), std::string::npos)
+        << second.status();
+  }
+  // The first still answers there.
+  auto device = GrpcDevice::Connect(options.listen);
+  ASSERT_TRUE(device.ok()) << device.status();
+  EXPECT_EQ((*device)->health().pid, first->pid());
+  device->reset();
+  first.reset();
+  std::filesystem::remove_all(dir);
 }
 
 TEST(WorkerProcessTest, NoWorkerAtTheAddressIsUnavailable) {

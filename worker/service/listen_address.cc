@@ -2,12 +2,21 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstring>
+#include <string>
 
 #include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/strip.h"
 
 namespace tessera::worker {
 namespace {
@@ -35,6 +44,57 @@ Split SplitHost(absl::string_view listen) {
 }
 
 }  // namespace
+
+absl::Status CheckListenAddress(absl::string_view listen) {
+  if (absl::StartsWith(listen, "unix:")) {
+    const size_t path = listen.size() - 5;
+    const size_t max_path = sizeof(sockaddr_un{}.sun_path) - 1;  // and a terminating NUL
+    if (path == 0 || path > max_path) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "--listen ", listen, ": a unix socket path needs 1 to ", max_path, " bytes, not ", path));
+    }
+    return absl::OkStatus();
+  }
+  const Split split = SplitHost(listen);
+  absl::string_view port = listen.substr(split.host_part.size());
+  const bool bracketed = absl::StartsWith(split.host_part, "[");
+  int value = -1;
+  if (!absl::ConsumePrefix(&port, ":") || port.empty() || port.size() > 5 ||
+      !std::all_of(port.begin(), port.end(), absl::ascii_isdigit) ||
+      !absl::SimpleAtoi(port, &value) || value > 65535 ||
+      (!bracketed && split.host.find(':') != std::string::npos)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--listen ", listen,
+                     ": expected HOST:PORT or [IPV6]:PORT with a port from 0 to 65535 (0: any "
+                     "free one), or unix:PATH"));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckUnixSocketNotInUse(absl::string_view listen) {
+  if (!absl::StartsWith(listen, "unix:")) return absl::OkStatus();
+  const std::string path(listen.substr(5));
+  sockaddr_un address{};
+  struct stat st {};
+  if (path.empty() || path.size() >= sizeof(address.sun_path) || stat(path.c_str(), &st) != 0 ||
+      !S_ISSOCK(st.st_mode)) {
+    return absl::OkStatus();
+  }
+  const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) return absl::OkStatus();
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path, path.data(), path.size());
+  // Refused: nobody listens (a stale socket). Accepted, or a full backlog: someone does.
+  const bool live =
+      connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0 ||
+      errno == EAGAIN;
+  close(fd);
+  if (!live) return absl::OkStatus();
+  return absl::FailedPreconditionError(
+      absl::StrCat("--listen ", listen,
+                   ": another process is listening on that socket (a worker already "
+                   "running there?); a stale socket nobody listens on would be replaced"));
+}
 
 bool IsLoopbackAddress(absl::string_view listen) {
   if (absl::StartsWith(listen, "unix:")) return true;

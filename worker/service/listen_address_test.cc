@@ -1,6 +1,14 @@
 #include "listen_address.h"
 
 #include <gtest/gtest.h>
+#include <stdlib.h>  // mkdtemp
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
 
 namespace tessera::worker {
 namespace {
@@ -16,6 +24,46 @@ TEST(ListenAddressTest, OnlyLoopbackAddressesAreLocal) {
         "localhost.example.com:1", "[::ffff:10.0.0.1]:1", "128.0.0.1:1"}) {
     EXPECT_FALSE(IsLoopbackAddress(remote)) << remote;
   }
+}
+
+TEST(ListenAddressTest, OnlyWellFormedAddressesAreAccepted) {
+  const std::string longest_path(107, 's');
+  for (const std::string& good : std::vector<std::string>{
+           "127.0.0.1:0", "localhost:65535", "[::1]:5000", "0.0.0.0:7000", "render7:1",
+           "unix:/tmp/w.sock", "unix:relative.sock", "unix:" + longest_path}) {
+    EXPECT_TRUE(CheckListenAddress(good).ok()) << good;
+  }
+  for (const std::string& bad : std::vector<std::string>{
+           "", "garbage", "127.0.0.1", "127.0.0.1:", "127.0.0.1:65536", "127.0.0.1:99999",
+           "127.0.0.1:-1", "127.0.0.1:0x10", "127.0.0.1:0:0", "::1:0", "[::1]", "[::1]5000",
+           "unix:", "unix:" + longest_path + "s"}) {
+    absl::Status s = CheckListenAddress(bad);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << bad;
+    EXPECT_NE(s.message().find("--listen " + bad + ":"), std::string::npos) << s;
+  }
+}
+
+TEST(ListenAddressTest, AUnixSocketSomeoneListensOnIsInUseAndAStaleOneIsNot) {
+  char dir[] = "/tmp/tessera-listen-test-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string path = std::string(dir) + "/w.sock";
+  const std::string listen = "unix:" + path;
+  EXPECT_TRUE(CheckUnixSocketNotInUse(listen).ok());  // nothing there
+  const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path, path.c_str(), path.size());
+  ASSERT_EQ(bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)), 0);
+  ASSERT_EQ(::listen(fd, 4), 0);
+  absl::Status s = CheckUnixSocketNotInUse(listen);
+  EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition) << s;
+  EXPECT_NE(s.message().find(listen), std::string::npos) << s;
+  close(fd);  // the socket file stays behind, stale
+  EXPECT_TRUE(CheckUnixSocketNotInUse(listen).ok());
+  EXPECT_TRUE(CheckUnixSocketNotInUse("127.0.0.1:0").ok());
+  unlink(path.c_str());
+  rmdir(dir);
 }
 
 TEST(ListenAddressTest, ResolvedAddressCarriesTheBoundPort) {

@@ -37,6 +37,12 @@ constexpr int kMinPingIntervalMs = 10000;
 
 int Serve(const std::string& listen, int threads, tessera::transport::ResultArena* arena,
           const tessera::worker::SecurityOptions& security) {
+  absl::Status address = tessera::worker::CheckListenAddress(listen);
+  if (address.ok()) address = tessera::worker::CheckUnixSocketNotInUse(listen);
+  if (!address.ok()) {
+    std::fprintf(stderr, "tessera-worker: %s\n", std::string(address.message()).c_str());
+    return 2;
+  }
   absl::StatusOr<std::string> token = tessera::worker::ResolveToken(
       security.token_file, std::getenv(tessera::worker::kWorkerTokenEnv));
   absl::Status allowed = token.ok()
@@ -137,8 +143,11 @@ int main(int argc, char** argv) {
                  "HOST:PORT (port 0: ephemeral), [IPV6]:PORT or unix:PATH; a non-loopback address "
                  "needs --tls-cert, --tls-key and a token")
       ->capture_default_str();
+  // Beyond any machine's cores (a host passes cores/N for local:N), and far below the counts
+  // (2^30 and up) for which TBB's arena crashed the worker at its first launch.
+  constexpr int kMaxThreads = 65536;
   app.add_option("--threads", threads, "threads per launch (0: one per core)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0, kMaxThreads))
       ->capture_default_str();
   app.add_option("--tls-cert", security.tls_cert_file, "PEM certificate chain: serve over TLS");
   app.add_option("--tls-key", security.tls_key_file, "PEM private key of --tls-cert");
