@@ -267,7 +267,9 @@ inline bool rtPotentialIntersection(float t) {
 inline bool rtReportIntersection(unsigned int material) {
   return ::tessera::detail::Rt()->report_intersection(material) != 0;
 }
-// Unlike OptiX, these two return to the calling any-hit program; the effect applies when it ends.
+// As in OptiX, neither returns in an any-hit program: the engine ends the program there (with
+// longjmp, so its automatic objects' destructors do not run). In a miss program rtTerminateRay
+// returns and does nothing.
 inline void rtIgnoreIntersection() { ::tessera::detail::Rt()->ignore_intersection(); }
 inline void rtTerminateRay() { ::tessera::detail::Rt()->terminate_ray(); }
 inline void rtIntersectChild(unsigned int index) {
