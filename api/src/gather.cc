@@ -273,8 +273,29 @@ absl::Status LaunchGather::Finish() {
         return std::make_tuple(IndexAt(a, 2), IndexAt(a, 1), IndexAt(a, 0), a.sequence()) <
                std::make_tuple(IndexAt(b, 2), IndexAt(b, 1), IndexAt(b, 0), b.sequence());
       });
-  for (const v1::PrintRecord& p : prints_) std::fwrite(p.text().data(), 1, p.text().size(), stdout);
+  // The print buffer bounds a launch's output as in OptiX: whole prints, in launch-index order so
+  // that what is kept does not depend on the device set, while they fit; the rest is dropped and
+  // said so on stderr.
+  const uint64_t limit = context_.print_buffer_size();
+  uint64_t written = 0, dropped_bytes = 0;
+  size_t dropped = 0;
+  for (const v1::PrintRecord& p : prints_) {
+    if (dropped == 0 && p.text().size() <= limit - written) {
+      std::fwrite(p.text().data(), 1, p.text().size(), stdout);
+      written += p.text().size();
+    } else {
+      ++dropped;
+      dropped_bytes += p.text().size();
+    }
+  }
   std::fflush(stdout);
+  if (dropped > 0) {
+    std::fprintf(stderr,
+                 "tessera: rtPrintf output of this launch exceeds the print buffer size (%llu "
+                 "bytes, rtContextSetPrintBufferSize): %zu prints (%llu bytes) were dropped\n",
+                 static_cast<unsigned long long>(limit), dropped,
+                 static_cast<unsigned long long>(dropped_bytes));
+  }
   prints_.clear();
   ReportExceptions();
   context_.set_last_exceptions(std::move(exceptions_));

@@ -180,6 +180,25 @@ TEST_P(LaunchRulesTest, PrintsFromEveryLaunchIndexComeOutInLaunchIndexOrder) {
   }
 }
 
+// rtContextSetPrintBufferSize bounds a launch's output: whole prints in launch-index order while
+// they fit, the same on every device set, and stderr says what was dropped.
+TEST_P(LaunchRulesTest, PrintsBeyondThePrintBufferSizeAreDroppedAndSaidSo) {
+  RayGen("print_indices");
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  TileSize({2, 2});
+  const std::string kept = "[0,0] first\n[0,0] second\n[1,0] first\n[1,0] second\n[2,0] first\n";
+  Ok(rtContextSetPrintBufferSize(ctx_, kept.size() + 5));  // [2,0] second (13 bytes) is cut
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  RTresult r = rtContextLaunch2D(ctx_, 0, kPrintW, kPrintH);
+  std::string err = ::testing::internal::GetCapturedStderr();
+  std::string out = ::testing::internal::GetCapturedStdout();
+  ASSERT_EQ(r, RT_SUCCESS) << Error(r);
+  EXPECT_EQ(out, kept);
+  EXPECT_NE(err.find("print buffer size"), std::string::npos) << err;
+  EXPECT_NE(err.find("65 prints"), std::string::npos) << err;  // 70 prints, 5 kept
+}
+
 // The launch indices throw_some throws at (every third, row-major) and their codes.
 std::vector<std::array<unsigned, 3>> Throwers() {
   std::vector<std::array<unsigned, 3>> t;
