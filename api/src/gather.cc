@@ -1,6 +1,7 @@
 #include "gather.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstring>
 #include <tuple>
@@ -39,8 +40,18 @@ void LaunchGather::ReportExceptions() {
                      return key(a) < key(b);
                    });
   if (context_.print_enabled()) {
-    for (const auto& e : exceptions_)
-      std::fwrite(e.details().data(), 1, e.details().size(), stdout);
+    // Only at the launch index rtContextSetPrintLaunchIndex selects, as for rtPrintf (-1: any).
+    const std::array<int, 3>& only = context_.print_launch_index();
+    auto selected = [&](const v1::ExceptionReport& e) {
+      for (int i = 0; i < 3; ++i) {
+        const uint64_t at = i < e.launch_index_size() ? e.launch_index(i) : 0;
+        if (only[i] >= 0 && at != static_cast<uint64_t>(only[i])) return false;
+      }
+      return true;
+    };
+    for (const auto& e : exceptions_) {
+      if (selected(e)) std::fwrite(e.details().data(), 1, e.details().size(), stdout);
+    }
     std::fflush(stdout);
     return;
   }

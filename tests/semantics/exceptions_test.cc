@@ -117,5 +117,31 @@ TEST_F(ExceptionsTest, PrintReachesStdoutInLaunchIndexOrderBeforeLaunchReturns) 
   EXPECT_EQ(::testing::internal::GetCapturedStdout(), "");
 }
 
+TEST_F(ExceptionsTest, PrintsOfAnyLengthComeOutWhole) {
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "print_wide")));
+  ::testing::internal::CaptureStdout();
+  Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
+  std::string expected;
+  for (size_t x = 0; x < kW; ++x) expected += std::string(2999, ' ') + std::to_string(x) + "|\n";
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), expected);
+}
+
+// With printing on, exceptions that reach no exception program are printed as
+// rtPrintExceptionDetails would: only at the launch index rtContextSetPrintLaunchIndex selects.
+TEST_F(ExceptionsTest, UnhandledExceptionReportsFollowThePrintLaunchIndex) {
+  Ok(rtContextSetEntryPointCount(ctx_, 2));  // entry 1: no exception program
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "trace_camera")));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 1, Program(kModule, "trace_camera")));
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  Ok(rtContextSetPrintLaunchIndex(ctx_, 1, -1, -1));
+  ::testing::internal::CaptureStdout();
+  Ok(rtContextLaunch2D(ctx_, 1, kW, 1));
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  EXPECT_NE(out.find("at launch index (1, 0, 0)"), std::string::npos) << out;
+  EXPECT_EQ(out.find("at launch index (0, 0, 0)"), std::string::npos) << out;
+  EXPECT_EQ(out.find("at launch index (2, 0, 0)"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace tessera::testing

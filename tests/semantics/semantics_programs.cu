@@ -185,6 +185,8 @@ RT_PROGRAM void closest_hit_recurse() {
 }
 
 RT_PROGRAM void print_hello() { rtPrintf("hello from %u\n", launch_index.x); }
+// One print of 3002 bytes: longer than the 2 KiB the engine formats on the stack.
+RT_PROGRAM void print_wide() { rtPrintf("%3000u|\n", launch_index.x); }
 
 // Traces `iterations` rays per launch index: a launch long enough to cancel.
 rtDeclareVariable(int, iterations, , );

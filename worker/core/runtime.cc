@@ -113,7 +113,8 @@ void Raise(unsigned code, std::string details) {
 
 void CallNotAllowed(const ThreadState& ts, const char* call) {
   throw FatalError{absl::FailedPreconditionError(absl::StrCat(
-      call, " called from ", ts.current ? ts.current->name : "a program", ": not allowed in a ",
+      call, " called from ", ts.current ? ts.current->name : "a program", ": not allowed in ",
+      ts.kind == ProgramKind::kException || ts.kind == ProgramKind::kAnyHit ? "an " : "a ",
       KindName(ts.kind), " program (OptiX 3 guide, \"Which OptiX calls are supported where?\")"))};
 }
 

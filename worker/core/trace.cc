@@ -256,7 +256,8 @@ __attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) 
   const LaunchPlan& plan = *ts.plan;
   if (ts.depth >= plan.max_depth) {
     Raise(RT_EXCEPTION_STACK_OVERFLOW,
-          absl::StrCat("rtTrace nested ", ts.depth + 1, " deep exceeds the stack size"));
+          absl::StrCat("rtTrace nested ", ts.depth + 1, " deep exceeds the stack size (",
+                       plan.max_depth, " levels; 128 bytes each, at most 1024)"));
     return;
   }
   if (!ValidRay(ray)) {

@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "internal/optix_datatypes.h"
@@ -88,11 +89,19 @@ inline unsigned RegisterBuffer(const void* object, size_t element_size, unsigned
 __attribute__((format(printf, 1, 2))) inline void Print(const char* format, ...) {
   if (!Rt()->print_active()) return;
   char text[2048];
-  va_list args;
+  va_list args, again;
   va_start(args, format);
-  std::vsnprintf(text, sizeof(text), format, args);
+  va_copy(again, args);
+  const int n = std::vsnprintf(text, sizeof(text), format, args);
   va_end(args);
-  Rt()->print(text);
+  if (n >= static_cast<int>(sizeof(text))) {  // longer than the stack buffer: format it whole
+    std::string whole(static_cast<size_t>(n), '\0');
+    std::vsnprintf(whole.data(), whole.size() + 1, format, again);
+    Rt()->print(whole.c_str());
+  } else if (n >= 0) {
+    Rt()->print(text);
+  }
+  va_end(again);
 }
 
 inline float3 Transform(RTtransformkind kind, unsigned what, const float3& v) {
