@@ -155,6 +155,31 @@ void TrackDirectory(const std::string& directory, bool add) {
   }
 }
 
+// Names the host that made a worker directory (its pid), for RemoveStaleDirectories.
+constexpr char kHostFile[] = "host.pid";
+
+// Removes worker directories of hosts that are gone: a host killed by a signal runs no atexit
+// handler, so its directories (a socket and a log each) would stay for good. A directory counts
+// as stale when it is ours, names its host in kHostFile and that process no longer exists.
+void RemoveStaleDirectories(const std::string& base) {
+  DIR* dir = opendir(base.c_str());
+  if (dir == nullptr) return;
+  while (dirent* entry = readdir(dir)) {
+    const std::string name = entry->d_name;
+    if (name.rfind("tessera-w-", 0) != 0) continue;
+    const std::string path = absl::StrCat(base, "/", name);
+    struct stat st {};
+    if (lstat(path.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != geteuid()) continue;
+    FILE* host = std::fopen(absl::StrCat(path, "/", kHostFile).c_str(), "r");
+    if (host == nullptr) continue;  // made by an older Tessera, or not yet named: left alone
+    long pid = 0;
+    const bool named = std::fscanf(host, "%ld", &pid) == 1 && pid > 0;
+    std::fclose(host);
+    if (named && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) RemoveDirectory(path);
+  }
+  closedir(dir);
+}
+
 absl::StatusOr<std::string> MakeDirectory() {
   std::string base = "/tmp";
   // Unix socket paths are limited to 108 bytes; a long TMPDIR falls back to /tmp.
@@ -162,9 +187,19 @@ absl::StatusOr<std::string> MakeDirectory() {
       tmp != nullptr && *tmp == '/' && std::strlen(tmp) < 64) {
     base = tmp;
   }
+  {  // once per directory and process: a host spawning a thousand workers scans it once
+    static std::mutex mu;
+    static std::set<std::string>* swept = new std::set<std::string>;
+    std::lock_guard<std::mutex> lock(mu);
+    if (swept->insert(base).second) RemoveStaleDirectories(base);
+  }
   std::string path = absl::StrCat(base, "/tessera-w-XXXXXX");
   if (mkdtemp(path.data()) == nullptr) {
     return absl::UnavailableError(Errno(absl::StrCat("mkdtemp ", path).c_str()));
+  }
+  if (FILE* host = std::fopen(absl::StrCat(path, "/", kHostFile).c_str(), "w")) {
+    std::fprintf(host, "%ld\n", static_cast<long>(getpid()));
+    std::fclose(host);
   }
   return path;
 }

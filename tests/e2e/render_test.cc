@@ -134,7 +134,8 @@ TEST(HostCrashTest, WorkersDieWithTheirHost) {
   ASSERT_NE(output.find("ready\n"), std::string::npos) << "host said: " << output;
   std::vector<pid_t> workers = ChildrenNamed(host_pid, kWorker);
   ASSERT_EQ(workers.size(), 2u);
-  // A killed host cannot remove its workers' directories (socket and log); this test does.
+  // A killed host cannot remove its workers' directories (socket, log and host.pid); the next host
+  // to spawn workers would, this test does.
   std::vector<std::string> directories;
   for (pid_t pid : workers) {
     std::string socket = ListenAddress(pid);
@@ -150,7 +151,7 @@ TEST(HostCrashTest, WorkersDieWithTheirHost) {
     EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "status " << status;
   }
   for (const std::string& directory : directories) {
-    for (const char* name : {"/w0.sock", "/w0.log", "/w1.sock", "/w1.log"}) {
+    for (const char* name : {"/w0.sock", "/w0.log", "/w1.sock", "/w1.log", "/host.pid"}) {
       unlink((directory + name).c_str());
     }
     EXPECT_EQ(rmdir(directory.c_str()), 0) << directory;

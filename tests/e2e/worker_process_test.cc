@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -295,6 +298,44 @@ TEST(WorkerProcessTest, LogsStayInTheLogDirectoryWhenOneIsNamed) {
   ASSERT_NE(c, nullptr);
   EXPECT_EQ(c->log_path().rfind("/proc/", 0), std::string::npos) << c->log_path();
   EXPECT_NE(err.find("TESSERA_WORKER_LOG_DIR=/proc/no/such/dir"), std::string::npos) << err;
+}
+
+// A host killed by a signal leaves its workers' directories behind (no atexit handler runs); the
+// next host to spawn workers in that temporary directory removes those whose host is gone.
+TEST(WorkerProcessTest, DirectoriesOfHostsThatAreGoneAreRemoved) {
+  char tmp[] = "/tmp/tessera-sweep-XXXXXX";
+  ASSERT_NE(mkdtemp(tmp), nullptr);
+  const std::string base = tmp;
+  pid_t gone = fork();  // a pid that no longer exists once reaped
+  if (gone == 0) _exit(0);
+  ASSERT_GT(gone, 0);
+  ASSERT_EQ(waitpid(gone, nullptr, 0), gone);
+  auto make = [&](const std::string& name, long host) {
+    const std::string dir = base + "/" + name;
+    EXPECT_EQ(mkdir(dir.c_str(), 0700), 0);
+    std::ofstream(dir + "/w0.log") << "log";
+    if (host > 0) std::ofstream(dir + "/host.pid") << host << "\n";
+    return dir;
+  };
+  const std::string stale = make("tessera-w-stale1", gone);
+  const std::string live = make("tessera-w-live01", getpid());
+  const std::string unnamed = make("tessera-w-older1", 0);
+  const char* old_tmp = std::getenv("TMPDIR");
+  const std::string saved = old_tmp != nullptr ? old_tmp : "";
+  setenv("TMPDIR", base.c_str(), 1);
+  std::unique_ptr<WorkerProcess> worker = Spawn({});
+  if (old_tmp != nullptr) {
+    setenv("TMPDIR", saved.c_str(), 1);
+  } else {
+    unsetenv("TMPDIR");
+  }
+  ASSERT_NE(worker, nullptr);
+  EXPECT_FALSE(std::filesystem::exists(stale)) << "its host is gone";
+  EXPECT_TRUE(std::filesystem::exists(live)) << "its host (this one) runs";
+  EXPECT_TRUE(std::filesystem::exists(unnamed)) << "no host named: left alone";
+  EXPECT_EQ(worker->log_path().rfind(base + "/tessera-w-", 0), 0u) << worker->log_path();
+  worker.reset();
+  std::filesystem::remove_all(base);
 }
 
 TEST(WorkerProcessTest, DestructionStopsTheWorker) {
