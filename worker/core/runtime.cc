@@ -88,11 +88,17 @@ void LoadInvariants(const ThreadState& ts, ModuleState& ms, unsigned module_inde
   ms.loaded = nullptr;
 }
 
+namespace {
+constexpr uint32_t kUntouched = 0x7fc0a5a5u;  // a quiet NaN no bounding box program computes
+}  // namespace
+
 void CallProgramChecked(ThreadState& ts, const BoundProgram& p, int primitive) {
-  // A quiet NaN no bounding box program computes by accident.
-  constexpr uint32_t kUntouched = 0x7fc0a5a5u;
   for (float& f : ts.scratch_result) std::memcpy(&f, &kUntouched, sizeof(f));
   reinterpret_cast<void (*)(int, float*)>(p.function)(primitive, ts.scratch_result);
+  VerifyScratch(ts, p);
+}
+
+void VerifyScratch(ThreadState& ts, const BoundProgram& p) {
   for (const float& f : ts.scratch_result) {
     uint32_t bits;
     std::memcpy(&bits, &f, sizeof(bits));

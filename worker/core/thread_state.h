@@ -284,6 +284,9 @@ inline void CheckCall(ThreadState& ts, unsigned allowed, const char* call) {
 // harmless for functions that take fewer arguments. The first calls of a program check the
 // scratch and fail the launch, naming the program, when it wrote there (runtime.cc).
 void CallProgramChecked(ThreadState& ts, const BoundProgram& p, int primitive);
+// The check after the call; RunAnyHit makes it itself when rtIgnoreIntersection or rtTerminateRay
+// ended the program (an any-hit program that always ends so would otherwise be checked forever).
+void VerifyScratch(ThreadState& ts, const BoundProgram& p);
 inline void CallProgram(ThreadState& ts, const BoundProgram& p, int primitive = 0) {
   if (__builtin_expect(__atomic_load_n(&p.arguments_checked, __ATOMIC_RELAXED), 1)) {
     reinterpret_cast<void (*)(int, float*)>(p.function)(primitive, ts.scratch_result);

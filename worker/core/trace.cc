@@ -238,7 +238,11 @@ __attribute__((noinline)) void RunAnyHit(ThreadState& ts, const BoundProgram& ah
     ~Restore() { ts.ah_end = outer; }  // also when the program throws (rtThrow, a bad call)
   } restore{ts, ts.ah_end};
   ts.ah_end = &end;
-  if (setjmp(end) == 0) CallProgram(ts, ah);
+  if (setjmp(end) == 0) {
+    CallProgram(ts, ah);
+  } else if (!__atomic_load_n(&ah.arguments_checked, __ATOMIC_RELAXED)) {
+    VerifyScratch(ts, ah);  // ended by rtIgnoreIntersection or rtTerminateRay
+  }
 }
 
 template <typename F>
