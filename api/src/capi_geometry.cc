@@ -206,12 +206,16 @@ RTresult rtGeometryInstanceSetGeometry(RTgeometryinstance geometryinstance, RTge
 }
 
 RTresult rtGeometryInstanceGetGeometry(RTgeometryinstance geometryinstance, RTgeometry* geometry) {
-  return Call<GeometryInstance>(__func__, geometryinstance,
-                                [&](GeometryInstance& gi) -> absl::Status {
-                                  TS_RETURN_IF_ERROR(NotNull(geometry, "geometry pointer"));
-                                  *geometry = ToHandle<RTgeometry>(gi.geometry());
-                                  return absl::OkStatus();
-                                });
+  return Call<GeometryInstance>(
+      __func__, geometryinstance, [&](GeometryInstance& gi) -> absl::Status {
+        TS_RETURN_IF_ERROR(NotNull(geometry, "geometry pointer"));
+        Object* g = gi.geometry();
+        // GeometryTriangles come back through
+        // rtGeometryInstanceGetGeometryTriangles.
+        *geometry =
+            g != nullptr && g->kind() == Kind::kGeometry ? ToHandle<RTgeometry>(g) : nullptr;
+        return absl::OkStatus();
+      });
 }
 
 RTresult rtGeometryInstanceSetMaterialCount(RTgeometryinstance geometryinstance,

@@ -15,8 +15,10 @@ namespace {
 bool Propagates(Kind child, Kind parent) {
   switch (child) {
     case Kind::kBuffer:
-      return parent == Kind::kGeometry || parent == Kind::kGeometryInstance;
+      return parent == Kind::kGeometry || parent == Kind::kGeometryTriangles ||
+             parent == Kind::kGeometryInstance;
     case Kind::kGeometry:
+    case Kind::kGeometryTriangles:
       return parent == Kind::kGeometryInstance;
     case Kind::kGeometryInstance:
       return parent == Kind::kGeometryGroup;

@@ -5,8 +5,10 @@
 
 namespace tessera::api {
 
-Geometry::Geometry(Context* context, uint64_t id)
-    : Object(Kind::kGeometry, context, id), programs_(this, 2), variables_(this) {
+Geometry::Geometry(Context* context, uint64_t id) : Geometry(Kind::kGeometry, context, id) {}
+
+Geometry::Geometry(Kind kind, Context* context, uint64_t id)
+    : Object(kind, context, id), programs_(this, 2), variables_(this) {
   Touch();
 }
 
@@ -43,6 +45,63 @@ void Geometry::VisitEdges(EdgeVisitor visit) const {
 void Geometry::DropLinks() {
   programs_.Resize(0);
   variables_.Clear();
+}
+
+GeometryTriangles::GeometryTriangles(Context* context, uint64_t id)
+    : Geometry(Kind::kGeometryTriangles, context, id), buffers_(this, 3), attribute_(this, 1) {}
+
+void GeometryTriangles::Changed() {
+  Touch();
+  NotifyStructureChanged(this);
+}
+
+void GeometryTriangles::SetVertices(unsigned count, Object* buffer, const Array& where) {
+  vertex_count_ = count;
+  buffers_.Set(0, buffer);
+  vertices_ = where;
+  Changed();
+}
+
+void GeometryTriangles::SetIndices(Object* buffer, const Array& where) {
+  buffers_.Set(1, buffer);
+  indices_ = where;
+  Changed();
+}
+
+void GeometryTriangles::SetMaterialIndices(Object* buffer, const Array& where) {
+  buffers_.Set(2, buffer);
+  material_indices_ = where;
+  Changed();
+}
+
+void GeometryTriangles::SetAttributeProgram(Program* program) {
+  attribute_.Set(0, program);
+  Changed();
+}
+
+void GeometryTriangles::SetPrimitiveIndexOffset(unsigned offset) {
+  primitive_index_offset_ = offset;
+  Changed();
+}
+
+void GeometryTriangles::SetMaterialCount(unsigned count) {
+  material_count_ = count;
+  Changed();
+}
+
+void GeometryTriangles::VisitEdges(EdgeVisitor visit) const {
+  static const char* const kRoles[] = {"vertex buffer", "index buffer", "material index buffer"};
+  for (size_t i = 0; i < 3; ++i) {
+    if (Object* b = buffers_.Get(i)) visit(b, EdgeRole{kRoles[i]});
+  }
+  if (Object* p = attribute_.Get(0)) visit(p, EdgeRole{"attribute program"});
+  Geometry::VisitEdges(visit);
+}
+
+void GeometryTriangles::DropLinks() {
+  buffers_.Resize(0);
+  attribute_.Resize(0);
+  Geometry::DropLinks();
 }
 
 Material::Material(Context* context, uint64_t id)

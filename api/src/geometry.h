@@ -15,6 +15,10 @@ class Geometry : public Object {
   static constexpr Kind kKind = Kind::kGeometry;
 
   Geometry(Context* context, uint64_t id);
+  // Built-in triangles (GeometryTriangles) or a geometry with programs.
+  static bool Is(const Object* o) {
+    return o != nullptr && (o->kind() == Kind::kGeometry || o->kind() == Kind::kGeometryTriangles);
+  }
 
   unsigned primitive_count() const { return primitive_count_; }
   bool primitive_count_set() const { return primitive_count_set_; }
@@ -33,14 +37,62 @@ class Geometry : public Object {
   const VariableScope& variables() const { return variables_; }
   void VisitEdges(EdgeVisitor visit) const override;
 
- private:
+ protected:
+  Geometry(Kind kind, Context* context, uint64_t id);
   void DropLinks() override;
 
+ private:
   unsigned primitive_count_ = 0;
   bool primitive_count_set_ = false;
   Links programs_;  // [0] intersection, [1] bounding box
   VariableScope variables_;
   bool dirty_ = true;
+};
+
+// OptiX 6 GeometryTriangles: triangles Embree intersects itself, from a vertex buffer and an
+// optional index buffer, with an optional attribute program in place of an intersection program.
+class GeometryTriangles : public Geometry {
+ public:
+  static constexpr Kind kKind = Kind::kGeometryTriangles;
+
+  // Where an array of elements lies in a buffer. `buffer` is null until set.
+  struct Array {
+    uint64_t offset = 0, stride = 0;
+    RTformat format = RT_FORMAT_UNKNOWN;
+  };
+
+  GeometryTriangles(Context* context, uint64_t id);
+
+  Object* vertex_buffer() const { return buffers_.Get(0); }
+  Object* index_buffer() const { return buffers_.Get(1); }
+  Object* material_index_buffer() const { return buffers_.Get(2); }
+  Object* attribute_program() const { return attribute_.Get(0); }
+  unsigned vertex_count() const { return vertex_count_; }
+  const Array& vertices() const { return vertices_; }
+  const Array& indices() const { return indices_; }
+  const Array& material_indices() const { return material_indices_; }
+  unsigned primitive_index_offset() const { return primitive_index_offset_; }
+  unsigned material_count() const { return material_count_; }
+
+  void SetVertices(unsigned count, Object* buffer, const Array& where);
+  void SetIndices(Object* buffer, const Array& where);
+  void SetMaterialIndices(Object* buffer, const Array& where);
+  void SetAttributeProgram(Program* program);
+  void SetPrimitiveIndexOffset(unsigned offset);
+  void SetMaterialCount(unsigned count);
+
+  void VisitEdges(EdgeVisitor visit) const override;
+
+ private:
+  void DropLinks() override;
+  void Changed();
+
+  Links buffers_;    // [0] vertices, [1] indices, [2] material indices
+  Links attribute_;  // [0] attribute program
+  unsigned vertex_count_ = 0;
+  Array vertices_, indices_, material_indices_;
+  unsigned primitive_index_offset_ = 0;
+  unsigned material_count_ = 1;
 };
 
 class Material : public Object {
@@ -74,7 +126,7 @@ class GeometryInstance : public Object {
   GeometryInstance(Context* context, uint64_t id);
 
   Object* geometry() const { return geometry_.Get(0); }
-  void SetGeometry(Geometry* geometry);
+  void SetGeometry(Geometry* geometry);  // a Geometry or GeometryTriangles
   unsigned material_count() const { return static_cast<unsigned>(materials_.size()); }
   void SetMaterialCount(unsigned count);
   Object* material(unsigned index) const { return materials_.Get(index); }

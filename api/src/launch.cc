@@ -155,7 +155,7 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
   // Every device now holds the current build epochs.
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() == Kind::kAcceleration) static_cast<Acceleration*>(object)->ClearDirty();
-    if (object->kind() == Kind::kGeometry) static_cast<Geometry*>(object)->ClearDirty();
+    if (Geometry::Is(object)) static_cast<Geometry*>(object)->ClearDirty();
   }
   return absl::OkStatus();
 }

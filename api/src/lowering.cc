@@ -94,6 +94,32 @@ void LowerObject(const Context& c, Object& o, v1::Object* out) {
       LowerVariables(g.variables(), m->mutable_variables());
       break;
     }
+    case Kind::kGeometryTriangles: {
+      auto& g = static_cast<GeometryTriangles&>(o);
+      v1::Geometry* m = out->mutable_geometry();
+      m->set_id(g.id());
+      m->set_version(g.version());
+      m->set_primitive_count(g.primitive_count());
+      LowerVariables(g.variables(), m->mutable_variables());
+      v1::TriangleMesh* t = m->mutable_triangles();
+      t->set_vertex_buffer(IdOf(g.vertex_buffer()));
+      t->set_vertex_count(g.vertex_count());
+      t->set_vertex_offset(g.vertices().offset);
+      t->set_vertex_stride(g.vertices().stride);
+      t->set_vertex_format(static_cast<uint32_t>(g.vertices().format));
+      t->set_index_buffer(IdOf(g.index_buffer()));
+      t->set_index_offset(g.indices().offset);
+      t->set_index_stride(g.indices().stride);
+      t->set_index_format(static_cast<uint32_t>(g.indices().format));
+      t->set_primitive_index_offset(g.primitive_index_offset());
+      t->set_attribute_program(IdOf(g.attribute_program()));
+      t->set_material_count(g.material_count());
+      t->set_material_index_buffer(IdOf(g.material_index_buffer()));
+      t->set_material_index_offset(g.material_indices().offset);
+      t->set_material_index_stride(g.material_indices().stride);
+      t->set_material_index_format(static_cast<uint32_t>(g.material_indices().format));
+      break;
+    }
     case Kind::kMaterial: {
       auto& mat = static_cast<Material&>(o);
       v1::Material* m = out->mutable_material();

@@ -32,6 +32,8 @@ const char* KindName(Kind kind) {
       return "transform";
     case Kind::kAcceleration:
       return "acceleration";
+    case Kind::kGeometryTriangles:
+      return "geometry triangles";
   }
   return "object";
 }

@@ -32,6 +32,7 @@ enum class Kind : uint8_t {
   kSelector,
   kTransform,
   kAcceleration,
+  kGeometryTriangles,
 };
 
 // "geometry instance", as used in error messages.

@@ -28,6 +28,50 @@ std::string Missing(const Object& o, const std::string& what) {
   return absl::StrCat(o.Describe(), ": ", what);
 }
 
+// Whether `count` elements of `bytes` bytes, `stride` apart from `where.offset` on, fit `b`.
+bool Fits(const Object* b, const GeometryTriangles::Array& where, uint64_t count, uint64_t bytes) {
+  const uint64_t size = static_cast<const Buffer*>(b)->byte_size();
+  if (count == 0) return true;
+  if (where.offset > size || bytes > size - where.offset) return false;
+  return count - 1 <= (size - where.offset - bytes) / where.stride;
+}
+
+template <typename Fail>
+bool CheckTriangles(const GeometryTriangles& g, Fail&& fail) {
+  if (!g.primitive_count_set()) return fail("primitive count is not set");
+  if (g.vertex_buffer() == nullptr) return fail("vertices are not set");
+  const unsigned vertex_bytes = g.vertices().format == RT_FORMAT_FLOAT2 ? 8 : 12;
+  if (!Fits(g.vertex_buffer(), g.vertices(), g.vertex_count(), vertex_bytes)) {
+    return fail(absl::StrCat(g.vertex_count(), " vertices every ", g.vertices().stride,
+                             " bytes from byte ", g.vertices().offset, " do not fit ",
+                             g.vertex_buffer()->Describe()));
+  }
+  if (g.index_buffer() == nullptr) {
+    if (uint64_t{g.primitive_count()} * 3 > g.vertex_count()) {
+      return fail(absl::StrCat(g.primitive_count(), " triangles without indices need ",
+                               uint64_t{g.primitive_count()} * 3, " vertices, not ",
+                               g.vertex_count()));
+    }
+  } else if (!Fits(g.index_buffer(), g.indices(), g.primitive_count(),
+                   g.indices().format == RT_FORMAT_UNSIGNED_SHORT3 ? 6 : 12)) {
+    return fail(absl::StrCat("the indices of ", g.primitive_count(), " triangles every ",
+                             g.indices().stride, " bytes from byte ", g.indices().offset,
+                             " do not fit ", g.index_buffer()->Describe()));
+  }
+  if (g.material_count() > 1 && g.material_index_buffer() == nullptr) {
+    return fail(absl::StrCat(g.material_count(), " materials but no material indices"));
+  }
+  if (g.material_index_buffer() != nullptr &&
+      !Fits(g.material_index_buffer(), g.material_indices(), g.primitive_count(),
+            g.material_indices().format == RT_FORMAT_UNSIGNED_BYTE    ? 1
+            : g.material_indices().format == RT_FORMAT_UNSIGNED_SHORT ? 2
+                                                                      : 4)) {
+    return fail(absl::StrCat("the material indices of ", g.primitive_count(),
+                             " triangles do not fit ", g.material_index_buffer()->Describe()));
+  }
+  return true;
+}
+
 // Checks `o` alone (its edges are walked separately).
 bool CheckSelf(Object& o, Problem* problem) {
   auto fail = [&](std::string what) {
@@ -62,10 +106,19 @@ bool CheckSelf(Object& o, Problem* problem) {
       if (!g.primitive_count_set()) return fail("primitive count is not set");
       return true;
     }
+    case Kind::kGeometryTriangles:
+      return CheckTriangles(static_cast<GeometryTriangles&>(o), fail);
     case Kind::kGeometryInstance: {
       auto& gi = static_cast<GeometryInstance&>(o);
       if (gi.geometry() == nullptr) return fail("geometry is not set");
       if (gi.material_count() == 0) return fail("material count is 0");
+      if (gi.geometry()->kind() == Kind::kGeometryTriangles) {
+        const unsigned n = static_cast<GeometryTriangles*>(gi.geometry())->material_count();
+        if (gi.material_count() != n) {
+          return fail(absl::StrCat("material count is ", gi.material_count(), " but its ",
+                                   gi.geometry()->Describe(), " has ", n, " materials"));
+        }
+      }
       for (unsigned i = 0; i < gi.material_count(); ++i) {
         if (gi.material(i) == nullptr) return fail(absl::StrCat("material ", i, " is not set"));
       }

@@ -1,5 +1,6 @@
 // Programs of the eyelight benchmark: a pinhole camera, a triangle mesh (vertex_buffer /
-// index_buffer, as OptiX SDK meshes), and the eyelight shader of Embree's viewer:
+// index_buffer, as OptiX SDK meshes) with an intersection program (OptiX 3) or an attribute
+// program (OptiX 6 built-in triangles), and the eyelight shader of Embree's viewer:
 // color = |dot(normalize(Ng), normalize(ray.direction))|.
 #include <optix.h>
 #include <optixu/optixu_math_namespace.h>
@@ -73,6 +74,16 @@ RT_PROGRAM void mesh_intersect(int primitive) {
       rtReportIntersection(0);
     }
   }
+}
+
+// With built-in triangles (OptiX 6 GeometryTriangles) Embree finds the hit itself; the attribute
+// program computes the same normal for the closest hit.
+RT_PROGRAM void mesh_attributes() {
+  int3 v = index_buffer[rtGetPrimitiveIndex()];
+  float3 p0 = vertex_buffer[v.x];
+  float3 p1 = vertex_buffer[v.y];
+  float3 p2 = vertex_buffer[v.z];
+  geometric_normal = cross(p0 - p2, p1 - p0);
 }
 
 RT_PROGRAM void mesh_bounds(int primitive, float result[6]) {

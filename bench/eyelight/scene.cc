@@ -65,9 +65,39 @@ RTprogram EyelightScene::Program(const char* function) {
   return program;
 }
 
+template <typename Declare>
+std::pair<RTbuffer, RTbuffer> EyelightScene::MeshBuffers(const Mesh& mesh, Declare&& declare) {
+  struct Upload {
+    const char* name;
+    RTformat format;
+    const void* data;
+    size_t count;
+  };
+  const Upload uploads[] = {
+      {"vertex_buffer", RT_FORMAT_FLOAT3, mesh.positions.data(), mesh.VertexCount()},
+      {"index_buffer", RT_FORMAT_INT3, mesh.indices.data(), mesh.TriangleCount()}};
+  RTbuffer made[2] = {nullptr, nullptr};
+  for (int i = 0; i < 2; ++i) {
+    const Upload& up = uploads[i];
+    RTbuffer buffer;
+    Check(rtBufferCreate(context_, RT_BUFFER_INPUT, &buffer), "rtBufferCreate");
+    Check(rtBufferSetFormat(buffer, up.format), "rtBufferSetFormat");
+    Check(rtBufferSetSize1D(buffer, up.count), "rtBufferSetSize1D");
+    void* dst = nullptr;
+    Check(rtBufferMap(buffer, &dst), "rtBufferMap");
+    std::memcpy(dst, up.data, up.count * 12);
+    Check(rtBufferUnmap(buffer), "rtBufferUnmap");
+    RTvariable v;
+    Check(declare(up.name, &v), "rt*DeclareVariable");
+    Check(rtVariableSetObject(v, buffer), "rtVariableSetObject");
+    made[i] = buffer;
+  }
+  return {made[0], made[1]};
+}
+
 EyelightScene::EyelightScene(const Mesh& mesh, const Camera& camera, unsigned width,
                              unsigned height, const std::string& module_path,
-                             const std::string& devices, int threads)
+                             const std::string& devices, int threads, bool builtin_triangles)
     : width_(width), height_(height), module_path_(module_path) {
   if (RTresult r = rtContextCreate(&context_); r != RT_SUCCESS) {
     context_ = nullptr;
@@ -100,35 +130,34 @@ EyelightScene::EyelightScene(const Mesh& mesh, const Camera& camera, unsigned wi
   Check(rtContextDeclareVariable(context_, "output_buffer", &v), "rtContextDeclareVariable");
   Check(rtVariableSetObject(v, output_), "rtVariableSetObject");
 
-  // Geometry: the mesh buffers are geometry variables, where the acceleration finds them.
-  RTgeometry geometry;
-  Check(rtGeometryCreate(context_, &geometry), "rtGeometryCreate");
-  Check(rtGeometrySetPrimitiveCount(geometry, static_cast<unsigned>(mesh.TriangleCount())),
-        "rtGeometrySetPrimitiveCount");
-  Check(rtGeometrySetIntersectionProgram(geometry, Program("mesh_intersect")),
-        "rtGeometrySetIntersectionProgram");
-  Check(rtGeometrySetBoundingBoxProgram(geometry, Program("mesh_bounds")),
-        "rtGeometrySetBoundingBoxProgram");
-  struct Upload {
-    const char* name;
-    RTformat format;
-    const void* data;
-    size_t count;
-  };
-  const Upload uploads[] = {
-      {"vertex_buffer", RT_FORMAT_FLOAT3, mesh.positions.data(), mesh.VertexCount()},
-      {"index_buffer", RT_FORMAT_INT3, mesh.indices.data(), mesh.TriangleCount()}};
-  for (const Upload& up : uploads) {
-    RTbuffer buffer;
-    Check(rtBufferCreate(context_, RT_BUFFER_INPUT, &buffer), "rtBufferCreate");
-    Check(rtBufferSetFormat(buffer, up.format), "rtBufferSetFormat");
-    Check(rtBufferSetSize1D(buffer, up.count), "rtBufferSetSize1D");
-    void* dst = nullptr;
-    Check(rtBufferMap(buffer, &dst), "rtBufferMap");
-    std::memcpy(dst, up.data, up.count * 12);
-    Check(rtBufferUnmap(buffer), "rtBufferUnmap");
-    Check(rtGeometryDeclareVariable(geometry, up.name, &v), "rtGeometryDeclareVariable");
-    Check(rtVariableSetObject(v, buffer), "rtVariableSetObject");
+  const auto triangle_count = static_cast<unsigned>(mesh.TriangleCount());
+  RTgeometry geometry = nullptr;
+  RTgeometrytriangles triangles = nullptr;
+  if (builtin_triangles) {
+    Check(rtGeometryTrianglesCreate(context_, &triangles), "rtGeometryTrianglesCreate");
+    Check(rtGeometryTrianglesSetPrimitiveCount(triangles, triangle_count),
+          "rtGeometryTrianglesSetPrimitiveCount");
+    auto [vertices, indices] = MeshBuffers(mesh, [&](const char* name, RTvariable* var) {
+      return rtGeometryTrianglesDeclareVariable(triangles, name, var);
+    });
+    Check(rtGeometryTrianglesSetVertices(triangles, static_cast<unsigned>(mesh.VertexCount()),
+                                         vertices, 0, 12, RT_FORMAT_FLOAT3),
+          "rtGeometryTrianglesSetVertices");
+    Check(rtGeometryTrianglesSetTriangleIndices(triangles, indices, 0, 12, RT_FORMAT_UNSIGNED_INT3),
+          "rtGeometryTrianglesSetTriangleIndices");
+    Check(rtGeometryTrianglesSetAttributeProgram(triangles, Program("mesh_attributes")),
+          "rtGeometryTrianglesSetAttributeProgram");
+  } else {
+    // The mesh buffers are geometry variables, where the acceleration finds them.
+    Check(rtGeometryCreate(context_, &geometry), "rtGeometryCreate");
+    Check(rtGeometrySetPrimitiveCount(geometry, triangle_count), "rtGeometrySetPrimitiveCount");
+    Check(rtGeometrySetIntersectionProgram(geometry, Program("mesh_intersect")),
+          "rtGeometrySetIntersectionProgram");
+    Check(rtGeometrySetBoundingBoxProgram(geometry, Program("mesh_bounds")),
+          "rtGeometrySetBoundingBoxProgram");
+    MeshBuffers(mesh, [&](const char* name, RTvariable* var) {
+      return rtGeometryDeclareVariable(geometry, name, var);
+    });
   }
 
   RTmaterial material;
@@ -138,7 +167,12 @@ EyelightScene::EyelightScene(const Mesh& mesh, const Camera& camera, unsigned wi
 
   RTgeometryinstance instance;
   Check(rtGeometryInstanceCreate(context_, &instance), "rtGeometryInstanceCreate");
-  Check(rtGeometryInstanceSetGeometry(instance, geometry), "rtGeometryInstanceSetGeometry");
+  if (builtin_triangles) {
+    Check(rtGeometryInstanceSetGeometryTriangles(instance, triangles),
+          "rtGeometryInstanceSetGeometryTriangles");
+  } else {
+    Check(rtGeometryInstanceSetGeometry(instance, geometry), "rtGeometryInstanceSetGeometry");
+  }
   Check(rtGeometryInstanceSetMaterialCount(instance, 1), "rtGeometryInstanceSetMaterialCount");
   Check(rtGeometryInstanceSetMaterial(instance, 0, material), "rtGeometryInstanceSetMaterial");
 
@@ -146,10 +180,12 @@ EyelightScene::EyelightScene(const Mesh& mesh, const Camera& camera, unsigned wi
   Check(rtAccelerationCreate(context_, &accel), "rtAccelerationCreate");
   Check(rtAccelerationSetBuilder(accel, "Trbvh"), "rtAccelerationSetBuilder");
   Check(rtAccelerationSetTraverser(accel, "Bvh"), "rtAccelerationSetTraverser");
-  Check(rtAccelerationSetProperty(accel, "vertex_buffer_name", "vertex_buffer"),
-        "rtAccelerationSetProperty");
-  Check(rtAccelerationSetProperty(accel, "index_buffer_name", "index_buffer"),
-        "rtAccelerationSetProperty");
+  if (!builtin_triangles) {
+    Check(rtAccelerationSetProperty(accel, "vertex_buffer_name", "vertex_buffer"),
+          "rtAccelerationSetProperty");
+    Check(rtAccelerationSetProperty(accel, "index_buffer_name", "index_buffer"),
+          "rtAccelerationSetProperty");
+  }
 
   RTgeometrygroup group;
   Check(rtGeometryGroupCreate(context_, &group), "rtGeometryGroupCreate");

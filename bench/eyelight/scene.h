@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh.h"
@@ -45,8 +46,12 @@ class EyelightScene {
   // Builds the whole context on `devices` (a device spec); `module_path` is the bench_eyelight
   // program module; `threads` > 0 sets RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS. Throws
   // std::runtime_error with rtContextGetErrorString's message on any failure.
+  // `builtin_triangles`: the mesh as OptiX 6 GeometryTriangles with an attribute program;
+  // otherwise as OptiX 3 geometry with an intersection program whose acceleration names the
+  // vertex and index buffers (Embree triangles too, the program run for the closest hit).
   EyelightScene(const Mesh& mesh, const Camera& camera, unsigned width, unsigned height,
-                const std::string& module_path, const std::string& devices, int threads = 0);
+                const std::string& module_path, const std::string& devices, int threads = 0,
+                bool builtin_triangles = false);
   ~EyelightScene();
   EyelightScene(const EyelightScene&) = delete;
   EyelightScene& operator=(const EyelightScene&) = delete;
@@ -60,6 +65,9 @@ class EyelightScene {
  private:
   void Check(RTresult result, const char* call);
   RTprogram Program(const char* function);
+  // The mesh's buffers, declared as `vertex_buffer` and `index_buffer` in `declare`'s scope.
+  template <typename Declare>
+  std::pair<RTbuffer, RTbuffer> MeshBuffers(const Mesh& mesh, Declare&& declare);
 
   RTcontext context_ = nullptr;
   RTbuffer output_ = nullptr;

@@ -24,6 +24,7 @@ enum class K {
   kSelector,
   kTransform,
   kAcceleration,
+  kTriangles,  // GeometryTriangles (OptiX 6)
 };
 
 inline const char* KindWord(K k) {
@@ -52,6 +53,8 @@ inline const char* KindWord(K k) {
       return "transform";
     case K::kAcceleration:
       return "acceleration";
+    case K::kTriangles:
+      return "geometry triangles";
   }
   return "?";
 }
@@ -70,6 +73,7 @@ struct World {
   RTselector selector = nullptr;
   RTtransform transform = nullptr;
   RTacceleration acceleration = nullptr;
+  RTgeometrytriangles triangles = nullptr;
 
   RTcontext dead_ctx = nullptr;
   RTbuffer dead_buffer = nullptr;
@@ -83,6 +87,7 @@ struct World {
   RTselector dead_selector = nullptr;
   RTtransform dead_transform = nullptr;
   RTacceleration dead_acceleration = nullptr;
+  RTgeometrytriangles dead_triangles = nullptr;
 
   // Scratch outputs.
   unsigned u[4] = {};
@@ -108,6 +113,7 @@ struct World {
     RTselector selector;
     RTtransform transform;
     RTacceleration acceleration;
+    RTgeometrytriangles triangles;
   } out = {};
 
   void* Live(K k) const {
@@ -136,6 +142,8 @@ struct World {
         return transform;
       case K::kAcceleration:
         return acceleration;
+      case K::kTriangles:
+        return triangles;
     }
     return nullptr;
   }
@@ -166,6 +174,8 @@ struct World {
         return dead_transform;
       case K::kAcceleration:
         return dead_acceleration;
+      case K::kTriangles:
+        return dead_triangles;
     }
     return nullptr;
   }

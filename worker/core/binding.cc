@@ -100,12 +100,18 @@ const char* KindName(ProgramKind kind) {
       return "bounding box";
     case ProgramKind::kVisit:
       return "visit";
+    case ProgramKind::kAttribute:
+      return "attribute";
   }
   return "unknown";
 }
 
 absl::StatusOr<size_t> AttributeLayout::Offset(const std::string& name, size_t size,
                                                const std::string& where) {
+  if (name == kTriangleBarycentrics && size != 2 * sizeof(float)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("attribute '", name, "' is ", size, " bytes in ", where, "; it is a float2"));
+  }
   auto it = entries_.find(name);
   if (it != entries_.end()) {
     if (it->second.second != size) {

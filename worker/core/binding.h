@@ -22,9 +22,13 @@ enum class ProgramKind {
   kMiss,
   kIntersection,
   kBoundingBox,
-  kVisit
+  kVisit,
+  kAttribute,  // GeometryTriangles (OptiX 6): attributes of a hit on built-in triangles
 };
 const char* KindName(ProgramKind kind);
+
+// The attribute built-in triangles fill with their barycentrics (OptiX 6).
+inline constexpr char kTriangleBarycentrics[] = "rtTriangleBarycentrics";
 
 // Attribute names across all loaded modules → bytes in a hit's attribute block.
 class AttributeLayout {
@@ -32,6 +36,11 @@ class AttributeLayout {
   static constexpr size_t kMaxBytes = 512;
   // Returns the offset of `name`, adding it; sizes must agree across modules.
   absl::StatusOr<size_t> Offset(const std::string& name, size_t size, const std::string& where);
+  // The offset of `name` if some bound program declared it, else -1.
+  long Find(const std::string& name) const {
+    auto it = entries_.find(name);
+    return it == entries_.end() ? -1 : static_cast<long>(it->second.first);
+  }
 
  private:
   std::unordered_map<std::string, std::pair<size_t, size_t>> entries_;  // name -> offset, size

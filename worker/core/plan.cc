@@ -85,7 +85,75 @@ void IndexNodes(LaunchPlan& plan) {
   }
 }
 
+// Bytes of one material index in RTformat `format`, or 0 for a format that cannot hold one.
+unsigned MaterialIndexBytes(uint32_t format) {
+  switch (format) {
+    case RT_FORMAT_UNSIGNED_BYTE:
+      return 1;
+    case RT_FORMAT_UNSIGNED_SHORT:
+      return 2;
+    case RT_FORMAT_UNSIGNED_INT:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+// Resolves the per-triangle material indices of built-in triangles and checks every one against
+// the instance's materials, so that a hit reads its material without a check.
+absl::Status PlanMaterialIndices(const Replica& r, uint64_t instance_id, const InstanceRec& gi,
+                                 const GeometryRec& g, InstancePlan& ip) {
+  const v1::TriangleMesh& m = g.mesh;
+  const std::string what =
+      absl::StrCat("geometry triangles #", gi.geometry, " of instance #", instance_id);
+  if (m.material_index_buffer() == 0) return absl::OkStatus();
+  const BufferRec* b = r.Find(r.buffers, m.material_index_buffer());
+  if (b == nullptr) {
+    return absl::NotFoundError(
+        absl::StrCat(what, ": material index buffer #", m.material_index_buffer(), " is unknown"));
+  }
+  const unsigned bytes = MaterialIndexBytes(m.material_index_format());
+  if (bytes == 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(what, ": material index format ", m.material_index_format(),
+                     " is not RT_FORMAT_UNSIGNED_BYTE, _SHORT or _INT"));
+  }
+  const uint64_t stride = m.material_index_stride() != 0 ? m.material_index_stride() : bytes;
+  const uint64_t n = g.primitive_count;
+  if (stride < bytes || !StridedFits(b->data.size(), m.material_index_offset(), n, stride, bytes)) {
+    return absl::OutOfRangeError(
+        absl::StrCat(what, ": ", n, " material indices of ", bytes, " bytes every ", stride,
+                     " from byte ", m.material_index_offset(), " do not fit buffer #",
+                     m.material_index_buffer(), " (", b->data.size(), " bytes)"));
+  }
+  ip.material_indices = b->data.data() + m.material_index_offset();
+  ip.material_index_stride = stride;
+  ip.material_index_bytes = bytes;
+  for (uint64_t i = 0; i < n; ++i) {
+    if (unsigned k = ip.TriangleMaterial(static_cast<unsigned>(i)); k >= gi.materials.size()) {
+      return absl::OutOfRangeError(absl::StrCat(what, ": triangle ", i, " has material index ", k,
+                                                " but the instance has ", gi.materials.size(),
+                                                " materials"));
+    }
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
+
+unsigned InstancePlan::TriangleMaterial(unsigned primitive) const {
+  if (material_indices == nullptr) return 0;
+  const unsigned char* p = material_indices + size_t{primitive} * material_index_stride;
+  if (material_index_bytes == 1) return *p;
+  if (material_index_bytes == 2) {
+    uint16_t v;
+    std::memcpy(&v, p, 2);
+    return v;
+  }
+  uint32_t v;
+  std::memcpy(&v, p, 4);
+  return v;
+}
 
 bool LaunchPlan::ExceptionEnabled(unsigned code) const {
   if (code >= RT_EXCEPTION_USER) return user_exceptions;
@@ -154,13 +222,23 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
       return absl::NotFoundError(
           absl::StrCat("geometry instance #", id, " has no geometry on the device"));
     }
-    auto is =
-        bind(ProgramKind::kIntersection, g->intersection, {&gi.vars, &g->vars, context_scope});
-    if (!is.ok()) return is.status();
-    auto bb = bind(ProgramKind::kBoundingBox, g->bounds, {&gi.vars, &g->vars, context_scope});
-    if (!bb.ok()) return bb.status();
-    ip.intersection = *is;
-    ip.bounds = *bb;
+    if (g->builtin_triangles) {
+      ip.builtin_triangles = true;
+      ip.primitive_index_offset = g->mesh.primitive_index_offset();
+      auto attr = bind(ProgramKind::kAttribute, g->mesh.attribute_program(),
+                       {&gi.vars, &g->vars, context_scope});
+      if (!attr.ok()) return attr.status();
+      ip.attribute = *attr;
+      if (absl::Status s = PlanMaterialIndices(replica, id, gi, *g, ip); !s.ok()) return s;
+    } else {
+      auto is =
+          bind(ProgramKind::kIntersection, g->intersection, {&gi.vars, &g->vars, context_scope});
+      if (!is.ok()) return is.status();
+      auto bb = bind(ProgramKind::kBoundingBox, g->bounds, {&gi.vars, &g->vars, context_scope});
+      if (!bb.ok()) return bb.status();
+      ip.intersection = *is;
+      ip.bounds = *bb;
+    }
     for (uint64_t mid : gi.materials) {
       const MaterialRec* m = replica.Find(replica.materials, mid);
       if (m == nullptr) {
@@ -191,6 +269,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   }
   SplitInvariants(*plan);
   plan->attribute_bytes = plan->attributes.used();
+  plan->barycentrics_offset = plan->attributes.Find(kTriangleBarycentrics);
   if (absl::Status s = scenes.Update(*plan, roots, cancel); !s.ok()) return s;
   IndexNodes(*plan);
   return plan;

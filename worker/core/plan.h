@@ -24,6 +24,15 @@ struct HitGroup {
   const BoundProgram* any_hit = nullptr;
 };
 
+// Whether `count` elements of `bytes` bytes, `stride` bytes apart from byte `offset` on, lie
+// within `size` bytes (no overflow for any inputs; stride > 0).
+inline bool StridedFits(uint64_t size, uint64_t offset, uint64_t count, uint64_t stride,
+                        uint64_t bytes) {
+  if (count == 0) return true;
+  if (offset > size || bytes > size - offset) return false;
+  return count - 1 <= (size - offset - bytes) / stride;
+}
+
 struct InstancePlan {
   uint64_t id = 0;
   const BoundProgram* intersection = nullptr;
@@ -31,6 +40,18 @@ struct InstancePlan {
   // [material index][ray type]; ray types past a material's end have no programs.
   std::vector<std::vector<HitGroup>> materials;
   bool has_any_hit = false;
+  // Built-in triangles (GeometryTriangles): Embree intersects them; the attribute program, if
+  // any, computes a hit's attributes from its barycentrics.
+  bool builtin_triangles = false;
+  const BoundProgram* attribute = nullptr;
+  unsigned primitive_index_offset = 0;
+  // Per-triangle material indices (rtGeometryTrianglesSetMaterialIndices), checked against the
+  // material count when the plan is made; null when every triangle takes material 0.
+  const unsigned char* material_indices = nullptr;
+  size_t material_index_stride = 0;
+  unsigned material_index_bytes = 0;
+
+  unsigned TriangleMaterial(unsigned primitive) const;
 };
 
 // User data of one Embree geometry in a GeometryGroup's scene.
@@ -87,8 +108,9 @@ struct LaunchPlan {
   std::vector<const BoundProgram*> ray_generation, exception, miss;
   std::unordered_map<uint64_t, InstancePlan> instances;
   AttributeLayout attributes;
-  std::vector<ModuleInvariants> invariants;      // by module index
-  size_t attribute_bytes = 0;                    // attribute bytes a hit carries
+  std::vector<ModuleInvariants> invariants;  // by module index
+  size_t attribute_bytes = 0;                // attribute bytes a hit carries
+  long barycentrics_offset = -1;  // of attribute rtTriangleBarycentrics, -1 if none declares it
   std::unordered_map<uint64_t, NodeInfo> nodes;  // every graph node (stable addresses)
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;
@@ -127,6 +149,8 @@ class SceneCache {
   absl::StatusOr<std::array<float, 6>> Bounds(LaunchPlan& plan, NodeRef ref, int depth,
                                               int* height);
   absl::StatusOr<const SceneEntry*> BuildGeometryGroup(LaunchPlan& plan, uint64_t id);
+  // An Embree triangle geometry from GeometryTriangles `id` (not committed).
+  absl::StatusOr<RTCGeometry> BuiltinTriangles(const Replica& r, uint64_t id, const GeometryRec& g);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
 
   bool Cancelled() const { return cancel_ != nullptr && cancel_->load(std::memory_order_relaxed); }

@@ -375,8 +375,9 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
         break;  // below, as staged
       case v1::Object::kGeometry: {
         const auto& g = o.geometry();
-        geometries[g.id()] = GeometryRec{g.primitive_count(), g.intersection_program(),
-                                         g.bounding_box_program(), ToScope(g.variables())};
+        geometries[g.id()] =
+            GeometryRec{g.primitive_count(),    g.intersection_program(), g.bounding_box_program(),
+                        ToScope(g.variables()), g.has_triangles(),        g.triangles()};
         break;
       }
       case v1::Object::kMaterial: {

@@ -53,6 +53,8 @@ struct BufferRec {
 struct GeometryRec {
   uint64_t primitive_count = 0, intersection = 0, bounds = 0;
   Scope vars;
+  bool builtin_triangles = false;  // GeometryTriangles: `mesh` says where they are
+  v1::TriangleMesh mesh;
 };
 struct MaterialRec {
   std::vector<uint64_t> closest_hit, any_hit;

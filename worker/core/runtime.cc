@@ -16,7 +16,7 @@ namespace {
 
 thread_local std::unique_ptr<ThreadState> t_owner;  // frees the state when the thread ends
 
-constexpr unsigned kAllKinds = 0xFFu;
+constexpr unsigned kAllKinds = 0x1FFu;  // every ProgramKind
 
 std::string IndexText(const Index3& i) {
   return absl::StrCat("(", i[0], ", ", i[1], ", ", i[2], ")");
@@ -207,7 +207,9 @@ const Mat& CurrentTransform(bool to_world) {
   static const Mat identity = kIdentity;
   if (ts.depth == 0 || ts.kind == ProgramKind::kMiss) return identity;
   const Frame& f = ts.top();
-  const Xform& x = ts.kind == ProgramKind::kClosestHit ? f.hit.xform : f.xform;
+  const Xform& x = ts.kind == ProgramKind::kClosestHit  ? f.hit.xform
+                   : ts.kind == ProgramKind::kAttribute ? ts.attribute_hit->xform
+                                                        : f.xform;
   if (!x.active) return identity;
   return to_world ? x.to_world : x.to_object;
 }
@@ -216,7 +218,7 @@ void RtTransform(unsigned kind, unsigned what, const float* in, float* out) {
   CheckCall(TS(),
             Bit(ProgramKind::kClosestHit) | Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss) |
                 Bit(ProgramKind::kIntersection) | Bit(ProgramKind::kBoundingBox) |
-                Bit(ProgramKind::kVisit),
+                Bit(ProgramKind::kVisit) | Bit(ProgramKind::kAttribute),
             "rtTransform*");
   bool to_world = kind == RT_OBJECT_TO_WORLD;
   if (!to_world && kind != RT_WORLD_TO_OBJECT) {
@@ -243,7 +245,7 @@ void RtGetTransform(unsigned kind, float* m) {
   CheckCall(TS(),
             Bit(ProgramKind::kClosestHit) | Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss) |
                 Bit(ProgramKind::kIntersection) | Bit(ProgramKind::kBoundingBox) |
-                Bit(ProgramKind::kVisit),
+                Bit(ProgramKind::kVisit) | Bit(ProgramKind::kAttribute),
             "rtGetTransform");
   const Mat& src = CurrentTransform(kind == RT_OBJECT_TO_WORLD);
   std::memcpy(m, src.data(), sizeof(float) * 16);
@@ -286,6 +288,9 @@ TesseraRuntime MakeRuntime() {
       &RtBufferIndexError,
       &RtIntersectChild,
       0,
+      &RtGetPrimitiveIndex,
+      &RtTriangleHit,
+      &RtTriangleBarycentrics,
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -

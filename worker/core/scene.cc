@@ -255,13 +255,16 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
     }
     auto ip = plan.instances.find(gid);
     // Checked for a scene kept from an earlier plan too: traversal runs the intersection
-    // program of every geometry (triangles report their attributes through it).
-    if (ip == plan.instances.end() || ip->second.intersection == nullptr) {
+    // program of every geometry (triangles report their attributes through it) but built-in
+    // triangles'.
+    if (ip == plan.instances.end() ||
+        (ip->second.intersection == nullptr && !ip->second.builtin_triangles)) {
       return absl::FailedPreconditionError(absl::StrCat("geometry group #", id, ": geometry #",
                                                         gi->geometry, " of child #", gid,
                                                         " has no intersection program"));
     }
-    stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count, ip->second.has_any_hit);
+    stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count, ip->second.has_any_hit,
+                         g->builtin_triangles, g->mesh.SerializeAsString());
   }
   auto& slot = entries_[id];
   if (slot && slot->stamp == stamp) {
@@ -291,9 +294,16 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
     info->filter = ip.has_any_hit;
     RTCGeometry geom;
     TriangleSource tris;
-    absl::StatusOr<bool> triangles = FindTriangles(r, gg->acceleration, *accel, gi, g, tris);
+    absl::StatusOr<bool> triangles =
+        g.builtin_triangles ? false : FindTriangles(r, gg->acceleration, *accel, gi, g, tris);
     if (!triangles.ok()) return triangles.status();
-    if (*triangles) {
+    if (g.builtin_triangles) {
+      info->triangles = true;
+      absl::StatusOr<RTCGeometry> made = BuiltinTriangles(r, gi.geometry, g);
+      if (!made.ok()) return made.status();
+      geom = *made;
+      if (info->filter) rtcSetGeometryIntersectFilterFunction(geom, &FilterTriangles);
+    } else if (*triangles) {
       info->triangles = true;
       size_t nverts = tris.vertices->data.size() / tris.vertex_stride;
       size_t ntris =
@@ -367,6 +377,96 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
   ++built_;
   slot = std::move(entry);
   return slot.get();
+}
+
+absl::StatusOr<RTCGeometry> SceneCache::BuiltinTriangles(const Replica& r, uint64_t id,
+                                                         const GeometryRec& g) {
+  const v1::TriangleMesh& m = g.mesh;
+  const std::string what = absl::StrCat("geometry triangles #", id);
+  const BufferRec* vb = r.Find(r.buffers, m.vertex_buffer());
+  if (vb == nullptr) {
+    return absl::FailedPreconditionError(
+        absl::StrCat(what, ": vertex buffer #", m.vertex_buffer(), " is unknown"));
+  }
+  const unsigned components = m.vertex_format() == RT_FORMAT_FLOAT3   ? 3
+                              : m.vertex_format() == RT_FORMAT_FLOAT2 ? 2
+                                                                      : 0;
+  if (components == 0) {
+    return absl::InvalidArgumentError(absl::StrCat(what, ": vertex format ", m.vertex_format(),
+                                                   " is not RT_FORMAT_FLOAT3 or RT_FORMAT_FLOAT2"));
+  }
+  const uint64_t vbytes = components * sizeof(float);
+  const uint64_t vstride = m.vertex_stride() != 0 ? m.vertex_stride() : vbytes;
+  const uint64_t nverts = m.vertex_count();
+  if (vstride < vbytes ||
+      !StridedFits(vb->data.size(), m.vertex_offset(), nverts, vstride, vbytes)) {
+    return absl::OutOfRangeError(absl::StrCat(
+        what, ": ", nverts, " vertices every ", vstride, " bytes from byte ", m.vertex_offset(),
+        " do not fit vertex buffer #", m.vertex_buffer(), " (", vb->data.size(), " bytes)"));
+  }
+  const BufferRec* ib = nullptr;
+  uint64_t ibytes = 0, istride = 0;
+  if (m.index_buffer() != 0) {
+    ib = r.Find(r.buffers, m.index_buffer());
+    if (ib == nullptr) {
+      return absl::FailedPreconditionError(
+          absl::StrCat(what, ": index buffer #", m.index_buffer(), " is unknown"));
+    }
+    ibytes = m.index_format() == RT_FORMAT_UNSIGNED_INT3     ? 12
+             : m.index_format() == RT_FORMAT_UNSIGNED_SHORT3 ? 6
+                                                             : 0;
+    if (ibytes == 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(what, ": index format ", m.index_format(),
+                       " is not RT_FORMAT_UNSIGNED_INT3 or RT_FORMAT_UNSIGNED_SHORT3"));
+    }
+    istride = m.index_stride() != 0 ? m.index_stride() : ibytes;
+    if (istride < ibytes ||
+        !StridedFits(ib->data.size(), m.index_offset(), g.primitive_count, istride, ibytes)) {
+      return absl::OutOfRangeError(
+          absl::StrCat(what, ": ", g.primitive_count, " triangles' indices every ", istride,
+                       " bytes from byte ", m.index_offset(), " do not fit index buffer #",
+                       m.index_buffer(), " (", ib->data.size(), " bytes)"));
+    }
+  } else if (g.primitive_count > nverts / 3) {
+    return absl::OutOfRangeError(absl::StrCat(what, ": ", g.primitive_count,
+                                              " triangles without an index buffer need ",
+                                              3 * g.primitive_count, " vertices, not ", nverts));
+  }
+
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Embree reads vertices 16 bytes at a time: a buffer of its own, padded, in any layout we get.
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, nverts));
+  const unsigned char* vsrc = vb->data.data() + m.vertex_offset();
+  for (uint64_t i = 0; i < nverts; ++i) {
+    v[3 * i + 2] = 0.f;
+    std::memcpy(v + 3 * i, vsrc + i * vstride, vbytes);
+  }
+  auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, g.primitive_count));
+  for (uint64_t t = 0; t < g.primitive_count; ++t) {
+    for (unsigned k = 0; k < 3; ++k) {
+      uint32_t vertex = static_cast<uint32_t>(3 * t + k);
+      if (ib != nullptr) {
+        const unsigned char* src = ib->data.data() + m.index_offset() + t * istride;
+        if (ibytes == 12) {
+          std::memcpy(&vertex, src + 4 * k, 4);
+        } else {
+          uint16_t s;
+          std::memcpy(&s, src + 2 * k, 2);
+          vertex = s;
+        }
+      }
+      if (vertex >= nverts) {
+        rtcReleaseGeometry(geom);
+        return absl::OutOfRangeError(absl::StrCat(what, ": triangle ", t, " uses vertex ", vertex,
+                                                  " but there are ", nverts, " vertices"));
+      }
+      idx[3 * t + k] = vertex;
+    }
+  }
+  return geom;
 }
 
 absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint64_t id, int depth) {

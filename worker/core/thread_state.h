@@ -42,7 +42,9 @@ struct Hit {
   const InstancePlan* instance = nullptr;
   unsigned material = 0;
   unsigned primitive = 0;
-  bool deferred = false;  // native triangle: attributes come from the intersection program later
+  bool deferred = false;   // native triangle: attributes come from the intersection program later
+  bool back_face = false;  // triangles: hit from the side their winding makes the back
+  float barycentrics[2] = {0, 0};  // triangles: weights of the second and third vertex
   RayData object_ray{};
   Xform xform;
   alignas(16) unsigned char attributes[AttributeLayout::kMaxBytes];
@@ -115,6 +117,8 @@ struct ThreadState {
   ModuleState* current_module = nullptr;
   IntersectState is;
   Hit candidate;
+  // The hit an attribute program computes the attributes of (ts.candidate or a frame's hit).
+  Hit* attribute_hit = nullptr;
   bool ah_ignore = false, ah_terminate = false;
   // Where rtIgnoreIntersection and rtTerminateRay end the running any-hit program (RunAnyHit).
   std::jmp_buf* ah_end = nullptr;
@@ -301,6 +305,10 @@ int RtPotentialIntersection(float t);
 int RtReportIntersection(unsigned material);
 void RtIgnoreIntersection();
 void RtTerminateRay();
+// OptiX 6 hit queries (trace.cc).
+unsigned RtGetPrimitiveIndex();
+unsigned RtTriangleHit();  // 0: not built-in triangles, 1: front face, 2: back face
+void RtTriangleBarycentrics(float* uv);
 
 }  // namespace tessera::worker
 

@@ -123,6 +123,15 @@ void CopyXform(Xform& to, const Xform& from) {
   }
 }
 
+// Where Embree hit a triangle: barycentrics, and which face (Embree's geometric normal is
+// (v1 - v0) x (v2 - v0); the front face winds counter-clockwise seen from the ray, as in OptiX).
+inline void SetTriangleHit(Hit& h, const RTCHit& e, const RayData& ray) {
+  h.barycentrics[0] = e.u;
+  h.barycentrics[1] = e.v;
+  h.back_face =
+      e.Ng_x * ray.direction[0] + e.Ng_y * ray.direction[1] + e.Ng_z * ray.direction[2] > 0.f;
+}
+
 void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
                     bool geometry_group) {
   Frame& f = ts.top();
@@ -141,6 +150,7 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   f.hit.material = 0;
   f.hit.deferred = true;
   f.hit.object_ray = ray;
+  SetTriangleHit(f.hit, rh.hit, ray);
   CopyXform(f.hit.xform, f.xform);
 }
 
@@ -219,6 +229,9 @@ void Commit(ThreadState& ts, Frame& f, const Hit& c, bool terminate) {
   f.hit.material = c.material;
   f.hit.primitive = c.primitive;
   f.hit.deferred = false;
+  f.hit.back_face = c.back_face;
+  f.hit.barycentrics[0] = c.barycentrics[0];
+  f.hit.barycentrics[1] = c.barycentrics[1];
   std::memcpy(f.hit.attributes, c.attributes, ts.plan->attribute_bytes);
   CopyXform(f.hit.xform, f.xform);
   ts.is.committed = true;
@@ -243,6 +256,84 @@ __attribute__((noinline)) void RunAnyHit(ThreadState& ts, const BoundProgram& ah
   } else if (!__atomic_load_n(&ah.arguments_checked, __ATOMIC_RELAXED)) {
     VerifyScratch(ts, ah);  // ended by rtIgnoreIntersection or rtTerminateRay
   }
+}
+
+// Runs any-hit program `ah` on candidate `c` of the top frame (`object_ray` in the candidate's
+// space) and commits the candidate unless the program ignored it. The caller makes its own
+// program current again afterwards.
+bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& ah,
+                   const RayData& object_ray) {
+  // The running program (an intersection program) resumes after this: keep its slots if the
+  // any-hit program lives in the same module.
+  SuspendedSlots& suspended = Suspend(ts, ts.depth);
+  Enter(ts, ah);
+  const ModuleState& ms = *ts.current_module;
+  WriteSlots<sizeof(RayData)>(ms, ah.ray, &object_ray);
+  WriteSlots<sizeof(float)>(ms, ah.distance, &c.t);
+  WriteSlots(ms, ah.payload, f.payload, f.payload_size);
+  LoadAttributes(ms, ah, c.attributes);
+  ts.ah_ignore = ts.ah_terminate = false;
+  RunAnyHit(ts, ah);
+  ReadPayload(ms, ah, f.payload, f.payload_size);
+  const bool accepted = !ts.ah_ignore;
+  const bool terminate = ts.ah_terminate;
+  Resume(ts, suspended);
+  if (accepted) Commit(ts, f, c, terminate);
+  return accepted;
+}
+
+// The material and attributes of a hit on built-in triangles (GeometryTriangles): zeros, the
+// barycentrics where a program declares attribute rtTriangleBarycentrics, then what the
+// attribute program, if any, writes. `object_ray` is the ray in the triangles' space.
+void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
+  const LaunchPlan& plan = *ts.plan;
+  const InstancePlan& ip = *h.instance;
+  h.material = ip.TriangleMaterial(h.primitive);
+  h.deferred = false;
+  std::memset(h.attributes, 0, plan.attribute_bytes);
+  if (plan.barycentrics_offset >= 0) {
+    std::memcpy(h.attributes + plan.barycentrics_offset, h.barycentrics, sizeof(h.barycentrics));
+  }
+  const BoundProgram* p = ip.attribute;
+  if (p == nullptr) return;
+  Enter(ts, *p);
+  const ModuleState& ms = *ts.current_module;
+  WriteSlots<sizeof(RayData)>(ms, p->ray, &object_ray);
+  WriteSlots<sizeof(float)>(ms, p->distance, &h.t);
+  LoadAttributes(ms, *p, h.attributes);
+  ts.attribute_hit = &h;
+  CallProgram(ts, *p);
+  StoreAttributes(ms, *p, h.attributes);
+}
+
+// A candidate hit on built-in triangles of a geometry with an any-hit program (for some ray
+// type). Returns whether Embree should keep it.
+bool FilterBuiltin(ThreadState& ts, Frame& f, const InstancePlan* ip, const RTCRay& ray,
+                   const RTCHit& hit) {
+  Hit& c = ts.candidate;
+  c.t = ray.tfar;
+  c.instance = ip;
+  c.primitive = hit.primID;
+  const RayData object_ray = FromEmbree(ray, f.ray.ray_type);
+  SetTriangleHit(c, hit, object_ray);
+  const unsigned material = ip->TriangleMaterial(hit.primID);
+  const BoundProgram* ah = nullptr;
+  if (material < ip->materials.size() && f.ray.ray_type < ip->materials[material].size()) {
+    ah = ip->materials[material][f.ray.ray_type].any_hit;
+  }
+  if (ah == nullptr) {  // the closest so far: its attributes come after traversal
+    f.hit.t = c.t;
+    f.hit.instance = ip;
+    f.hit.primitive = c.primitive;
+    f.hit.deferred = true;
+    f.hit.object_ray = object_ray;
+    SetTriangleHit(f.hit, hit, object_ray);
+    CopyXform(f.hit.xform, f.xform);
+    return true;
+  }
+  CopyXform(c.xform, f.xform);
+  TriangleAttributes(ts, c, object_ray);
+  return OfferToAnyHit(ts, f, c, *ah, object_ray);
 }
 
 template <typename F>
@@ -320,7 +411,9 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   }
 
   if (f.hit.instance != nullptr) {
-    if (f.hit.deferred) {
+    if (f.hit.deferred && f.hit.instance->builtin_triangles) {
+      TriangleAttributes(ts, f.hit, f.hit.object_ray);
+    } else if (f.hit.deferred) {
       Hit& h = f.hit;
       if (!RunIntersection(ts, h.instance, h.primitive, h.object_ray, IntersectMode::kDeferred,
                            h.t)) {
@@ -394,26 +487,9 @@ int RtReportIntersection(unsigned material) {
     Commit(ts, f, c, false);
     return 1;
   }
-  // The intersection program resumes after this call: keep its slots if the any-hit program
-  // lives in the same module.
-  SuspendedSlots& suspended = Suspend(ts, ts.depth);
-  Enter(ts, *ah);
-  const ModuleState& ms = *ts.current_module;
-  RayData object_ray = is.ray;
-  WriteSlots<sizeof(RayData)>(ms, ah->ray, &object_ray);
-  WriteSlots<sizeof(float)>(ms, ah->distance, &c.t);
-  WriteSlots(ms, ah->payload, f.payload, f.payload_size);
-  LoadAttributes(ms, *ah, c.attributes);
-  ts.ah_ignore = ts.ah_terminate = false;
-  RunAnyHit(ts, *ah);
-  ReadPayload(ms, *ah, f.payload, f.payload_size);
-  bool accepted = !ts.ah_ignore;
-  bool terminate = ts.ah_terminate;
-  Resume(ts, suspended);
+  const bool accepted = OfferToAnyHit(ts, f, c, *ah, is.ray);
   ReturnTo(ts, isp, is_module);
-  if (!accepted) return 0;
-  Commit(ts, f, c, terminate);
-  return 1;
+  return accepted ? 1 : 0;
 }
 
 void RtIgnoreIntersection() {
@@ -430,6 +506,46 @@ void RtTerminateRay() {
   if (ts.kind != ProgramKind::kAnyHit) return;
   ts.ah_terminate = true;
   std::longjmp(*ts.ah_end, 1);
+}
+
+namespace {
+// The hit the running program asks about: its own closest hit, the any-hit candidate, or the hit
+// an attribute program computes attributes for.
+const Hit& CurrentHit(ThreadState& ts) {
+  switch (ts.kind) {
+    case ProgramKind::kClosestHit:
+      return ts.top().hit;
+    case ProgramKind::kAnyHit:
+      return ts.candidate;
+    default:
+      return *ts.attribute_hit;
+  }
+}
+constexpr unsigned kHitPrograms =
+    Bit(ProgramKind::kAttribute) | Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kClosestHit);
+}  // namespace
+
+unsigned RtGetPrimitiveIndex() {
+  ThreadState& ts = TS();
+  CheckCall(ts, kHitPrograms | Bit(ProgramKind::kIntersection), "rtGetPrimitiveIndex");
+  if (ts.kind == ProgramKind::kIntersection) return ts.is.primitive;
+  const Hit& h = CurrentHit(ts);
+  return h.primitive + (h.instance->builtin_triangles ? h.instance->primitive_index_offset : 0);
+}
+
+unsigned RtTriangleHit() {
+  ThreadState& ts = TS();
+  CheckCall(ts, kHitPrograms, "rtIsTriangleHit*");
+  const Hit& h = CurrentHit(ts);
+  if (!h.instance->builtin_triangles) return 0;
+  return h.back_face ? 2 : 1;
+}
+
+void RtTriangleBarycentrics(float* uv) {
+  ThreadState& ts = TS();
+  CheckCall(ts, Bit(ProgramKind::kAttribute), "rtGetTriangleBarycentrics");
+  uv[0] = ts.attribute_hit->barycentrics[0];
+  uv[1] = ts.attribute_hit->barycentrics[1];
 }
 
 void IntersectUserGeometry(const RTCIntersectFunctionNArguments* args) {
@@ -479,6 +595,10 @@ void FilterTriangles(const RTCFilterFunctionNArguments* args) {
     auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
     auto* ray = reinterpret_cast<RTCRay*>(args->ray);
     auto* hit = reinterpret_cast<RTCHit*>(args->hit);
+    if (info->plan->builtin_triangles) {
+      accepted = FilterBuiltin(ts, f, info->plan, *ray, *hit);
+      return;
+    }
     RayData r = FromEmbree(*ray, f.ray.ray_type);
     float t = ray->tfar;
     r.tmax = f.hit.t;

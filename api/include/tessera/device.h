@@ -285,6 +285,24 @@ inline void rtIntersectChild(unsigned int index) {
   ::tessera::detail::Rt()->intersect_child(index);
 }
 
+// ---- Built-in triangles (OptiX 6 GeometryTriangles) ---------------------------------------------
+// The index of the primitive hit (plus the GeometryTriangles' primitive index offset): attribute,
+// any hit and closest hit programs, and intersection programs (the primitive being tested).
+inline unsigned int rtGetPrimitiveIndex() { return ::tessera::detail::Rt()->primitive_index(); }
+// Whether the hit is on built-in triangles, and on which face: the front face winds
+// counter-clockwise seen from the ray. Attribute, any hit and closest hit programs.
+inline bool rtIsTriangleHit() { return ::tessera::detail::Rt()->triangle_hit() != 0; }
+inline bool rtIsTriangleHitFrontFace() { return ::tessera::detail::Rt()->triangle_hit() == 1; }
+inline bool rtIsTriangleHitBackFace() { return ::tessera::detail::Rt()->triangle_hit() == 2; }
+// The weights of the triangle's second and third vertex at the hit. Attribute programs only; other
+// programs declare `attribute rtTriangleBarycentrics` (a float2) when there is no attribute
+// program.
+inline float2 rtGetTriangleBarycentrics() {
+  float2 uv;
+  ::tessera::detail::Rt()->triangle_barycentrics(&uv.x);
+  return uv;
+}
+
 // ---- Transforms --------------------------------------------------------------------------------
 inline float3 rtTransformPoint(RTtransformkind kind, const float3& p) {
   return ::tessera::detail::Transform(kind, TESSERA_TRANSFORM_POINT, p);

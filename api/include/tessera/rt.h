@@ -29,6 +29,7 @@ typedef struct RTbuffer_api* RTbuffer;
 typedef struct RTvariable_api* RTvariable;
 typedef struct RTprogram_api* RTprogram;
 typedef struct RTgeometry_api* RTgeometry;
+typedef struct RTgeometrytriangles_api* RTgeometrytriangles; /* OptiX 6 */
 typedef struct RTmaterial_api* RTmaterial;
 typedef struct RTgeometryinstance_api* RTgeometryinstance;
 typedef struct RTgeometrygroup_api* RTgeometrygroup;
@@ -412,6 +413,58 @@ RTAPI RTresult rtGeometryQueryVariable(RTgeometry geometry, const char* name, RT
 RTAPI RTresult rtGeometryRemoveVariable(RTgeometry geometry, RTvariable v);
 RTAPI RTresult rtGeometryGetVariableCount(RTgeometry geometry, unsigned int* count);
 RTAPI RTresult rtGeometryGetVariable(RTgeometry geometry, unsigned int index, RTvariable* v);
+
+/* GeometryTriangles (OptiX 6): triangles Embree intersects itself; an optional attribute program
+ * computes a hit's attributes (docs/COMPATIBILITY.md "Built-in triangles"). */
+RTAPI RTresult rtGeometryTrianglesCreate(RTcontext context, RTgeometrytriangles* geometrytriangles);
+RTAPI RTresult rtGeometryTrianglesDestroy(RTgeometrytriangles geometrytriangles);
+RTAPI RTresult rtGeometryTrianglesValidate(RTgeometrytriangles geometrytriangles);
+RTAPI RTresult rtGeometryTrianglesGetContext(RTgeometrytriangles geometrytriangles,
+                                             RTcontext* context);
+RTAPI RTresult rtGeometryTrianglesSetPrimitiveIndexOffset(RTgeometrytriangles geometrytriangles,
+                                                          unsigned int index_offset);
+RTAPI RTresult rtGeometryTrianglesGetPrimitiveIndexOffset(RTgeometrytriangles geometrytriangles,
+                                                          unsigned int* index_offset);
+RTAPI RTresult rtGeometryTrianglesSetPrimitiveCount(RTgeometrytriangles geometrytriangles,
+                                                    unsigned int num_triangles);
+RTAPI RTresult rtGeometryTrianglesGetPrimitiveCount(RTgeometrytriangles geometrytriangles,
+                                                    unsigned int* num_triangles);
+RTAPI RTresult rtGeometryTrianglesSetTriangleIndices(RTgeometrytriangles geometrytriangles,
+                                                     RTbuffer index_buffer,
+                                                     RTsize index_buffer_byte_offset,
+                                                     RTsize tri_indices_byte_stride,
+                                                     RTformat tri_indices_format);
+RTAPI RTresult rtGeometryTrianglesSetVertices(RTgeometrytriangles geometrytriangles,
+                                              unsigned int num_vertices, RTbuffer vertex_buffer,
+                                              RTsize vertex_buffer_byte_offset,
+                                              RTsize vertex_byte_stride, RTformat position_format);
+RTAPI RTresult rtGeometryTrianglesSetAttributeProgram(RTgeometrytriangles geometrytriangles,
+                                                      RTprogram program);
+RTAPI RTresult rtGeometryTrianglesGetAttributeProgram(RTgeometrytriangles geometrytriangles,
+                                                      RTprogram* program);
+RTAPI RTresult rtGeometryTrianglesSetMaterialCount(RTgeometrytriangles geometrytriangles,
+                                                   unsigned int num_materials);
+RTAPI RTresult rtGeometryTrianglesGetMaterialCount(RTgeometrytriangles geometrytriangles,
+                                                   unsigned int* num_materials);
+RTAPI RTresult rtGeometryTrianglesSetMaterialIndices(RTgeometrytriangles geometrytriangles,
+                                                     RTbuffer material_index_buffer,
+                                                     RTsize material_index_buffer_byte_offset,
+                                                     RTsize material_index_byte_stride,
+                                                     RTformat material_index_format);
+RTAPI RTresult rtGeometryTrianglesDeclareVariable(RTgeometrytriangles geometrytriangles,
+                                                  const char* name, RTvariable* v);
+RTAPI RTresult rtGeometryTrianglesQueryVariable(RTgeometrytriangles geometrytriangles,
+                                                const char* name, RTvariable* v);
+RTAPI RTresult rtGeometryTrianglesRemoveVariable(RTgeometrytriangles geometrytriangles,
+                                                 RTvariable v);
+RTAPI RTresult rtGeometryTrianglesGetVariableCount(RTgeometrytriangles geometrytriangles,
+                                                   unsigned int* count);
+RTAPI RTresult rtGeometryTrianglesGetVariable(RTgeometrytriangles geometrytriangles,
+                                              unsigned int index, RTvariable* v);
+RTAPI RTresult rtGeometryInstanceSetGeometryTriangles(RTgeometryinstance geometryinstance,
+                                                      RTgeometrytriangles geometrytriangles);
+RTAPI RTresult rtGeometryInstanceGetGeometryTriangles(RTgeometryinstance geometryinstance,
+                                                      RTgeometrytriangles* geometrytriangles);
 
 /* ---- Material ---------------------------------------------------------------------------- */
 RTAPI RTresult rtMaterialCreate(RTcontext context, RTmaterial* material);

@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 4u
+#define TESSERA_MODULE_ABI_VERSION 5u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -90,6 +90,11 @@ typedef struct {
    * rtBuffer slot) at this offset from the thread pointer. The engine keeps it in static TLS, so
    * the offset is the same on every thread and a module reads it without a call. */
   long long buffer_table_offset;
+  /* OptiX 6 (version 5): rtGetPrimitiveIndex; rtIsTriangleHit* (0: not built-in triangles,
+   * 1: front face, 2: back face); rtGetTriangleBarycentrics (weights of vertices 1 and 2). */
+  unsigned (*primitive_index)(void);
+  unsigned (*triangle_hit)(void);
+  void (*triangle_barycentrics)(float* uv);
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
