@@ -1,5 +1,6 @@
-// Programs of triangles_test.cc: built-in triangles (OptiX 6 GeometryTriangles) seen by
-// orthographic rays along -z, one per launch index.
+// Programs of triangles_test.cc and triangles_probe_test.cc: built-in triangles (OptiX 6
+// GeometryTriangles) seen by orthographic rays along -z, one per launch index; misused, and
+// combined with transforms, nested traces and any-hit programs.
 #include <optix.h>
 #include <optixu/optixu_math_namespace.h>
 
@@ -15,6 +16,7 @@ rtDeclareVariable(float2, barycentrics, attribute rtTriangleBarycentrics, );
 rtDeclareVariable(float4, tri_info, attribute tri_info, );
 rtDeclareVariable(float, material_tag, , );
 rtBuffer<float4, 2> output;
+rtBuffer<unsigned char, 1> material_of;
 
 // Rays start off the grid's lines, so none meets the diagonal the two triangles share.
 RT_PROGRAM void ortho() {
@@ -56,3 +58,69 @@ RT_PROGRAM void closest_wrong_call() {
   float2 b = rtGetTriangleBarycentrics();
   result = make_float4(b.x, b.y, 0.f, 0.f);
 }
+
+// (primitive, face code, material tag, distance).
+RT_PROGRAM void closest_tag() {
+  float face = rtIsTriangleHit() ? (rtIsTriangleHitFrontFace() ? 1.f : 2.f) : 0.f;
+  result = make_float4(static_cast<float>(rtGetPrimitiveIndex()), face, material_tag, hit_t);
+}
+
+// Traces again from the hit, straight on down; then reports its own hit again: the nested trace
+// must not change this hit's primitive, face, barycentrics.
+RT_PROGRAM void closest_nested() {
+  float2 b = barycentrics;
+  unsigned prim = rtGetPrimitiveIndex();
+  float face = rtIsTriangleHitFrontFace() ? 1.f : 2.f;
+  float4 inner = make_float4(-1.f, -1.f, -1.f, -1.f);
+  if (ray.origin.z > 0.9f) {
+    float3 p = ray.origin + hit_t * ray.direction;
+    Ray r = make_Ray(p, ray.direction, 0, 1e-3f, RT_DEFAULT_MAX);
+    rtTrace(top_object, r, inner);
+  }
+  float again = rtIsTriangleHitFrontFace() ? 1.f : 2.f;
+  if (again != face || rtGetPrimitiveIndex() != prim || barycentrics.x != b.x ||
+      barycentrics.y != b.y) {
+    result = make_float4(-100.f, -100.f, -100.f, -100.f);
+    return;
+  }
+  result = make_float4(static_cast<float>(prim) * 10.f + (inner.x + 1.f), face, b.x, b.y);
+}
+
+RT_PROGRAM void any_hit_terminate() { rtTerminateRay(); }
+RT_PROGRAM void any_hit_ignore_all() { rtIgnoreIntersection(); }
+
+// Attribute programs that break the rules.
+RT_PROGRAM void attribute_traces() {
+  float4 v = make_float4(0.f, 0.f, 0.f, 0.f);
+  Ray r = make_Ray(make_float3(0.f, 0.f, 5.f), make_float3(0.f, 0.f, -1.f), 0, 0.f, RT_DEFAULT_MAX);
+  rtTrace(top_object, r, v);
+  tri_info = v;
+}
+RT_PROGRAM void attribute_potential() {
+  if (rtPotentialIntersection(1.f)) rtReportIntersection(0);
+}
+RT_PROGRAM void attribute_ignores() { rtIgnoreIntersection(); }
+RT_PROGRAM void attribute_terminates() { rtTerminateRay(); }
+RT_PROGRAM void attribute_like_bounds(int primitive, float result_box[6]) {
+  for (int i = 0; i < 6; ++i) result_box[i] = static_cast<float>(primitive);
+}
+RT_PROGRAM void attribute_info() {
+  float2 b = rtGetTriangleBarycentrics();
+  tri_info = make_float4(static_cast<float>(rtGetPrimitiveIndex()), b.x, b.y, 7.f);
+}
+RT_PROGRAM void closest_info_raw() { result = tri_info; }
+
+// Hit queries where there is no hit.
+RT_PROGRAM void raygen_primitive_index() {
+  output[launch_index] = make_float4(static_cast<float>(rtGetPrimitiveIndex()), 0.f, 0.f, 0.f);
+}
+RT_PROGRAM void miss_triangle_hit() { result = make_float4(rtIsTriangleHit() ? 1.f : 0.f); }
+
+// Writes material index 5 for every triangle (entry point of its own).
+RT_PROGRAM void write_material_indices() {
+  if (launch_index.x < material_of.size()) material_of[launch_index.x] = 5;
+}
+
+// Reads a variable of the GeometryTriangles' scope.
+rtDeclareVariable(float, mesh_tag, , );
+RT_PROGRAM void attribute_mesh_tag() { tri_info = make_float4(mesh_tag, 0.f, 0.f, 0.f); }

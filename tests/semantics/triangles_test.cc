@@ -8,90 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "rt_fixture.h"
-#include "tessera/rt_ext.h"
+#include "triangles_fixture.h"
 
 namespace tessera::testing {
 namespace {
 
-constexpr unsigned kSize = 4;  // rays per side of the unit square
-
-class TrianglesTest : public RtFixture, public ::testing::WithParamInterface<const char*> {
- protected:
-  void SetUp() override {
-    RtFixture::SetUp();
-    Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
-    Ok(rtContextSetEntryPointCount(ctx_, 1));
-    Ok(rtContextSetRayTypeCount(ctx_, 1));
-    Ok(rtContextSetRayGenerationProgram(ctx_, 0, Prog("ortho")));
-    Ok(rtContextSetMissProgram(ctx_, 0, Prog("miss")));
-    output_ = Float4Buffer("output", RT_BUFFER_OUTPUT, kSize, kSize);
-    // The unit square at z = 0 as two triangles: 0 winds counter-clockwise seen from +z (its front
-    // faces the rays), 1 clockwise.
-    const float vertices[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
-    const unsigned indices[] = {0, 1, 2, 1, 2, 3};
-    vertices_ = InputBuffer(RT_FORMAT_FLOAT3, 4, vertices, sizeof(vertices));
-    indices_ = InputBuffer(RT_FORMAT_UNSIGNED_INT3, 2, indices, sizeof(indices));
-    Ok(rtGeometryTrianglesCreate(ctx_, &triangles_));
-    Ok(rtGeometryTrianglesSetPrimitiveCount(triangles_, 2));
-    Ok(rtGeometryTrianglesSetVertices(triangles_, 4, vertices_, 0, 12, RT_FORMAT_FLOAT3));
-    Ok(rtGeometryTrianglesSetTriangleIndices(triangles_, indices_, 0, 12, RT_FORMAT_UNSIGNED_INT3));
-  }
-
-  RTprogram Prog(const char* function) { return Program("triangles_programs", function); }
-
-  RTbuffer InputBuffer(RTformat format, size_t n, const void* data, size_t bytes) {
-    RTbuffer b = nullptr;
-    EXPECT_EQ(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &b), RT_SUCCESS);
-    EXPECT_EQ(rtBufferSetFormat(b, format), RT_SUCCESS);
-    EXPECT_EQ(rtBufferSetSize1D(b, n), RT_SUCCESS);
-    void* p = nullptr;
-    EXPECT_EQ(rtBufferMap(b, &p), RT_SUCCESS);
-    std::memcpy(p, data, bytes);
-    EXPECT_EQ(rtBufferUnmap(b), RT_SUCCESS);
-    return b;
-  }
-
-  RTmaterial Material(const char* closest_hit, float tag = 0.f) {
-    RTmaterial m = nullptr;
-    EXPECT_EQ(rtMaterialCreate(ctx_, &m), RT_SUCCESS);
-    EXPECT_EQ(rtMaterialSetClosestHitProgram(m, 0, Prog(closest_hit)), RT_SUCCESS);
-    RTvariable v = nullptr;
-    EXPECT_EQ(rtMaterialDeclareVariable(m, "material_tag", &v), RT_SUCCESS);
-    EXPECT_EQ(rtVariableSet1f(v, tag), RT_SUCCESS);
-    return m;
-  }
-
-  // Puts the triangles with `materials` under top_object.
-  void Scene(const std::vector<RTmaterial>& materials) {
-    Ok(rtGeometryInstanceCreate(ctx_, &instance_));
-    Ok(rtGeometryInstanceSetGeometryTriangles(instance_, triangles_));
-    Ok(rtGeometryInstanceSetMaterialCount(instance_, static_cast<unsigned>(materials.size())));
-    for (unsigned i = 0; i < materials.size(); ++i) {
-      Ok(rtGeometryInstanceSetMaterial(instance_, i, materials[i]));
-    }
-    RTgeometrygroup group = nullptr;
-    Ok(rtGeometryGroupCreate(ctx_, &group));
-    Ok(rtGeometryGroupSetAcceleration(group, Accel("Trbvh")));
-    Ok(rtGeometryGroupSetChildCount(group, 1));
-    Ok(rtGeometryGroupSetChild(group, 0, instance_));
-    Ok(rtVariableSetObject(ContextVar("top_object"), group));
-  }
-
-  std::vector<Float4> Launch() {
-    RTresult r = rtContextLaunch2D(ctx_, 0, kSize, kSize);
-    EXPECT_EQ(r, RT_SUCCESS) << Error(r);
-    return Read(output_);
-  }
-
-  // The ray of launch index (x, y) meets the square here.
-  static float Coord(unsigned i) { return (i + 0.3f) / kSize; }
-  static bool OnFirst(unsigned x, unsigned y) { return Coord(x) + Coord(y) < 1.f; }
-
-  RTbuffer output_ = nullptr, vertices_ = nullptr, indices_ = nullptr;
-  RTgeometrytriangles triangles_ = nullptr;
-  RTgeometryinstance instance_ = nullptr;
-};
+class TrianglesTest : public TrianglesFixture {};
 
 TEST_P(TrianglesTest, BuiltInAttributeGivesPrimitiveFaceAndBarycentrics) {
   Scene({Material("closest_barycentrics")});
@@ -174,9 +96,7 @@ TEST_P(TrianglesTest, ValidationNamesWhatIsMissingOrTooSmall) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Devices, TrianglesTest, ::testing::Values("inproc", "local:2"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           return std::string(info.param[0] == 'i' ? "Inproc" : "Local2");
-                         });
+                         DeviceName);
 
 // Arguments: formats, strides, handles and counts.
 class TrianglesApiTest : public RtFixture {};

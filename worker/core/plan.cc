@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
+#include "runtime.h"
 #include "tessera/rt.h"
 
 namespace tessera::worker {
@@ -129,8 +130,10 @@ absl::Status PlanMaterialIndices(const Replica& r, uint64_t instance_id, const I
   ip.material_indices = b->data.data() + m.material_index_offset();
   ip.material_index_stride = stride;
   ip.material_index_bytes = bytes;
+  ip.material_index_buffer = m.material_index_buffer();
   for (uint64_t i = 0; i < n; ++i) {
-    if (unsigned k = ip.TriangleMaterial(static_cast<unsigned>(i)); k >= gi.materials.size()) {
+    if (unsigned k = ip.StoredMaterial(static_cast<unsigned>(i)); k >= gi.materials.size()) {
+      ip.material_indices = nullptr;
       return absl::OutOfRangeError(absl::StrCat(what, ": triangle ", i, " has material index ", k,
                                                 " but the instance has ", gi.materials.size(),
                                                 " materials"));
@@ -141,8 +144,19 @@ absl::Status PlanMaterialIndices(const Replica& r, uint64_t instance_id, const I
 
 }  // namespace
 
-unsigned InstancePlan::TriangleMaterial(unsigned primitive) const {
-  if (material_indices == nullptr) return 0;
+void MaterialOutOfRange(const InstancePlan& ip, unsigned primitive, unsigned material) {
+  const std::string why =
+      ip.material_indices == nullptr
+          ? std::string()
+          : absl::StrCat(" (material index buffer #", ip.material_index_buffer,
+                         " changed after the launch's plan checked it: did a program write it?)");
+  throw FatalError{absl::OutOfRangeError(
+      absl::StrCat("geometry triangles #", ip.geometry, " of instance #", ip.id, ": triangle ",
+                   primitive, " has material index ", material, " but the instance has ",
+                   ip.materials.size(), " materials", why))};
+}
+
+unsigned InstancePlan::IndexedMaterial(unsigned primitive) const {
   const unsigned char* p = material_indices + size_t{primitive} * material_index_stride;
   if (material_index_bytes == 1) return *p;
   if (material_index_bytes == 2) {
@@ -229,7 +243,8 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
                        {&gi.vars, &g->vars, context_scope});
       if (!attr.ok()) return attr.status();
       ip.attribute = *attr;
-      if (absl::Status s = PlanMaterialIndices(replica, id, gi, *g, ip); !s.ok()) return s;
+      ip.geometry = gi.geometry;
+      ip.problem = PlanMaterialIndices(replica, id, gi, *g, ip);
     } else {
       auto is =
           bind(ProgramKind::kIntersection, g->intersection, {&gi.vars, &g->vars, context_scope});

@@ -46,13 +46,37 @@ struct InstancePlan {
   const BoundProgram* attribute = nullptr;
   unsigned primitive_index_offset = 0;
   // Per-triangle material indices (rtGeometryTrianglesSetMaterialIndices), checked against the
-  // material count when the plan is made; null when every triangle takes material 0.
+  // material count when the plan is made and again at each hit, since a launch's programs may
+  // write the buffer after that; null when every triangle takes material 0.
   const unsigned char* material_indices = nullptr;
   size_t material_index_stride = 0;
   unsigned material_index_bytes = 0;
+  uint64_t geometry = 0, material_index_buffer = 0;  // ids, for messages
+  // Why the instance's triangles cannot be traced (their material indices), reported when a
+  // scene holds the instance: one that no graph reaches any more stays on the device and must
+  // not fail launches.
+  absl::Status problem;
 
+  // The material of triangle `primitive`. Throws FatalError when the index stored for it is out
+  // of range. Inline: it runs for every hit on built-in triangles.
   unsigned TriangleMaterial(unsigned primitive) const;
+  // The index stored for triangle `primitive`, unchecked.
+  unsigned StoredMaterial(unsigned primitive) const {
+    return material_indices == nullptr ? 0 : IndexedMaterial(primitive);
+  }
+  // The same read from the material indices (set), out of line: three widths.
+  unsigned IndexedMaterial(unsigned primitive) const;
 };
+
+[[noreturn]] __attribute__((noinline, cold)) void MaterialOutOfRange(const InstancePlan& ip,
+                                                                     unsigned primitive,
+                                                                     unsigned material);
+
+inline unsigned InstancePlan::TriangleMaterial(unsigned primitive) const {
+  const unsigned k = StoredMaterial(primitive);
+  if (__builtin_expect(k >= materials.size(), 0)) MaterialOutOfRange(*this, primitive, k);
+  return k;
+}
 
 // User data of one Embree geometry in a GeometryGroup's scene.
 struct GeometryInfo {

@@ -263,6 +263,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
                                                         gi->geometry, " of child #", gid,
                                                         " has no intersection program"));
     }
+    if (!ip->second.problem.ok()) return ip->second.problem;
     stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count, ip->second.has_any_hit,
                          g->builtin_triangles, g->mesh.SerializeAsString());
   }

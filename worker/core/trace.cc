@@ -64,11 +64,16 @@ void RethrowPending(ThreadState& ts) {
   }
 }
 
-void LoadAttributes(const ModuleState& ms, const BoundProgram& p, const unsigned char* block) {
+// Always inline: one or two small copies, on every hit path.
+__attribute__((always_inline)) inline void LoadAttributes(const ModuleState& ms,
+                                                          const BoundProgram& p,
+                                                          const unsigned char* block) {
   for (const auto& a : p.attributes) CopyBytes(ms.slots[a.var], block + a.offset, a.size);
 }
 
-void StoreAttributes(const ModuleState& ms, const BoundProgram& p, unsigned char* block) {
+__attribute__((always_inline)) inline void StoreAttributes(const ModuleState& ms,
+                                                           const BoundProgram& p,
+                                                           unsigned char* block) {
   for (const auto& a : p.attributes) CopyBytes(block + a.offset, ms.slots[a.var], a.size);
 }
 
@@ -150,7 +155,8 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   f.hit.material = 0;
   f.hit.deferred = true;
   f.hit.object_ray = ray;
-  SetTriangleHit(f.hit, rh.hit, ray);
+  // Only built-in triangles tell programs their barycentrics and face.
+  if (info->plan->builtin_triangles) SetTriangleHit(f.hit, rh.hit, ray);
   CopyXform(f.hit.xform, f.xform);
 }
 
@@ -290,7 +296,14 @@ void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
   const InstancePlan& ip = *h.instance;
   h.material = ip.TriangleMaterial(h.primitive);
   h.deferred = false;
-  std::memset(h.attributes, 0, plan.attribute_bytes);
+  // A fixed size is two vector stores, not a call; the block holds kMaxBytes.
+  constexpr size_t kUsual = 64;
+  static_assert(AttributeLayout::kMaxBytes >= kUsual);
+  if (plan.attribute_bytes <= kUsual) {
+    std::memset(h.attributes, 0, kUsual);
+  } else {
+    std::memset(h.attributes, 0, plan.attribute_bytes);
+  }
   if (plan.barycentrics_offset >= 0) {
     std::memcpy(h.attributes + plan.barycentrics_offset, h.barycentrics, sizeof(h.barycentrics));
   }
@@ -317,8 +330,8 @@ bool FilterBuiltin(ThreadState& ts, Frame& f, const InstancePlan* ip, const RTCR
   const RayData object_ray = FromEmbree(ray, f.ray.ray_type);
   SetTriangleHit(c, hit, object_ray);
   const unsigned material = ip->TriangleMaterial(hit.primID);
-  const BoundProgram* ah = nullptr;
-  if (material < ip->materials.size() && f.ray.ray_type < ip->materials[material].size()) {
+  const BoundProgram* ah = nullptr;  // TriangleMaterial checked `material`
+  if (f.ray.ray_type < ip->materials[material].size()) {
     ah = ip->materials[material][f.ray.ray_type].any_hit;
   }
   if (ah == nullptr) {  // the closest so far: its attributes come after traversal
