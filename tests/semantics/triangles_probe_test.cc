@@ -323,6 +323,22 @@ TEST_P(TrianglesProbeTest, DetachedInstanceDoesNotFailLaunches) {
   }
 }
 
+// The same for a program that no longer binds: a detached instance whose material sets
+// `material_tag` (a float) as an int fails no launch once a healthy instance replaced it.
+TEST_P(TrianglesProbeTest, DetachedInstanceWithAnUnbindableProgramDoesNotFailLaunches) {
+  RTmaterial bad = nullptr;
+  Ok(rtMaterialCreate(ctx_, &bad));
+  Ok(rtMaterialSetClosestHitProgram(bad, 0, Prog("closest_tag")));
+  RTvariable tag = nullptr;
+  Ok(rtMaterialDeclareVariable(bad, "material_tag", &tag));
+  Ok(rtVariableSet1i(tag, 3));
+  Scene({bad});
+  LaunchFails({"material_tag", "type mismatch"});
+  Ok(rtGeometryGroupSetChild(group_, 0, Instance(triangles_, {Material("closest_tag", 40)})));
+  std::vector<Float4> out = Launch();
+  for (unsigned i = 0; i < out.size(); ++i) EXPECT_EQ(out[i][2], 40.f) << i;
+}
+
 TEST_P(TrianglesProbeTest, DestroyedTrianglesFailByName) {
   Scene({Material("closest_tag")});
   Launch();

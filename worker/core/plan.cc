@@ -228,23 +228,25 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   CollectRoots(ctx.vars, roots);
   for (const auto& [id, p] : replica.programs) CollectRoots(p.vars, roots);
 
-  for (const auto& [id, gi] : replica.instances) {
-    InstancePlan ip;
-    ip.id = id;
+  // Plans one instance. An instance no graph reaches any more stays on the device (the host
+  // removes objects only when they are destroyed) and must not fail launches: what is wrong with
+  // it becomes its `problem`, reported when a scene holds it.
+  auto plan_instance = [&](uint64_t id, const InstanceRec& gi, InstancePlan& ip) -> absl::Status {
     const GeometryRec* g = replica.Find(replica.geometries, gi.geometry);
     if (g == nullptr) {
       return absl::NotFoundError(
           absl::StrCat("geometry instance #", id, " has no geometry on the device"));
     }
+    CollectRoots(g->vars, roots);
     if (g->builtin_triangles) {
       ip.builtin_triangles = true;
       ip.primitive_index_offset = g->mesh.primitive_index_offset();
+      ip.geometry = gi.geometry;
       auto attr = bind(ProgramKind::kAttribute, g->mesh.attribute_program(),
                        {&gi.vars, &g->vars, context_scope});
       if (!attr.ok()) return attr.status();
       ip.attribute = *attr;
-      ip.geometry = gi.geometry;
-      ip.problem = PlanMaterialIndices(replica, id, gi, *g, ip);
+      if (absl::Status s = PlanMaterialIndices(replica, id, gi, *g, ip); !s.ok()) return s;
     } else {
       auto is =
           bind(ProgramKind::kIntersection, g->intersection, {&gi.vars, &g->vars, context_scope});
@@ -260,6 +262,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
         return absl::NotFoundError(
             absl::StrCat("geometry instance #", id, " uses unknown material #", mid));
       }
+      CollectRoots(m->vars, roots);
       // Hit groups for the ray types the material has programs for, not for the context's
       // count of them: that may be anything up to 2^32.
       const size_t types =
@@ -276,10 +279,14 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
         ip.has_any_hit = ip.has_any_hit || *ahb != nullptr;
       }
       ip.materials.push_back(std::move(groups));
-      CollectRoots(m->vars, roots);
     }
+    return absl::OkStatus();
+  };
+  for (const auto& [id, gi] : replica.instances) {
+    InstancePlan ip;
+    ip.id = id;
+    ip.problem = plan_instance(id, gi, ip);
     CollectRoots(gi.vars, roots);
-    CollectRoots(g->vars, roots);
     plan->instances.emplace(id, std::move(ip));
   }
   SplitInvariants(*plan);

@@ -52,9 +52,9 @@ struct InstancePlan {
   size_t material_index_stride = 0;
   unsigned material_index_bytes = 0;
   uint64_t geometry = 0, material_index_buffer = 0;  // ids, for messages
-  // Why the instance's triangles cannot be traced (their material indices), reported when a
-  // scene holds the instance: one that no graph reaches any more stays on the device and must
-  // not fail launches.
+  // Why the instance cannot be traced (a program that does not bind, unknown objects, material
+  // indices out of range), reported when a scene holds the instance: one that no graph reaches
+  // any more stays on the device and must not fail launches.
   absl::Status problem;
 
   // The material of triangle `primitive`. Throws FatalError when the index stored for it is out

@@ -254,6 +254,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
           absl::StrCat("geometry group #", id, ": child #", gid, " has no geometry"));
     }
     auto ip = plan.instances.find(gid);
+    if (ip != plan.instances.end() && !ip->second.problem.ok()) return ip->second.problem;
     // Checked for a scene kept from an earlier plan too: traversal runs the intersection
     // program of every geometry (triangles report their attributes through it) but built-in
     // triangles'.
@@ -263,7 +264,6 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
                                                         gi->geometry, " of child #", gid,
                                                         " has no intersection program"));
     }
-    if (!ip->second.problem.ok()) return ip->second.problem;
     stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count, ip->second.has_any_hit,
                          g->builtin_triangles, g->mesh.SerializeAsString());
   }
