@@ -226,7 +226,10 @@ const unsigned char* Buffer::PerDeviceBytes(int ordinal) const {
 }
 
 void Buffer::SyncDevicePointersAfterLaunch() {
-  if (!gathers_content() || data_.empty()) return;
+  // INPUT_OUTPUT views got the devices' writes as they arrived (WriteRegion); copying the host
+  // contents over them would undo what the application wrote there and no device overwrote (a
+  // COPY_ON_DIRTY view the host contents did not take, or every device's own data).
+  if (!gathers_content() || ships_content() || data_.empty()) return;
   for (auto& [ordinal, view] : views_) std::memcpy(view.data(), data_.data(), data_.size());
 }
 
@@ -244,6 +247,12 @@ absl::Status Buffer::WriteRegion(uint64_t offset, absl::string_view bytes) {
   }
   if (bytes.empty()) return absl::OkStatus();
   std::memcpy(data_.data() + offset, bytes.data(), bytes.size());
+  // Device pointers of an INPUT_OUTPUT buffer show what devices wrote, and keep the rest.
+  if (ships_content()) {
+    for (auto& [ordinal, view] : views_) {
+      std::memcpy(view.data() + offset, bytes.data(), bytes.size());
+    }
+  }
   // Device writes change what other devices must receive, not what the host wrote. Recorded by
   // whole chunks, the unit that is rehashed: a multi-device gather writes one region per run of
   // changed bytes (up to one per few bytes of a buffer), and a set of that many ranges made

@@ -61,7 +61,8 @@ class Buffer : public Object {
   void MarkDirty();
 
   const unsigned char* bytes() const { return data_.data(); }
-  // Applies bytes a device wrote; out-of-range regions are an error naming the buffer.
+  // Applies bytes a device wrote, to the host contents and to the views of an INPUT_OUTPUT
+  // buffer; out-of-range regions are an error naming the buffer.
   absl::Status WriteRegion(uint64_t offset, absl::string_view bytes);
 
   // Content hash of every chunk, recomputed only where the contents changed.
@@ -72,7 +73,9 @@ class Buffer : public Object {
   // ---- Device pointers (OptiX guide ch. 7, "Interoperability with CUDA"): a host-side view of
   // one device's copy, by device ordinal. A device's copy lives in its worker process, so the
   // view is host memory that stands for it: before a launch its contents become that device's
-  // copy, after a launch it shows the merged contents of gathered buffers. A resize drops views.
+  // copy, after a launch it shows what devices wrote to gathered buffers (OUTPUT: the merged
+  // contents; INPUT_OUTPUT: the elements devices wrote, its own data elsewhere). A resize drops
+  // views.
   bool for_cuda() const { return for_cuda_; }
   void set_for_cuda() { for_cuda_ = true; }
   // The view for device `ordinal`, created from the host contents if there is none yet.
@@ -87,7 +90,8 @@ class Buffer : public Object {
   absl::Status SyncDevicePointersBeforeLaunch(const std::vector<int>& ordinals);
   // The bytes device `ordinal` gets when it has a view of an INPUT buffer; null otherwise.
   const unsigned char* PerDeviceBytes(int ordinal) const;
-  // After a launch: views of gathered buffers show the merged contents.
+  // After a launch: views of OUTPUT buffers show the merged contents. (Views of INPUT_OUTPUT
+  // buffers take each element a device wrote as it arrives, WriteRegion, and keep the others.)
   void SyncDevicePointersAfterLaunch();
 
   void VisitEdges(EdgeVisitor visit) const override {}

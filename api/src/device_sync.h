@@ -39,6 +39,9 @@ struct DeviceSlot {
   std::unique_ptr<Device> device;  // null until created, and after it was lost
   DeviceSync sync;
   bool lost = false;  // lost during a launch: created again, or left out, at the next one
+  // The device's threads when it last existed: a device gone at a launch with stable tile
+  // ownership still counts toward the tile size, so that the other devices keep their tiles.
+  int threads = 0;
 };
 
 }  // namespace tessera::api

@@ -227,6 +227,9 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   TS_RETURN_IF_ERROR(CheckNothingMapped(*this));
   TS_RETURN_IF_ERROR(EnsureDevices());
   TS_RETURN_IF_ERROR(SyncDevicePointers(*this));
+  for (DeviceSlot& slot : device_slots()) {
+    if (slot.device != nullptr) slot.threads = std::max(1, slot.device->Info().thread_count);
+  }
   RunningScope running_scope(*this);
   const uint64_t launch_id = NextLaunchId();
   LaunchTiming timing;
@@ -238,17 +241,21 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   common.set_entry_point(entry_point);
   for (uint64_t d : dims) common.add_dims(d);
 
-  // The devices of this launch: slots whose device exists.
+  // The devices of this launch: slots whose device exists. With stable ownership, also those
+  // lost since (while receiving this launch's state, or at an earlier launch and not back): tile
+  // i belongs to device i mod N of the whole set, and only a lost device's tiles move.
+  const bool stable = NeedsStableOwnership(*this);
   std::vector<DeviceSlot*> slots;
   std::vector<scheduler::DispatchDevice> devices;
   int total_threads = 0;
   for (DeviceSlot& slot : device_slots()) {
-    if (slot.device == nullptr) continue;
+    if (slot.device == nullptr && !stable) continue;
     slots.push_back(&slot);
     scheduler::DispatchDevice device;
     device.device = slot.device.get();
     device.name = absl::StrCat("'", slot.desc.name, "' (", slot.desc.address, ")");
-    device.threads = std::max(1, slot.device->Info().thread_count);
+    device.threads = slot.device != nullptr ? std::max(1, slot.device->Info().thread_count)
+                                            : std::max(1, slot.threads);
     device.header = common;
     device.header.set_session_id(slot.sync.session_id);
     total_threads += device.threads;
@@ -261,8 +268,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   std::vector<v1::Tile> tiles = scheduler::MakeTiles(dims, *tile_size);
 
   LaunchGather gather(*this, slots);
-  scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles),
-                                   NeedsStableOwnership(*this));
+  scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles), stable);
 
   // The launching thread applies results as they arrive and polls the timeout callback (OptiX
   // semantics: the callback runs on the application's thread and may ask to stop).

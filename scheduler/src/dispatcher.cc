@@ -38,20 +38,41 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   lost_.assign(n, false);
   held_.resize(n);
   next_sequence_.assign(n, 1);
+  std::vector<size_t> live;
+  for (size_t d = 0; d < n; ++d) {
+    if (devices_[d].device == nullptr) {
+      lost_[d] = true;  // gone before the launch: not reported as lost again
+    } else {
+      live.push_back(d);
+    }
+  }
+  if (live.empty()) {
+    status_ = absl::UnavailableError("no device to run the launch on");
+    return;
+  }
   uint32_t max_index = 0;
   for (const v1::Tile& t : tiles) max_index = std::max(max_index, t.index());
   tile_losses_.assign(tiles.empty() ? 0 : size_t{max_index} + 1, 0);
   // No tiles (the all-zero launch builds accelerations only): every device gets one empty call.
   build_only_ = tiles.empty();
-  remaining_ = build_only_ ? n : tiles.size();
-  for (v1::Tile& t : tiles) queues_[stable_ ? t.index() % n : 0].tiles.push_back(std::move(t));
+  remaining_ = build_only_ ? live.size() : tiles.size();
+  for (v1::Tile& t : tiles) {
+    size_t queue = 0;
+    if (stable_) {
+      // Tile i belongs to device i mod N; a device gone before the launch hands its tiles to the
+      // others by tile index, as Requeue does for one lost during it.
+      queue = t.index() % n;
+      if (lost_[queue]) queue = live[t.index() % live.size()];
+    }
+    queues_[queue].tiles.push_back(std::move(t));
+  }
   // Two calls in flight per device (one for the all-zero launch): the device runs them one after
   // the other, so the next batch is waiting there when one ends, instead of a round trip later.
   const int calls = build_only_ ? 1 : kCallsInFlight;
-  running_threads_ = n * calls;
-  threads_.reserve(n * calls);
+  running_threads_ = live.size() * calls;
+  threads_.reserve(live.size() * calls);
   for (int c = 0; c < calls; ++c) {
-    for (size_t d = 0; d < n; ++d) threads_.emplace_back([this, d] { Run(d); });
+    for (size_t d : live) threads_.emplace_back([this, d] { Run(d); });
   }
 }
 

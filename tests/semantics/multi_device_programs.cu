@@ -240,3 +240,18 @@ RT_PROGRAM void race_on_first() {
   contested[0] = index1 + 1u + 1000u * salt;
   if (index1 != 0) contested[index1] = index1;
 }
+
+// ---- Probes: races on a 2D buffer, writes of one value by every device -----------------------
+rtBuffer<unsigned int, 2> contested2;  // OUTPUT
+// Every launch index writes element (3, 2) with a value of its own (a race between devices) and
+// its own element (none).
+RT_PROGRAM void race_on_element_3_2() {
+  const unsigned int linear = index2.y * dim2.x + index2.x;
+  if (index2.x != 3 || index2.y != 2) contested2[index2] = linear;
+  contested2[make_uint2(3, 2)] = linear + 1u + 1000u * salt;
+}
+// Every launch index writes the same value to element 0: no race.
+RT_PROGRAM void same_on_first() {
+  contested[0] = salt;
+  if (index1 != 0) contested[index1] = index1;
+}

@@ -28,6 +28,9 @@
 namespace tessera::scheduler {
 
 struct DispatchDevice {
+  // Null: a device of the launch's device set that is gone since before the launch began. With
+  // stable ownership its tiles go to the others as a lost device's would, so that every other
+  // device keeps its own tiles (the set's size, not the survivors', says who owns tile i).
   Device* device = nullptr;
   std::string name;          // for messages
   int threads = 1;           // a batch holds up to twice this many tiles
@@ -50,7 +53,7 @@ struct LostDevice {
 
 class Dispatcher {
  public:
-  // Starts two threads per device at once.
+  // Starts two threads per device at once (none for a null device).
   Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
              bool stable_ownership);
   // Stops and joins the device threads (cancelling running calls).
