@@ -208,12 +208,13 @@ absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordi
   if (!ships_content()) return absl::OkStatus();
   // A device with a pointer runs on its own view (PerDeviceBytes), as a GPU on its own memory.
   if (k == 1 && ((desc_ & RT_BUFFER_COPY_ON_DIRTY) == 0 || views_dirty_)) {
-    // One device's view reaches every device through the host contents.
+    // One device's view reaches every device through the host contents. Devices' GPU_LOCAL
+    // copies diverge from the host's as programs write them, so those get the view again even
+    // when the host contents already equal it.
     const unsigned char* source = views_.begin()->second.data();
-    if (!data_.empty() && std::memcmp(source, data_.data(), data_.size()) != 0) {
-      std::memcpy(data_.data(), source, data_.size());
-      HostWrote(0, data_.size());
-    }
+    const bool differs = !data_.empty() && std::memcmp(source, data_.data(), data_.size()) != 0;
+    if (differs) std::memcpy(data_.data(), source, data_.size());
+    if (!data_.empty() && (differs || gpu_local())) HostWrote(0, data_.size());
   }
   views_dirty_ = false;
   return absl::OkStatus();

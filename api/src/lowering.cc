@@ -218,12 +218,14 @@ BufferSyncState LowerChunks(Buffer& b, const BufferSyncState* known, int ordinal
   const bool same_shape = known != nullptr && known->byte_size == b.byte_size() &&
                           known->hashes.size() == hashes.size();
   // GPU_LOCAL copies diverge on each device, so equal hashes prove nothing there: every host
-  // write is broadcast in full (a device's own view is compared with what it was last sent).
+  // write is broadcast in full, to a device with its own view too (a single pointer's contents
+  // reach every device at every launch that way); otherwise a view is compared with what the
+  // device was last sent.
   const bool force =
       b.gpu_local() && (known == nullptr || known->host_write_epoch != b.host_write_epoch());
   for (size_t i = 0; i < hashes.size(); ++i) {
     const bool changed = !same_shape || known->hashes[i] != hashes[i];
-    const bool ship = b.gpu_local() && own == nullptr ? force : changed;
+    const bool ship = b.gpu_local() && own == nullptr ? force : changed || force;
     if (!ship) continue;
     uint64_t begin = i * kChunkBytes;
     uint64_t end = std::min<uint64_t>(b.byte_size(), begin + kChunkBytes);

@@ -61,6 +61,22 @@ TEST_P(PointerProbeTest, InputOutputPointerKeepsWhatTheLaunchDidNotWrite) {
   EXPECT_EQ(Contents<unsigned>(copied_), second);
 }
 
+// One pointer of a GPU_LOCAL buffer without COPY_ON_DIRTY reaches every device at every launch, as
+// the guide says, also when the devices' own copies have diverged from it since the last one.
+TEST_P(PointerProbeTest, GpuLocalPointerIsCopiedToEveryDeviceAtEveryLaunch) {
+  RayGen("bump_and_copy");
+  RTbuffer b = Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_UNSIGNED_INT,
+                      {kCount}, "from_pointer");
+  void* p = nullptr;
+  Ok(rtBufferGetDevicePointer(b, 0, &p));
+  const std::vector<unsigned> start = Values(100), bumped = Values(101);
+  std::copy(start.begin(), start.end(), static_cast<unsigned*>(p));
+  for (int launch = 0; launch < 3; ++launch) {
+    Launch1D(kCount);
+    EXPECT_EQ(Contents<unsigned>(copied_), bumped) << "launch " << launch;
+  }
+}
+
 // What devices write to an INPUT_OUTPUT buffer reaches its pointer.
 TEST_P(PointerProbeTest, InputOutputPointerShowsWhatDevicesWrote) {
   RayGen("io_write");

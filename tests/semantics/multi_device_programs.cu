@@ -255,3 +255,10 @@ RT_PROGRAM void same_on_first() {
   contested[0] = salt;
   if (index1 != 0) contested[index1] = index1;
 }
+
+// Adds one to its element of from_pointer (GPU_LOCAL: each device's copy diverges from the
+// host's) and copies the result.
+RT_PROGRAM void bump_and_copy() {
+  from_pointer[index1] += 1u;
+  copied[index1] = from_pointer[index1];
+}
