@@ -30,10 +30,8 @@ std::string Missing(const Object& o, const std::string& what) {
 
 // Whether `count` elements of `bytes` bytes, `stride` apart from `where.offset` on, fit `b`.
 bool Fits(const Object* b, const GeometryTriangles::Array& where, uint64_t count, uint64_t bytes) {
-  const uint64_t size = static_cast<const Buffer*>(b)->byte_size();
-  if (count == 0) return true;
-  if (where.offset > size || bytes > size - where.offset) return false;
-  return count - 1 <= (size - where.offset - bytes) / where.stride;
+  return StridedFits(static_cast<const Buffer*>(b)->byte_size(), where.offset, count, where.stride,
+                     bytes);
 }
 
 template <typename Fail>

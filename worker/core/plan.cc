@@ -7,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "runtime.h"
 #include "tessera/rt.h"
+#include "tessera/scheduler/device.h"
 
 namespace tessera::worker {
 namespace {

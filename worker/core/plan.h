@@ -24,15 +24,6 @@ struct HitGroup {
   const BoundProgram* any_hit = nullptr;
 };
 
-// Whether `count` elements of `bytes` bytes, `stride` bytes apart from byte `offset` on, lie
-// within `size` bytes (no overflow for any inputs; stride > 0).
-inline bool StridedFits(uint64_t size, uint64_t offset, uint64_t count, uint64_t stride,
-                        uint64_t bytes) {
-  if (count == 0) return true;
-  if (offset > size || bytes > size - offset) return false;
-  return count - 1 <= (size - offset - bytes) / stride;
-}
-
 struct InstancePlan {
   uint64_t id = 0;
   const BoundProgram* intersection = nullptr;

@@ -66,6 +66,16 @@ inline constexpr uint64_t kMaxElementBytes = uint64_t{1} << 20;
 // worker/core crash_report.h); the host looks for it to name the program in the launch's error.
 inline constexpr char kCrashReportPrefix[] = "tessera-worker: crashed: ";
 
+// Whether `count` elements of `bytes` bytes, `stride` bytes apart from byte `offset` on, lie
+// within `size` bytes (no overflow for any inputs; stride > 0): where built-in triangles read
+// their vertices, indices and material indices, on the host (validation) and on devices.
+inline bool StridedFits(uint64_t size, uint64_t offset, uint64_t count, uint64_t stride,
+                        uint64_t bytes) {
+  if (count == 0) return true;
+  if (offset > size || bytes > size - offset) return false;
+  return count - 1 <= (size - offset - bytes) / stride;
+}
+
 }  // namespace tessera
 
 #endif  // TESSERA_SCHEDULER_DEVICE_H_
