@@ -33,7 +33,7 @@ absl::StatusOr<GeometryTriangles::Array> ArrayOf(
         RT_ERROR_INVALID_VALUE,
         absl::StrCat(what, " stride ", stride, " is less than an element (", bytes, " bytes)"));
   }
-  return GeometryTriangles::Array{offset, stride == 0 ? bytes : stride, format};
+  return GeometryTriangles::Array{offset, stride == 0 ? bytes : stride, format, bytes};
 }
 
 }  // namespace

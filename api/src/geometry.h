@@ -59,6 +59,7 @@ class GeometryTriangles : public Geometry {
   struct Array {
     uint64_t offset = 0, stride = 0;
     RTformat format = RT_FORMAT_UNKNOWN;
+    uint64_t element_bytes = 0;  // of `format`
   };
 
   GeometryTriangles(Context* context, uint64_t id);

@@ -28,18 +28,17 @@ std::string Missing(const Object& o, const std::string& what) {
   return absl::StrCat(o.Describe(), ": ", what);
 }
 
-// Whether `count` elements of `bytes` bytes, `stride` apart from `where.offset` on, fit `b`.
-bool Fits(const Object* b, const GeometryTriangles::Array& where, uint64_t count, uint64_t bytes) {
+// Whether `count` elements laid out as `where` says fit buffer `b`.
+bool Fits(const Object* b, const GeometryTriangles::Array& where, uint64_t count) {
   return StridedFits(static_cast<const Buffer*>(b)->byte_size(), where.offset, count, where.stride,
-                     bytes);
+                     where.element_bytes);
 }
 
 template <typename Fail>
 bool CheckTriangles(const GeometryTriangles& g, Fail&& fail) {
   if (!g.primitive_count_set()) return fail("primitive count is not set");
   if (g.vertex_buffer() == nullptr) return fail("vertices are not set");
-  const unsigned vertex_bytes = g.vertices().format == RT_FORMAT_FLOAT2 ? 8 : 12;
-  if (!Fits(g.vertex_buffer(), g.vertices(), g.vertex_count(), vertex_bytes)) {
+  if (!Fits(g.vertex_buffer(), g.vertices(), g.vertex_count())) {
     return fail(absl::StrCat(g.vertex_count(), " vertices every ", g.vertices().stride,
                              " bytes from byte ", g.vertices().offset, " do not fit ",
                              g.vertex_buffer()->Describe()));
@@ -50,8 +49,7 @@ bool CheckTriangles(const GeometryTriangles& g, Fail&& fail) {
                                uint64_t{g.primitive_count()} * 3, " vertices, not ",
                                g.vertex_count()));
     }
-  } else if (!Fits(g.index_buffer(), g.indices(), g.primitive_count(),
-                   g.indices().format == RT_FORMAT_UNSIGNED_SHORT3 ? 6 : 12)) {
+  } else if (!Fits(g.index_buffer(), g.indices(), g.primitive_count())) {
     return fail(absl::StrCat("the indices of ", g.primitive_count(), " triangles every ",
                              g.indices().stride, " bytes from byte ", g.indices().offset,
                              " do not fit ", g.index_buffer()->Describe()));
@@ -60,10 +58,7 @@ bool CheckTriangles(const GeometryTriangles& g, Fail&& fail) {
     return fail(absl::StrCat(g.material_count(), " materials but no material indices"));
   }
   if (g.material_index_buffer() != nullptr &&
-      !Fits(g.material_index_buffer(), g.material_indices(), g.primitive_count(),
-            g.material_indices().format == RT_FORMAT_UNSIGNED_BYTE    ? 1
-            : g.material_indices().format == RT_FORMAT_UNSIGNED_SHORT ? 2
-                                                                      : 4)) {
+      !Fits(g.material_index_buffer(), g.material_indices(), g.primitive_count())) {
     return fail(absl::StrCat("the material indices of ", g.primitive_count(),
                              " triangles do not fit ", g.material_index_buffer()->Describe()));
   }

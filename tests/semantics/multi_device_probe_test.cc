@@ -1,6 +1,6 @@
-// Probes of the multi-device buffer rules at their edges: device pointers of INPUT_OUTPUT buffers
-// across launches, pointers across device-set changes, race checking without false positives,
-// and GPU_LOCAL accumulation when a worker dies between launches.
+// Probes of the multi-device buffer rules at their edges: pointers across device-set changes,
+// race checking without false positives, and GPU_LOCAL accumulation when a worker dies between
+// launches. (Probes of device pointers themselves are in multi_device_pointers_test.cc.)
 #include <dirent.h>
 #include <signal.h>
 #include <unistd.h>
@@ -19,128 +19,6 @@ namespace {
 
 constexpr RTsize kCount = 64;
 constexpr RTsize kTile = 8;  // 8 tiles: with pinned tiles, tile t runs on device t mod N
-
-std::vector<unsigned> Values(unsigned base) {
-  std::vector<unsigned> v(kCount);
-  for (RTsize i = 0; i < kCount; ++i) v[i] = base + static_cast<unsigned>(i);
-  return v;
-}
-
-class PointerProbeTest : public MultiDeviceParamTest {
- protected:
-  void SetUp() override {
-    MultiDeviceParamTest::SetUp();
-    RayGen("copy_from_pointer");
-    copied_ = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "copied");
-    TileSize({kTile});
-  }
-  RTbuffer copied_ = nullptr;
-};
-
-// An INPUT_OUTPUT buffer that a launch only reads: what the application wrote through the pointer
-// is still there afterwards, and rtBufferMarkDirty then copies it to every device.
-TEST_P(PointerProbeTest, InputOutputPointerKeepsWhatTheLaunchDidNotWrite) {
-  PinTilesToDevices();
-  RTbuffer b = Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_COPY_ON_DIRTY, RT_FORMAT_UNSIGNED_INT,
-                      {kCount}, "from_pointer");
-  void* p = nullptr;
-  Ok(rtBufferGetDevicePointer(b, 0, &p));
-  unsigned* view = static_cast<unsigned*>(p);
-  const std::vector<unsigned> first = Values(100), second = Values(200);
-  std::copy(first.begin(), first.end(), view);
-  Launch1D(kCount);
-  EXPECT_EQ(Contents<unsigned>(copied_), first);
-
-  std::copy(second.begin(), second.end(), view);
-  Launch1D(kCount);  // not dirty: device 0 runs on `second`, the others on `first`
-  EXPECT_EQ(std::vector<unsigned>(view, view + kCount), second)
-      << "the launch only read the buffer, yet the pointer's contents changed";
-
-  Ok(rtBufferMarkDirty(b));
-  Launch1D(kCount);
-  EXPECT_EQ(Contents<unsigned>(copied_), second);
-}
-
-// One pointer of a GPU_LOCAL buffer without COPY_ON_DIRTY reaches every device at every launch, as
-// the guide says, also when the devices' own copies have diverged from it since the last one.
-TEST_P(PointerProbeTest, GpuLocalPointerIsCopiedToEveryDeviceAtEveryLaunch) {
-  RayGen("bump_and_copy");
-  RTbuffer b = Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_UNSIGNED_INT,
-                      {kCount}, "from_pointer");
-  void* p = nullptr;
-  Ok(rtBufferGetDevicePointer(b, 0, &p));
-  const std::vector<unsigned> start = Values(100), bumped = Values(101);
-  std::copy(start.begin(), start.end(), static_cast<unsigned*>(p));
-  for (int launch = 0; launch < 3; ++launch) {
-    Launch1D(kCount);
-    EXPECT_EQ(Contents<unsigned>(copied_), bumped) << "launch " << launch;
-  }
-}
-
-// What devices write to an INPUT_OUTPUT buffer reaches its pointer.
-TEST_P(PointerProbeTest, InputOutputPointerShowsWhatDevicesWrote) {
-  RayGen("io_write");
-  RTbuffer io = Buffer(RT_BUFFER_INPUT_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "shared_io");
-  void* p = nullptr;
-  Ok(rtBufferGetDevicePointer(io, devices() - 1, &p));
-  const unsigned* view = static_cast<const unsigned*>(p);
-  for (unsigned salt : {4u, 5u}) {
-    SetUint("salt", salt);
-    Launch1D(kCount);
-    std::vector<unsigned> expected(kCount);
-    for (RTsize i = 0; i < kCount; ++i) expected[i] = static_cast<unsigned>(i) * 3u + salt;
-    EXPECT_EQ(std::vector<unsigned>(view, view + kCount), expected) << "salt " << salt;
-    EXPECT_EQ(Contents<unsigned>(io), expected) << "salt " << salt;
-  }
-}
-
-// Pointers for every device of an INPUT_OUTPUT buffer that a launch only reads: each keeps its
-// own data.
-TEST_P(PointerProbeTest, InputOutputPointersForEveryDeviceKeepTheirOwnData) {
-  PinTilesToDevices();
-  RTbuffer b = Buffer(RT_BUFFER_INPUT_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
-  std::vector<unsigned*> views;
-  for (unsigned d = 0; d < devices(); ++d) {
-    void* p = nullptr;
-    Ok(rtBufferGetDevicePointer(b, d, &p));
-    views.push_back(static_cast<unsigned*>(p));
-    const std::vector<unsigned> values = Values(1000 * (d + 1));
-    std::copy(values.begin(), values.end(), views.back());
-  }
-  Launch1D(kCount);
-  std::vector<unsigned> seen = Contents<unsigned>(copied_);
-  for (RTsize i = 0; i < kCount; ++i) {
-    const unsigned device = static_cast<unsigned>((i / kTile) % devices());
-    EXPECT_EQ(seen[i], 1000 * (device + 1) + i) << "element " << i;
-  }
-  for (unsigned d = 0; d < devices(); ++d) {
-    EXPECT_EQ(std::vector<unsigned>(views[d], views[d] + kCount), Values(1000 * (d + 1)))
-        << "device " << d;
-  }
-}
-
-TEST_P(PointerProbeTest, ResizeDropsPointersAndNewOnesWork) {
-  RTbuffer b = Buffer(RT_BUFFER_INPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
-  void* p = nullptr;
-  Ok(rtBufferGetDevicePointer(b, 0, &p));
-  Ok(rtBufferSetSize1D(b, kCount));
-  Ok(rtBufferGetDevicePointer(b, 0, &p));
-  const std::vector<unsigned> values = Values(9);
-  std::copy(values.begin(), values.end(), static_cast<unsigned*>(p));
-  Launch1D(kCount);
-  EXPECT_EQ(Contents<unsigned>(copied_), values);
-}
-
-TEST_P(PointerProbeTest, HugeDeviceNumberIsAnError) {
-  RTbuffer b = Buffer(RT_BUFFER_INPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
-  void* p = nullptr;
-  RTresult r = rtBufferGetDevicePointer(b, 0xFFFFFFFFu, &p);
-  EXPECT_EQ(r, RT_ERROR_INVALID_VALUE);
-  EXPECT_NE(Error(r).find("4294967295"), std::string::npos) << Error(r);
-  std::vector<unsigned> memory(kCount);
-  r = rtBufferSetDevicePointer(b, devices(), memory.data());
-  EXPECT_EQ(r, RT_ERROR_INVALID_VALUE);
-}
 
 // ---- Race checking: no false positives, elements named by their coordinates ------------------
 
@@ -228,30 +106,7 @@ TEST_P(RaceProbeTest, InputOutputReadModifyWriteByOneDeviceIsNoRace) {
   EXPECT_EQ(Contents<unsigned>(io), std::vector<unsigned>(kCount, 3u));
 }
 
-// ---- Pointers across device-set changes (local:3) ---------------------------------------------
-
 using DeviceSetProbeTest = MultiDeviceFixture;
-
-TEST_F(DeviceSetProbeTest, PointerForADeviceLeftOutIsAClearErrorAtLaunch) {
-  UseDevices("local:3");
-  RayGen("copy_from_pointer");
-  RTbuffer copied = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "copied");
-  RTbuffer input = Buffer(RT_BUFFER_INPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
-  void* p = nullptr;
-  Ok(rtBufferGetDevicePointer(input, 2, &p));
-  const std::vector<unsigned> values = Values(40);
-  std::copy(values.begin(), values.end(), static_cast<unsigned*>(p));
-  Launch1D(kCount);
-  EXPECT_EQ(Contents<unsigned>(copied), values);
-
-  const int subset[2] = {0, 1};
-  Ok(rtContextSetDevices(ctx_, 2, subset));
-  RTresult r = rtBufferGetDevicePointer(input, 2, &p);
-  EXPECT_EQ(r, RT_ERROR_INVALID_VALUE) << Error(r);
-  r = rtContextLaunch1D(ctx_, 0, kCount);
-  EXPECT_EQ(r, RT_ERROR_INVALID_VALUE);
-  EXPECT_NE(Error(r).find("device 2"), std::string::npos) << Error(r);
-}
 
 // ---- GPU_LOCAL when a worker dies between launches ---------------------------------------------
 
@@ -321,8 +176,6 @@ const DeviceCase kProbeCases[] = {
     {"Local3", "local:3", 3},
 };
 
-INSTANTIATE_TEST_SUITE_P(Devices, PointerProbeTest, ::testing::ValuesIn(kProbeCases),
-                         DeviceCaseName);
 INSTANTIATE_TEST_SUITE_P(Devices, RaceProbeTest, ::testing::ValuesIn(kProbeCases), DeviceCaseName);
 
 }  // namespace

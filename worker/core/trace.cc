@@ -323,28 +323,25 @@ void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
 // type). Returns whether Embree should keep it.
 bool FilterBuiltin(ThreadState& ts, Frame& f, const InstancePlan* ip, const RTCRay& ray,
                    const RTCHit& hit) {
-  Hit& c = ts.candidate;
-  c.t = ray.tfar;
-  c.instance = ip;
-  c.primitive = hit.primID;
   const RayData object_ray = FromEmbree(ray, f.ray.ray_type);
-  SetTriangleHit(c, hit, object_ray);
   const unsigned material = ip->TriangleMaterial(hit.primID);
   const BoundProgram* ah = nullptr;  // TriangleMaterial checked `material`
   if (f.ray.ray_type < ip->materials[material].size()) {
     ah = ip->materials[material][f.ray.ray_type].any_hit;
   }
-  if (ah == nullptr) {  // the closest so far: its attributes come after traversal
-    f.hit.t = c.t;
-    f.hit.instance = ip;
-    f.hit.primitive = c.primitive;
-    f.hit.deferred = true;
-    f.hit.object_ray = object_ray;
-    SetTriangleHit(f.hit, hit, object_ray);
-    CopyXform(f.hit.xform, f.xform);
+  // Without an any-hit program the candidate is the closest so far, its attributes computed
+  // after traversal; with one, it is offered to the program now.
+  Hit& c = ah == nullptr ? f.hit : ts.candidate;
+  c.t = ray.tfar;
+  c.instance = ip;
+  c.primitive = hit.primID;
+  SetTriangleHit(c, hit, object_ray);
+  CopyXform(c.xform, f.xform);
+  if (ah == nullptr) {
+    c.deferred = true;
+    c.object_ray = object_ray;
     return true;
   }
-  CopyXform(c.xform, f.xform);
   TriangleAttributes(ts, c, object_ray);
   return OfferToAnyHit(ts, f, c, *ah, object_ray);
 }
