@@ -13,6 +13,9 @@ namespace tessera::api {
 namespace {
 
 constexpr int kMaxLocalWorkers = 4096;
+// sockaddr_un's sun_path holds 108 bytes with the terminating NUL; gRPC refuses longer paths with
+// an unhelpful "Failed to create secure client channel" (RT_ERROR_UNKNOWN) at the first launch.
+constexpr size_t kMaxUnixSocketPath = 107;
 
 bool ParseBoundedInt(absl::string_view text, int min, int max, int* out) {
   if (text.empty() || text.size() > 9) return false;
@@ -70,6 +73,12 @@ absl::StatusOr<DeviceSpecEntry> ParseEntry(absl::string_view spec, size_t index,
     out.type = DeviceSpecEntry::Type::kUnix;
     out.path = std::string(entry.substr(5));
     if (out.path.empty()) return EntryError(spec, index, entry, "needs a socket path (unix:PATH)");
+    if (out.path.size() > kMaxUnixSocketPath) {
+      return EntryError(
+          spec, index, entry,
+          absl::StrCat("has a socket path of ", out.path.size(),
+                       " bytes; Unix socket paths hold at most ", kMaxUnixSocketPath));
+    }
     return out;
   }
   size_t colon = entry.rfind(':');

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -40,7 +41,10 @@ uint64_t ModuleCacheLimitBytes() {
   if (env != nullptr && *env != '\0') {
     char* end = nullptr;
     const unsigned long long v = std::strtoull(env, &end, 10);
-    if (end != env && *end == '\0' && v > 0) {
+    // Digits only (strtoull would take "-5" as 2^64 - 5), and few enough MiB that the bytes fit
+    // in 64 bits: 2^44 MiB and more wrapped around to a limit of 0 that emptied the cache.
+    if (end != env && *end == '\0' && v > 0 && env[0] >= '0' && env[0] <= '9' &&
+        v <= (UINT64_MAX >> 20)) {
       mib = v;
     } else if (static std::atomic<bool> warned{false}; !warned.exchange(true)) {  // once
       std::fprintf(stderr,

@@ -61,6 +61,9 @@ TEST(DeviceSpecTest, RejectsBadInputWithAClearMessage) {
       {"local:x", "worker count"},
       {"local:99999999", "worker count"},
       {"unix:", "socket path"},
+      {"unix:/tmp/aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+       "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa.sock",
+       "at most 107"},
       {"host:0", "port"},
       {"host:65536", "port"},
       {"host:", "port"},

@@ -106,5 +106,23 @@ TEST(Matrix4Test, InvertsAndRejectsSingular) {
   EXPECT_EQ(Transpose(m)[3 * 4 + 0], 1.0f);
 }
 
+// Singularity does not depend on units: a translation far from the origin or a tiny uniform
+// scale has determinant far from 0 relative to its rows and columns, and an exact inverse.
+TEST(Matrix4Test, InvertsLargeTranslationsAndTinyScales) {
+  Matrix4 inv;
+  const Matrix4 translate = {1, 0, 0, 2e12f, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  ASSERT_TRUE(Invert(translate, &inv));
+  EXPECT_EQ(inv[3], -2e12f);
+  EXPECT_EQ(inv[0], 1.0f);
+  const Matrix4 stretch = {1e16f, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  ASSERT_TRUE(Invert(stretch, &inv));
+  EXPECT_FLOAT_EQ(inv[0], 1e-16f);
+  const Matrix4 tiny = {1e-20f, 0, 0, 0, 0, 1e-20f, 0, 0, 0, 0, 1e-20f, 0, 0, 0, 0, 1};
+  ASSERT_TRUE(Invert(tiny, &inv));
+  EXPECT_FLOAT_EQ(inv[5], 1e20f);
+  const Matrix4 dependent = {1, 2, 3, 0, 4, 5, 6, 0, 7, 8, 9, 0, 0, 0, 0, 1};
+  EXPECT_FALSE(Invert(dependent, &inv));
+}
+
 }  // namespace
 }  // namespace tessera::api

@@ -139,6 +139,34 @@ TEST_F(GraphTest, ChangingATransformMovesTheChild) {
   EXPECT_EQ(Hits(top), Only({11}));
 }
 
+// Bounds are only required to be conservative: a box of +-FLT_MAX (past what Embree builds)
+// still gets the primitive hit, alone, in a group, and scaled up by a transform.
+TEST_F(GraphTest, UnboundedBoxesAreStillHit) {
+  Instance s = SmallSphere("unbounded_bounds");
+  EXPECT_EQ(Hits(s.group), Only({0}));
+  EXPECT_EQ(Hits(Group({Translate(s.group, 4.f)})), Only({4}));
+  RTtransform grow = nullptr;
+  Ok(rtTransformCreate(ctx_, &grow));
+  const float m[16] = {4, 0, 0, 8, 0, 4, 0, 0, 0, 0, 4, 0, 0, 0, 0, 1};  // radius 1.6 at x = 8
+  Ok(rtTransformSetMatrix(grow, 0, m, nullptr));
+  Ok(rtTransformSetChild(grow, s.group));
+  EXPECT_EQ(Hits(Group({grow})), Only({7, 8, 9}));
+}
+
+// Whether a matrix is singular does not depend on its units: squeezing x by 1e-12 is exactly
+// invertible, and only the ray through the sphere's center still hits it.
+TEST_F(GraphTest, AnisotropicTransformsAreInvertible) {
+  Instance s = SmallSphere();
+  RTtransform squeeze = nullptr;
+  Ok(rtTransformCreate(ctx_, &squeeze));
+  const float m[16] = {1e-12f, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  Ok(rtTransformSetMatrix(squeeze, 0, m, nullptr));
+  Ok(rtTransformSetChild(squeeze, s.group));
+  EXPECT_EQ(Hits(Group({squeeze})), Only({0}));
+  const float far[16] = {1, 0, 0, 2e12f, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  EXPECT_EQ(rtTransformSetMatrix(squeeze, 0, far, nullptr), RT_SUCCESS);
+}
+
 TEST_F(GraphTest, AccelerationsRebuildOnlyWhenDirty) {
   RTbuffer calls = nullptr;
   Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT_OUTPUT, &calls));

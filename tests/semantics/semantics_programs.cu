@@ -135,6 +135,12 @@ RT_PROGRAM void slabs_intersect(int prim) {
   }
 }
 
+// The loosest conservative box there is, as programs write for "infinite" geometry.
+RT_PROGRAM void unbounded_bounds(int, float result_box[6]) {
+  result_box[0] = result_box[1] = result_box[2] = -3.402823466e38f;
+  result_box[3] = result_box[4] = result_box[5] = 3.402823466e38f;
+}
+
 // Counts bounding-box program runs (one per primitive per acceleration build).
 rtBuffer<unsigned int, 1> bounds_calls;
 RT_PROGRAM void counted_sphere_bounds(int prim, float result_box[6]) {

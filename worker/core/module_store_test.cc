@@ -220,6 +220,15 @@ TEST(ModuleStoreTest, CacheLimitFollowsTheEnvironment) {
     ScopedEnv env("TESSERA_MODULE_CACHE_MAX_MB", "lots");  // warned about, then the default
     EXPECT_EQ(ModuleCacheLimitBytes(), uint64_t{1} << 30);
   }
+  // MiB whose bytes overflow 64 bits, and negative numbers, are junk too: not a limit of 0.
+  for (const char* junk : {"17592186044416", "18446744073709551615", "-5"}) {
+    ScopedEnv env("TESSERA_MODULE_CACHE_MAX_MB", junk);
+    EXPECT_EQ(ModuleCacheLimitBytes(), uint64_t{1} << 30) << junk;
+  }
+  {
+    ScopedEnv env("TESSERA_MODULE_CACHE_MAX_MB", "17592186044415");  // the largest that fits
+    EXPECT_EQ(ModuleCacheLimitBytes(), uint64_t{17592186044415} << 20);
+  }
 }
 
 TEST(ModuleStoreTest, ModuleTrimmedByAnotherProcessIsAskedForAgain) {

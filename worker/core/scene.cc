@@ -39,6 +39,15 @@ void Grow(Box& b, float x, float y, float z) {
 
 bool IsEmpty(const Box& b) { return !(b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[5]); }
 
+// Embree drops a primitive whose bounds reach past +-1.844e18 (its FLT_LARGE) from the build
+// without a word, so a conservative box such as +-FLT_MAX around an "infinite" plane would never
+// be hit. Bounds are clamped just inside that range instead: rays cannot start beyond it
+// (ValidRay in trace.cc), so only geometry wholly beyond it is lost (docs/COMPATIBILITY.md).
+constexpr float kMaxBoundsExtent = 1.8e18f;
+void ClampToEmbreeRange(float* b) {
+  for (int k = 0; k < 6; ++k) b[k] = std::clamp(b[k], -kMaxBoundsExtent, kMaxBoundsExtent);
+}
+
 Box TransformBox(const std::array<float, 16>& m, const Box& b) {
   Box out = EmptyBox();
   if (IsEmpty(b)) return out;
@@ -351,6 +360,8 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
           // Invalid bounds: the primitive can never be hit (OptiX leaves this undefined).
           b[0] = b[1] = b[2] = 1.f;
           b[3] = b[4] = b[5] = -1.f;
+        } else {
+          ClampToEmbreeRange(b);
         }
       }
       geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
@@ -509,6 +520,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
     auto info = std::make_unique<ChildInfo>();
     info->child = group->children[i];
     info->bounds = IsEmpty(bounds[i]) ? Box{1.f, 1.f, 1.f, -1.f, -1.f, -1.f} : bounds[i];
+    ClampToEmbreeRange(info->bounds.data());  // a Transform can scale a child's box past it
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(geom, 1);
     rtcSetGeometryUserData(geom, info.get());
