@@ -21,13 +21,12 @@ class ExceptionsTest : public RtFixture {
     Float4Buffer("ah_log", RT_BUFFER_OUTPUT, kW, 1);
     Ok(rtContextSetExceptionProgram(ctx_, 0, Program(kModule, "exception_record")));
     Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "miss_ray")));
-    Instance s =
-        MakeInstance(Program(kModule, "sphere_intersect"), Program(kModule, "sphere_bounds"), 1,
-                     Program(kModule, "closest_hit_recurse"));
+    sphere_ = MakeInstance(Program(kModule, "sphere_intersect"), Program(kModule, "sphere_bounds"),
+                           1, Program(kModule, "closest_hit_recurse"));
     RTvariable v = nullptr;
-    Ok(rtGeometryDeclareVariable(s.geometry, "sphere", &v));
+    Ok(rtGeometryDeclareVariable(sphere_.geometry, "sphere", &v));
     Ok(rtVariableSet4f(v, 0.f, 0.f, 0.f, 5.f));  // every ray hits it
-    Ok(rtVariableSetObject(ContextVar("top_object"), s.group));
+    Ok(rtVariableSetObject(ContextVar("top_object"), sphere_.group));
     Ok(rtVariableSet3f(ContextVar("ray_origin"), 0.f, 0.f, -10.f));
     Ok(rtVariableSet3f(ContextVar("ray_dir"), 0.f, 0.f, 1.f));
   }
@@ -39,6 +38,7 @@ class ExceptionsTest : public RtFixture {
     return Read(result_);
   }
   RTbuffer result_ = nullptr;
+  Instance sphere_;
 };
 
 TEST_F(ExceptionsTest, StackOverflowIsOnByDefault) {
@@ -57,6 +57,18 @@ TEST_F(ExceptionsTest, StackOverflowIsOnByDefault) {
 TEST_F(ExceptionsTest, StackOverflowOffSkipsTheTooDeepTrace) {
   std::vector<Float4> r = Run("trace_camera", RT_EXCEPTION_STACK_OVERFLOW, false);
   EXPECT_EQ(r[0][0], 1.f);  // closest_hit_recurse's own write, after the skipped trace
+}
+
+// Programs' locals take native stack too: deep enough nesting of a program with large locals
+// raises the stack overflow exception (or skips the trace) instead of crashing the device.
+TEST_F(ExceptionsTest, StackOverflowWhenLocalsFillTheNativeStack) {
+  Ok(rtContextSetStackSize(ctx_, 131072));  // 1024 levels
+  Ok(rtMaterialSetClosestHitProgram(sphere_.material, 0,
+                                    Program(kModule, "closest_hit_recurse_heavy")));
+  std::vector<Float4> on = Run("trace_camera", RT_EXCEPTION_STACK_OVERFLOW, true);
+  for (size_t x = 0; x < kW; ++x) EXPECT_EQ(on[x][0], float(RT_EXCEPTION_STACK_OVERFLOW));
+  std::vector<Float4> off = Run("trace_camera", RT_EXCEPTION_STACK_OVERFLOW, false);
+  EXPECT_EQ(off[0][0], 1.f);  // the program's own write, after the skipped trace
 }
 
 TEST_F(ExceptionsTest, UserExceptionOnlyWhenEnabled) {
@@ -115,6 +127,23 @@ TEST_F(ExceptionsTest, PrintReachesStdoutInLaunchIndexOrderBeforeLaunchReturns) 
   ::testing::internal::CaptureStdout();
   Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
   EXPECT_EQ(::testing::internal::GetCapturedStdout(), "");
+}
+
+// Bounding box programs run outside any launch index, so their prints have no place in the
+// launch's output; the first is reported on stderr rather than lost without a word.
+TEST_F(ExceptionsTest, PrintsFromBoundingBoxProgramsAreReported) {
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  Ok(rtGeometrySetBoundingBoxProgram(sphere_.geometry, Program(kModule, "printing_sphere_bounds")));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "raygen_value")));
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), "");
+  EXPECT_NE(err.find("rtPrintf from bounding box program 'printing_sphere_bounds'"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("is not printed"), std::string::npos) << err;
 }
 
 TEST_F(ExceptionsTest, PrintsOfAnyLengthComeOutWhole) {

@@ -1,6 +1,7 @@
 // Graph nodes: shared children, transforms over several levels, groups of groups, and when
 // accelerations are rebuilt.
 #include <cmath>
+#include <cstring>
 
 #include "rt_fixture.h"
 
@@ -165,6 +166,41 @@ TEST_F(GraphTest, AnisotropicTransformsAreInvertible) {
   EXPECT_EQ(Hits(Group({squeeze})), Only({0}));
   const float far[16] = {1, 0, 0, 2e12f, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   EXPECT_EQ(rtTransformSetMatrix(squeeze, 0, far, nullptr), RT_SUCCESS);
+}
+
+// rtTransform* in an intersection program gives the transforms above the primitive, also when
+// the acceleration takes the mesh as native triangles and the program runs after traversal.
+TEST_F(GraphTest, IntersectionProgramsSeeTheirTransformWithEveryBuilder) {
+  RTbuffer vertices = nullptr, indices = nullptr;
+  Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &vertices));
+  Ok(rtBufferSetFormat(vertices, RT_FORMAT_FLOAT3));
+  Ok(rtBufferSetSize1D(vertices, 4));
+  Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &indices));
+  Ok(rtBufferSetFormat(indices, RT_FORMAT_INT3));
+  Ok(rtBufferSetSize1D(indices, 2));
+  const float quad[12] = {-0.5f, -0.5f, 0, 0.5f, -0.5f, 0, 0.5f, 0.5f, 0, -0.5f, 0.5f, 0};
+  const int triangles[6] = {0, 1, 2, 0, 2, 3};
+  void* p = nullptr;
+  Ok(rtBufferMap(vertices, &p));
+  std::memcpy(p, quad, sizeof(quad));
+  Ok(rtBufferUnmap(vertices));
+  Ok(rtBufferMap(indices, &p));
+  std::memcpy(p, triangles, sizeof(triangles));
+  Ok(rtBufferUnmap(indices));
+  for (const char* builder : {"Bvh", "Trbvh"}) {
+    SCOPED_TRACE(builder);
+    Instance mesh =
+        MakeInstance(Program(kModule, "mesh_intersect"), Program(kModule, "mesh_bounds"), 2,
+                     Program(kModule, "closest_hit_attributes"));
+    RTvariable v = nullptr;
+    Ok(rtGeometryDeclareVariable(mesh.geometry, "vertex_buffer", &v));
+    Ok(rtVariableSetObject(v, vertices));
+    Ok(rtGeometryDeclareVariable(mesh.geometry, "index_buffer", &v));
+    Ok(rtVariableSetObject(v, indices));
+    Ok(rtGeometryGroupSetAcceleration(mesh.group, Accel(builder)));
+    EXPECT_EQ(Hits(Group({Translate(mesh.group, 6.f)})), Only({6}));
+    EXPECT_EQ(Read(result_)[6][0], 6.f);  // the object-space origin, in world space
+  }
 }
 
 TEST_F(GraphTest, AccelerationsRebuildOnlyWhenDirty) {

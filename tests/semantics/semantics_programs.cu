@@ -141,6 +141,45 @@ RT_PROGRAM void unbounded_bounds(int, float result_box[6]) {
   result_box[3] = result_box[4] = result_box[5] = 3.402823466e38f;
 }
 
+// A triangle mesh (vertex_buffer, index_buffer) in the z = 0 plane; the intersection program
+// reports where the object-space origin lies in world space, through rtTransformPoint.
+rtBuffer<float3> vertex_buffer;
+rtBuffer<int3> index_buffer;
+RT_PROGRAM void mesh_bounds(int prim, float result_box[6]) {
+  const int3 v = index_buffer[prim];
+  const float3 a = vertex_buffer[v.x], b = vertex_buffer[v.y], c = vertex_buffer[v.z];
+  const float3 lo = fminf(fminf(a, b), c), hi = fmaxf(fmaxf(a, b), c);
+  result_box[0] = lo.x;
+  result_box[1] = lo.y;
+  result_box[2] = lo.z;
+  result_box[3] = hi.x;
+  result_box[4] = hi.y;
+  result_box[5] = hi.z;
+}
+RT_PROGRAM void mesh_intersect(int prim) {
+  const int3 v = index_buffer[prim];
+  const float3 p0 = vertex_buffer[v.x], e1 = vertex_buffer[v.y] - p0, e2 = vertex_buffer[v.z] - p0;
+  const float3 pv = cross(ray.direction, e2);
+  const float det = dot(e1, pv);
+  if (fabsf(det) < 1e-12f) return;
+  const float3 tv = ray.origin - p0;
+  const float u = dot(tv, pv) / det;
+  const float3 qv = cross(tv, e1);
+  const float w = dot(ray.direction, qv) / det;
+  if (u < 0.f || w < 0.f || u + w > 1.f) return;
+  if (rtPotentialIntersection(dot(e2, qv) / det)) {
+    hit_origin = rtTransformPoint(RT_OBJECT_TO_WORLD, make_float3(0.f));
+    hit_id = float(prim);
+    rtReportIntersection(0);
+  }
+}
+
+// rtPrintf where no launch index is running (while accelerations are built).
+RT_PROGRAM void printing_sphere_bounds(int prim, float result_box[6]) {
+  rtPrintf("bounds of %d\n", prim);
+  sphere_bounds(prim, result_box);
+}
+
 // Counts bounding-box program runs (one per primitive per acceleration build).
 rtBuffer<unsigned int, 1> bounds_calls;
 RT_PROGRAM void counted_sphere_bounds(int prim, float result_box[6]) {
@@ -188,6 +227,16 @@ RT_PROGRAM void closest_hit_recurse() {
   Payload p = payload;
   rtTrace(top_object, make_Ray(ray.origin, ray.direction, 0, ray.tmin, ray.tmax), p);
   payload.value = make_float4(1.f, 0.f, 0.f, 0.f);
+}
+
+// The same with 16 KiB of locals live across the nested trace: the native stack runs out long
+// before the largest stack size's 1024 levels.
+RT_PROGRAM void closest_hit_recurse_heavy() {
+  volatile char locals[16384];
+  for (int i = 0; i < 16384; i += 512) locals[i] = char(i);
+  Payload p = payload;
+  rtTrace(top_object, make_Ray(ray.origin, ray.direction, 0, ray.tmin, ray.tmax), p);
+  payload.value = make_float4(1.f + float(locals[0]), 0.f, 0.f, 0.f);
 }
 
 RT_PROGRAM void print_hello() { rtPrintf("hello from %u\n", launch_index.x); }

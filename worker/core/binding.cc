@@ -121,7 +121,10 @@ absl::StatusOr<size_t> AttributeLayout::Offset(const std::string& name, size_t s
     }
     return it->second.first;
   }
-  size_t offset = (used_ + 15) & ~size_t{15};
+  // Each attribute at the alignment its size allows (at most 16): padding must not count against
+  // the 512 bytes a hit carries (a 500-byte struct and a float3 fit, as documented).
+  const size_t align = size == 0 ? 1 : std::min<size_t>(size & (~size + 1), 16);
+  size_t offset = (used_ + align - 1) & ~(align - 1);
   if (offset + size > kMaxBytes) {
     return absl::ResourceExhaustedError(
         absl::StrCat("attributes exceed ", kMaxBytes, " bytes at '", name, "' in ", where));

@@ -3,7 +3,11 @@
 // make that call ("Which OptiX calls are supported where?"). Tracing lives in trace.cc.
 #include "runtime.h"
 
+#include <pthread.h>
+
+#include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
@@ -56,6 +60,18 @@ __thread const TesseraBufferView* t_buffer_table __attribute__((tls_model("initi
 ThreadState& CreateThreadState() {
   t_owner = std::make_unique<ThreadState>();
   t_state = t_owner.get();
+  // Nested rtTrace runs on the native stack (TBB workers have 4 MiB, others 8 MiB): programs with
+  // large locals reach its end long before 1024 levels, so rtTrace also checks the stack itself.
+  pthread_attr_t attr;
+  if (pthread_getattr_np(pthread_self(), &attr) == 0) {
+    void* base = nullptr;
+    size_t size = 0;
+    if (pthread_attr_getstack(&attr, &base, &size) == 0 && base != nullptr) {
+      constexpr size_t kReserve = 256 * 1024;
+      t_state->stack_limit = static_cast<const char*>(base) + std::min(size / 2, kReserve);
+    }
+    pthread_attr_destroy(&attr);
+  }
   return *t_state;
 }
 
@@ -155,7 +171,18 @@ bool PrintActive() {
 
 void Emit(const std::string& text) {
   ThreadState& ts = TS();
-  if (ts.out == nullptr) return;
+  if (ts.out == nullptr) {
+    // Bounding box programs run while accelerations are built, outside any launch index: their
+    // prints have no place in the launch's output. Say so once instead of dropping them silently.
+    static std::atomic<bool> said{false};
+    if (ts.kind == ProgramKind::kBoundingBox && !said.exchange(true)) {
+      std::fprintf(stderr,
+                   "tessera: rtPrintf from %s is not printed: bounding box programs run while "
+                   "accelerations are built, outside any launch index\n",
+                   ts.current ? ts.current->name.c_str() : "a bounding box program");
+    }
+    return;
+  }
   v1::PrintRecord* r = ts.out->add_prints();
   for (uint32_t i : ts.index) r->add_launch_index(i);
   r->set_sequence(ts.print_sequence++);
@@ -207,7 +234,12 @@ const Mat& CurrentTransform(bool to_world) {
   static const Mat identity = kIdentity;
   if (ts.depth == 0 || ts.kind == ProgramKind::kMiss) return identity;
   const Frame& f = ts.top();
-  const Xform& x = ts.kind == ProgramKind::kClosestHit  ? f.hit.xform
+  // An intersection program run after traversal (kDeferred: native triangles) sees the
+  // transforms above its hit, kept with the hit, as it would have during traversal.
+  const bool hit_space =
+      ts.kind == ProgramKind::kClosestHit ||
+      (ts.kind == ProgramKind::kIntersection && ts.is.mode == IntersectMode::kDeferred);
+  const Xform& x = hit_space                            ? f.hit.xform
                    : ts.kind == ProgramKind::kAttribute ? ts.attribute_hit->xform
                                                         : f.xform;
   if (!x.active) return identity;

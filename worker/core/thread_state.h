@@ -132,6 +132,9 @@ struct ThreadState {
   const NodeInfo* last_node = nullptr;
   // Where a program's `result` argument points when its kind passes none (CallProgram).
   float scratch_result[6] = {};
+  // rtTrace raises RT_EXCEPTION_STACK_OVERFLOW below this address: the thread's native stack
+  // minus a reserve for one more level of engine, Embree and program frames (CreateThreadState).
+  const char* stack_limit = nullptr;
 
   Frame& top() { return frames[depth - 1]; }
 };

@@ -359,6 +359,13 @@ void Guard(ThreadState& ts, F&& f) {
 // An rtTrace that cannot run: too deep, an invalid ray, or a ray type the context lacks.
 __attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) {
   const LaunchPlan& plan = *ts.plan;
+  if (static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit) {
+    Raise(RT_EXCEPTION_STACK_OVERFLOW,
+          absl::StrCat("rtTrace nested ", ts.depth + 1,
+                       " deep: the thread's native stack is nearly used up (programs' local "
+                       "variables take it too)"));
+    return;
+  }
   if (ts.depth >= plan.max_depth) {
     Raise(RT_EXCEPTION_STACK_OVERFLOW,
           absl::StrCat("rtTrace nested ", ts.depth + 1, " deep exceeds the stack size (",
@@ -389,8 +396,10 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   const LaunchPlan& plan = *ts.plan;
   RayData ray;
   std::memcpy(&ray, ray_ptr, sizeof(ray));
-  if (__builtin_expect(
-          ts.depth >= plan.max_depth || !ValidRay(ray) || ray.ray_type >= plan.ray_type_count, 0)) {
+  if (__builtin_expect(ts.depth >= plan.max_depth || !ValidRay(ray) ||
+                           ray.ray_type >= plan.ray_type_count ||
+                           static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit,
+                       0)) {
     RejectTrace(ts, ray);  // raises, throws, or returns when the exception is disabled
     return;
   }
