@@ -10,6 +10,7 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "absl/strings/str_cat.h"
 #include "context.h"
 #include "handle_registry.h"
 #include "object.h"
@@ -78,6 +79,15 @@ RTresult Call(const char* fn, const void* handle, Body&& body) {
     absl::StatusOr<T*> resolved = ResolveHandle<T>(handle, &context);
     if (!resolved.ok()) return Fail(fn, context, who, resolved.status());
     T* object = *resolved;
+    if (object->context()->InForkedChild()) {
+      // gRPC channels and worker processes do not survive fork(): touching them hangs the child
+      // (grpc_channel_destroy) or stops the parent's workers.
+      return Fail(fn, nullptr, object->Describe(),
+                  RtError(RT_ERROR_INVALID_CONTEXT,
+                          absl::StrCat("the context was created by process ",
+                                       object->context()->creator_pid(),
+                                       "; a process forked from it must create its own context")));
+    }
     context = object->context();
     // Named before the body runs: rt*Destroy frees the object.
     who = object->Describe();

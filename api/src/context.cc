@@ -1,5 +1,9 @@
 #include "context.h"
 
+#include <pthread.h>
+#include <unistd.h>
+
+#include <atomic>
 #include <random>
 
 #include "absl/strings/str_cat.h"
@@ -16,7 +20,24 @@ uint64_t RandomSessionId() {
   return id == 0 ? 1 : id;
 }
 
+// getpid() kept current across fork() without a system call per API call.
+std::atomic<long> g_pid{0};
+
+void RefreshPid() { g_pid.store(static_cast<long>(getpid()), std::memory_order_relaxed); }
+
+long CurrentPid() {
+  static const bool kRegistered = [] {
+    RefreshPid();
+    pthread_atfork(nullptr, nullptr, &RefreshPid);
+    return true;
+  }();
+  (void)kRegistered;
+  return g_pid.load(std::memory_order_relaxed);
+}
+
 }  // namespace
+
+bool Context::InForkedChild() const { return creator_pid_ != CurrentPid(); }
 
 Context::Context()
     : Object(Kind::kContext, this, 0),
@@ -28,6 +49,7 @@ Context::Context()
       exception_mask_(1u << (RT_EXCEPTION_STACK_OVERFLOW - RT_EXCEPTION_PROGRAM_ID_INVALID)),
       num_threads_(HardwareThreads()),
       session_id_(RandomSessionId()) {
+  creator_pid_ = CurrentPid();
   Touch();
 }
 

@@ -38,6 +38,11 @@ class Context : public Object {
 
   uint64_t NextVersion() { return ++version_clock_; }
 
+  // The process that created the context, and whether this is another one (a child forked
+  // without exec, which inherits the context but not its devices' threads and connections).
+  long creator_pid() const { return creator_pid_; }
+  bool InForkedChild() const;
+
   // Creates an object owned by this context and registers its handle.
   template <typename T, typename... Args>
   T* Make(Args&&... args) {
@@ -188,6 +193,7 @@ class Context : public Object {
   RTresult last_error_code_ ABSL_GUARDED_BY(error_mu_) = RT_SUCCESS;
   uint64_t last_error_sequence_ ABSL_GUARDED_BY(error_mu_) = 0;
   std::string last_error_ ABSL_GUARDED_BY(error_mu_);
+  long creator_pid_ = 0;
 };
 
 }  // namespace tessera::api

@@ -125,6 +125,16 @@ void LaunchGather::Apply(scheduler::FinishedBatch& batch) {
   }
 }
 
+void LaunchGather::ForgetDeviceCopies() {
+  for (const auto& [id, layout] : layouts_) {
+    for (DeviceSlot* slot : slots_) {
+      auto state = slot->sync.buffers.find(id);
+      if (state == slot->sync.buffers.end()) continue;
+      std::fill(state->second.hashes.begin(), state->second.hashes.end(), uint64_t{0});
+    }
+  }
+}
+
 LaunchGather::Layout LaunchGather::LayoutOf(const Buffer& b) {
   return Layout{b.format(), b.dimensionality(), {b.dim(0), b.dim(1), b.dim(2)}, b.element_size()};
 }

@@ -36,6 +36,11 @@ class LaunchGather {
   // reports on the context. Returns the first tile error, if any.
   absl::Status Finish();
 
+  // After a launch that was cancelled or failed: devices may hold writes to INPUT_OUTPUT buffers
+  // that never reached the host (a batch counts only when it finished), so nothing is known about
+  // their copies any more; the next launch sends those buffers' contents again.
+  void ForgetDeviceCopies();
+
  private:
   static constexpr int kNoWriter = -1;
   static constexpr int kSeveralWriters = -2;

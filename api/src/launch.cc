@@ -304,6 +304,8 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   }
   timing.Mark("devices");
   absl::Status tile_status = gather.Finish();
+  // Batches that did not finish left their writes in the devices' copies only.
+  if (cancelled || !dispatcher.status().ok() || !tile_status.ok()) gather.ForgetDeviceCopies();
   timing.Mark("finish");
   timing.Report(launch_id);
   for (const scheduler::LostDevice& lost : dispatcher.lost()) LoseDevice(*slots[lost.device]);

@@ -73,6 +73,62 @@ std::string FirstLines(const std::string& text, int lines) {
   return absl::StrJoin(all, "\n");
 }
 
+// Headers a source includes from outside the include directories (a "common.h" beside it) are
+// part of the module too. After each compile the compiler's dependency list is kept beside the
+// modules as `<source key>.deps` (one path per line); the module's name hashes the source key
+// with those files' current contents, so editing a header is a new module, as editing the source
+// is. Returns 0 when a listed file cannot be read (compiled again).
+uint64_t DependencyKey(uint64_t source_key, const std::vector<std::string>& files) {
+  uint64_t key = source_key;
+  for (const std::string& file : files) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return 0;
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    key = HashString(bytes, HashString(file, key));
+  }
+  return key == 0 ? 1 : key;
+}
+
+std::vector<std::string> ReadLines(const std::string& path, bool* found) {
+  std::ifstream in(path);
+  *found = static_cast<bool>(in);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty()) lines.push_back(line);
+  }
+  return lines;
+}
+
+// The prerequisites of a make rule as `c++ -MMD -MF` writes it, less `source`.
+std::vector<std::string> ParseDepFile(const std::string& path, const std::string& source) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  size_t colon = text.find(": ");
+  std::vector<std::string> files;
+  if (colon == std::string::npos) return files;
+  std::string word;
+  auto flush = [&] {
+    if (!word.empty() && word != source) files.push_back(word);
+    word.clear();
+  };
+  for (size_t i = colon + 2; i < text.size(); ++i) {
+    const char ch = text[i];
+    if (ch == '\\' && i + 1 < text.size() && text[i + 1] == '\n') {
+      ++i;
+      flush();
+    } else if (ch == '\\' && i + 1 < text.size() && text[i + 1] == ' ') {
+      word += ' ';
+      ++i;
+    } else if (ch == ' ' || ch == '\n' || ch == '\t') {
+      flush();
+    } else {
+      word += ch;
+    }
+  }
+  flush();
+  return files;
+}
+
 std::string TempSuffix() {
   std::random_device rd;
   return absl::StrCat(getpid(), "-", rd());
@@ -104,13 +160,18 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   key = HashString(absl::StrJoin(command, "\x1f"), key);
   key ^= HeaderTreeHash(ProgramIncludeDirs());
   const std::string cache_dir = ModuleCacheDir();
-  const std::string module_path = absl::StrCat(cache_dir, "/", HexHash(key), ".so");
+  const std::string deps_path = absl::StrCat(cache_dir, "/", HexHash(key), ".deps");
   std::error_code ec;
-  // Anything else under the module's name (cut short, or not a file) is compiled over.
-  if (fs::is_regular_file(module_path, ec) &&
-      scheduler::CheckModuleFileComplete(module_path).ok()) {
-    scheduler::TouchCacheFile(module_path);  // recently used: trimmed last
-    return module_path;
+  bool have_deps = false;
+  const std::vector<std::string> deps = ReadLines(deps_path, &have_deps);
+  const uint64_t cached_key = have_deps ? DependencyKey(key, deps) : 0;
+  if (cached_key != 0) {
+    const std::string cached = absl::StrCat(cache_dir, "/", HexHash(cached_key), ".so");
+    // Anything else under the module's name (cut short, or not a file) is compiled over.
+    if (fs::is_regular_file(cached, ec) && scheduler::CheckModuleFileComplete(cached).ok()) {
+      scheduler::TouchCacheFile(cached);  // recently used: trimmed last
+      return cached;
+    }
   }
   fs::create_directories(cache_dir, ec);
   if (ec) {
@@ -132,11 +193,17 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
     input = temp_source;
   }
   // Compile to a temporary name and rename: concurrent compiles of the same key are harmless.
-  const std::string temp_module = absl::StrCat(module_path, ".", suffix, ".tmp");
+  const std::string temp_module = absl::StrCat(cache_dir, "/", HexHash(key), ".", suffix, ".tmp");
+  const std::string temp_deps = absl::StrCat(temp_module, ".d");
+  command.push_back("-MMD");  // system headers change with the compiler (in the key)
+  command.push_back("-MF");
+  command.push_back(temp_deps);
   command.push_back(input);
   command.push_back("-o");
   command.push_back(temp_module);
   auto result = RunCommand(command);
+  const std::vector<std::string> compiled_deps = ParseDepFile(temp_deps, input);
+  fs::remove(temp_deps, ec);
   if (!temp_source.empty()) fs::remove(temp_source, ec);
   if (!result.ok()) {
     return RtError(RT_ERROR_INVALID_SOURCE,
@@ -150,13 +217,25 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
                                 "' failed (", command.front(), " exit code ", result->exit_code,
                                 "):\n", FirstLines(result->output, kErrorLines)));
   }
+  // The module's name covers the headers as they were read; a header edited since is read
+  // again at the next lookup, differs, and compiles again.
+  const uint64_t module_key = DependencyKey(key, compiled_deps);
+  const std::string module_path = absl::StrCat(cache_dir, "/", HexHash(module_key), ".so");
+  {
+    const std::string temp_list = absl::StrCat(deps_path, ".", suffix, ".tmp");
+    std::ofstream out(temp_list);
+    for (const std::string& file : compiled_deps) out << file << "\n";
+    out.close();
+    if (out) fs::rename(temp_list, deps_path, ec);
+    if (!out || ec) fs::remove(temp_list, ec);
+  }
   fs::rename(temp_module, module_path, ec);
   if (ec) {
     return RtError(RT_ERROR_INVALID_SOURCE,
                    absl::StrCat("cannot store module '", module_path, "': ", ec.message()));
   }
   // Every edit of a source is a new module: keep the directory within its bound.
-  scheduler::TrimModuleCache(cache_dir, scheduler::ModuleCacheLimitBytes(), HexHash(key));
+  scheduler::TrimModuleCache(cache_dir, scheduler::ModuleCacheLimitBytes(), HexHash(module_key));
   return module_path;
 }
 

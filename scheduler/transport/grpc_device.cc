@@ -117,12 +117,33 @@ absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
   v1::ApplyReply reply;
   std::unique_ptr<grpc::ClientWriter<v1::ApplyChunk>> writer =
       stub_->worker->Apply(&context, &reply);
-  // A failed Write means the call is over (the worker rejected the delta early, or the connection
-  // dropped); Finish says why.
-  if (WriteApplyStream(delta, [&](const v1::ApplyChunk& m) { return writer->Write(m); })) {
-    writer->WritesDone();
+  grpc::Status status;
+  bool silent = false;
+  {
+    // A worker that stops answering while it takes a delta (stopped, hung, its machine gone)
+    // must not hold the launch for gRPC's keepalive (about 50 s): the same silence deadline as
+    // during a launch, counted from the last chunk it accepted.
+    static const std::atomic<bool> kNotCancelled{false};
+    WatchedCall watcher(&context, kNotCancelled, SilenceDeadline());
+    // A failed Write means the call is over (the worker rejected the delta early, or the
+    // connection dropped); Finish says why.
+    if (WriteApplyStream(delta, [&](const v1::ApplyChunk& m) {
+          const bool written = writer->Write(m);
+          watcher.Heard();
+          return written;
+        })) {
+      writer->WritesDone();
+    }
+    status = writer->Finish();
+    silent = watcher.silent();
   }
-  return FromGrpcStatus(writer->Finish(), address_);
+  if (silent) {
+    return absl::DeadlineExceededError(
+        absl::StrCat("worker ", address_, " did not take the state update within ",
+                     absl::FormatDuration(SilenceDeadline()),
+                     " (hung or unreachable; TESSERA_WORKER_TIMEOUT sets the limit)"));
+  }
+  return FromGrpcStatus(status, address_);
 }
 
 absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,

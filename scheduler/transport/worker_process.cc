@@ -22,6 +22,7 @@
 #include <deque>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -78,7 +79,16 @@ std::string ThisBinaryPath() {
 class ForkThread {
  public:
   static ForkThread& Get() {
-    static ForkThread* instance = new ForkThread;  // never destroyed: outlives every caller
+    // Never destroyed: outlives every caller. A process forked from the host (without exec)
+    // inherits the object but not its thread, and would wait forever for it: it gets its own.
+    static std::mutex* mu = new std::mutex;
+    static ForkThread* instance = nullptr;
+    static pid_t owner = 0;
+    std::lock_guard<std::mutex> lock(*mu);
+    if (instance == nullptr || owner != getpid()) {
+      instance = new ForkThread;  // the inherited one (if any) is left alone: its thread is gone
+      owner = getpid();
+    }
     return *instance;
   }
 
@@ -122,8 +132,10 @@ class ForkThread {
 
 // Worker directories still present; removed at exit for hosts that never destroy their contexts
 // (their workers die with them through PDEATHSIG, but the sockets and logs would stay).
+// Each directory with the process that made it: a child forked from the host (without exec) runs
+// the same atexit handler, and must not remove its parent's live workers' sockets and logs.
 std::mutex g_directories_mu;
-std::set<std::string>* g_directories = nullptr;
+std::map<std::string, pid_t>* g_directories = nullptr;
 
 void RemoveDirectory(const std::string& directory) {
   if (DIR* dir = opendir(directory.c_str())) {
@@ -138,18 +150,20 @@ void RemoveDirectory(const std::string& directory) {
 
 void RemoveDirectoriesAtExit() {
   std::lock_guard<std::mutex> lock(g_directories_mu);
-  for (const std::string& directory : *g_directories) RemoveDirectory(directory);
+  for (const auto& [directory, owner] : *g_directories) {
+    if (owner == getpid()) RemoveDirectory(directory);
+  }
   g_directories->clear();
 }
 
 void TrackDirectory(const std::string& directory, bool add) {
   std::lock_guard<std::mutex> lock(g_directories_mu);
   if (g_directories == nullptr) {
-    g_directories = new std::set<std::string>;
+    g_directories = new std::map<std::string, pid_t>;
     std::atexit(&RemoveDirectoriesAtExit);
   }
   if (add) {
-    g_directories->insert(directory);
+    g_directories->emplace(directory, getpid());
   } else {
     g_directories->erase(directory);
   }
@@ -278,6 +292,7 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
   }
   std::unique_ptr<WorkerProcess> process(new WorkerProcess);
   process->stop_grace_ = options.stop_grace;
+  process->host_pid_ = getpid();
   absl::StatusOr<std::string> directory = MakeDirectory();
   if (!directory.ok()) return directory.status();
   process->directory_ = *directory;
@@ -482,6 +497,8 @@ std::string WorkerProcess::WaitForExit(absl::Duration timeout, bool* crashed) {
 }
 
 WorkerProcess::~WorkerProcess() {
+  // In a process forked from the host the worker and its directory are the parent's: leave them.
+  if (getpid() != host_pid_) return;
   if (pid_ > 0) {
     int status = 0;
     kill(pid_, SIGTERM);

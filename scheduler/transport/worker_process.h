@@ -72,8 +72,9 @@ class WorkerProcess {
   WorkerProcess() = default;
 
   pid_t pid_ = -1;
-  std::mutex exit_mu_;  // guards reaping: pid_ (after Spawn), exit_, crashed_
-  std::string exit_;    // set once reaped
+  pid_t host_pid_ = -1;  // the process that spawned it: only that one stops and reaps it
+  std::mutex exit_mu_;   // guards reaping: pid_ (after Spawn), exit_, crashed_
+  std::string exit_;     // set once reaped
   bool crashed_ = false;
   std::string address_;
   std::string directory_;

@@ -93,6 +93,28 @@ TEST_F(HostProgramTest, SourceFilesCompileOnceIntoTheCache) {
   EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "other", &p), RT_ERROR_INVALID_SOURCE);
 }
 
+// A header beside the source is part of the module: editing it compiles again, and putting it
+// back finds the first module.
+TEST_F(HostProgramTest, EditingAnIncludedHeaderCompilesAgain) {
+  Write("inc/value.h", "#define VALUE 1\n");
+  const std::string src =
+      Write("inc/use.cu", "#include \"value.h\"\nextern \"C\" int shade() { return VALUE; }\n");
+  RTprogram p = nullptr;
+  auto create = [&] {
+    ASSERT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "shade", &p), RT_SUCCESS)
+        << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  };
+  create();
+  create();
+  EXPECT_EQ(CachedModules(), 1u);
+  Write("inc/value.h", "#define VALUE 2\n");
+  create();
+  EXPECT_EQ(CachedModules(), 2u);
+  Write("inc/value.h", "#define VALUE 1\n");
+  create();
+  EXPECT_EQ(CachedModules(), 2u);
+}
+
 TEST_F(HostProgramTest, AModuleCutShortIsInvalidSourceNotACrash) {
   // Its ELF headers survive, its segments do not: dlopen would map it and the host die of SIGBUS.
   std::ifstream in(kTestModule, std::ios::binary);

@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -110,6 +111,81 @@ TEST_F(FaultTest, StoppedWorkerMissesItsDeadline) {
   EXPECT_TRUE(ReadBytes(scene_.image) == reference) << "the image differs from a fault-free run";
   EXPECT_NE(warning.find("sent nothing for 1s"), std::string::npos) << warning;
   EXPECT_LT(seconds, 30.0);
+}
+
+// A worker that stops between launches misses the deadline while it takes the next state update
+// too, instead of holding that launch for gRPC's keepalive (about 50 s).
+TEST_F(FaultTest, WorkerStoppedBetweenLaunchesMissesItsDeadline) {
+  const std::string reference = Reference();
+  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  Create("local:2");
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
+  std::vector<pid_t> workers = ChildrenNamed(getpid(), kWorker);
+  ASSERT_EQ(workers.size(), 2u);
+  ASSERT_EQ(kill(workers.front(), SIGSTOP), 0);
+  Ok(rtVariableSet1i(scene_.iterations, kIterations));  // a state update for every device
+  RTvariable changed = nullptr;
+  Ok(rtContextDeclareVariable(ctx_, "unused_by_programs", &changed));
+  Ok(rtVariableSet1f(changed, 1.f));
+  testing::internal::CaptureStderr();
+  const auto start = Clock::now();
+  RTresult r = rtContextLaunch2D(ctx_, 1, kW, kH);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  std::string warning = testing::internal::GetCapturedStderr();
+  unsetenv("TESSERA_WORKER_TIMEOUT");
+  kill(workers.front(), SIGKILL);
+  ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
+  EXPECT_TRUE(ReadBytes(scene_.image) == reference) << "the image differs from a fault-free run";
+  EXPECT_NE(warning.find("did not take the state update within 1s"), std::string::npos) << warning;
+  EXPECT_LT(seconds, 30.0);
+}
+
+// A process forked from a host (without exec) inherits its contexts but not their workers'
+// threads and connections: calls on an inherited context fail clearly, a new context gets its
+// own workers, and the child's exit leaves the parent's workers (and their logs, which name a
+// crashing program) alone.
+TEST_F(FaultTest, ForkedChildGetsItsOwnWorkersAndLeavesTheParentsAlone) {
+  const std::string reference = Reference();
+  Create("local:2");
+  Ok(rtContextLaunch2D(ctx_, 1, kW, kH));
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    alarm(60);  // a hang fails the test instead of stalling it
+    int failures = 0;
+    if (rtContextLaunch2D(ctx_, 1, kW, kH) != RT_ERROR_INVALID_CONTEXT) failures |= 1;
+    RTcontext own = nullptr;
+    Scene scene;
+    std::string error;
+    if (rtContextCreate(&own) != RT_SUCCESS ||
+        tesseraContextSetDeviceSpec(own, "local:1") != RT_SUCCESS ||
+        BuildScene(own, kW, kH, &scene, &error) != RT_SUCCESS ||
+        rtVariableSet1i(scene.iterations, kIterations) != RT_SUCCESS ||
+        rtContextLaunch2D(own, 1, kW, kH) != RT_SUCCESS) {
+      failures |= 2;
+    } else if (ReadBytes(scene.image) != reference) {
+      failures |= 4;
+    }
+    if (own != nullptr && rtContextDestroy(own) != RT_SUCCESS) failures |= 8;
+    std::exit(failures);  // exit, not _exit: the host's exit handlers run in the child
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child was killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: the inherited context was usable, 2: the child's own "
+                                       "launch failed, 4: its image differs, 8: destroy failed";
+  EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), 2u);
+  Ok(rtContextLaunch2D(ctx_, 1, kW, kH));
+  EXPECT_TRUE(ReadBytes(scene_.image) == reference);
+  RTprogram crash;
+  Ok(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render_crash", &crash));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, crash));
+  testing::internal::CaptureStderr();
+  RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
+  testing::internal::GetCapturedStderr();
+  ASSERT_EQ(r, RT_ERROR_LAUNCH_FAILED) << ErrorText(ctx_, r);
+  const std::string message = ErrorText(ctx_, r);
+  EXPECT_NE(message.find("ray generation program 'render_crash'"), std::string::npos) << message;
 }
 
 TEST_F(FaultTest, CrashingProgramNamesDeviceAndProgram) {

@@ -231,6 +231,24 @@ TEST_P(BufferRulesTest, ReadingAnElementDoesNotUndoAnotherDevicesWrite) {
                       << v[kN - 1] << ", expected " << kLaunches;
 }
 
+// A launch that fails hands back only the batches that finished; what the others wrote stays in
+// the devices' copies. The host's next writes must still reach every device, even where they
+// restore the contents the host last sent.
+TEST_P(BufferRulesTest, HostWritesAfterAFailedLaunchReachEveryDevice) {
+  constexpr size_t kN = 1000;
+  RTbuffer io = Buffer(RT_BUFFER_INPUT_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kN}, "shared_io");
+  const std::vector<unsigned> zeros(kN, 0u);
+  Write(io, zeros);
+  TileSize({8});
+  RayGen("io_increment_or_fail");
+  SetUint("fail_at", kN - 1);
+  EXPECT_NE(rtContextLaunch1D(ctx_, 0, kN), RT_SUCCESS);
+  Write(io, zeros);
+  SetUint("fail_at", kN);  // no index fails
+  Launch1D(kN);
+  EXPECT_EQ(Contents<unsigned>(io), std::vector<unsigned>(kN, 1u));
+}
+
 // ---- Rule 4: GPU_LOCAL -------------------------------------------------------------------------
 
 TEST_P(BufferRulesTest, GpuLocalAccumulatesPerLaunchIndexAndNeverReachesTheHost) {

@@ -62,6 +62,14 @@ RT_PROGRAM void io_increment_and_peek() {
   neighbor[index1] = peeked == 0xFFFFFFFFu ? 1u : 0u;
 }
 
+// Increments its element; launch index `fail_at` then fails the launch (a code below
+// RT_EXCEPTION_USER is an error, not an exception).
+rtDeclareVariable(unsigned int, fail_at, , );
+RT_PROGRAM void io_increment_or_fail() {
+  shared_io[index1] += 1u;
+  if (index1 == fail_at) rtThrow(0x10);
+}
+
 // ---- GPU_LOCAL ---------------------------------------------------------------------------------
 rtBuffer<int, 2> local_acc;   // INPUT_OUTPUT | GPU_LOCAL
 rtBuffer<int, 2> local_copy;  // OUTPUT
