@@ -92,7 +92,17 @@ absl::Status GrpcDevice::Open(absl::Duration timeout) {
   return absl::OkStatus();
 }
 
-GrpcDevice::~GrpcDevice() = default;
+GrpcDevice::~GrpcDevice() {
+  // A worker someone else runs outlives this host: without this it would keep the session's
+  // replica (every buffer) until it restarts. Best effort, briefly: a lost worker holds nothing.
+  if (stub_ == nullptr || session_id_ == 0 || process_ != nullptr) return;
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(1));
+  v1::EndSessionRequest request;
+  request.set_session_id(session_id_);
+  v1::EndSessionReply reply;
+  stub_->worker->EndSession(&context, request, &reply);
+}
 
 DeviceInfo GrpcDevice::Info() const { return DeviceInfo{"worker", address_, health_.thread_count}; }
 
@@ -113,6 +123,7 @@ absl::StatusOr<WorkerHealth> GrpcDevice::Health(absl::Duration timeout) const {
 }
 
 absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
+  session_id_ = delta.session_id();
   grpc::ClientContext context;
   v1::ApplyReply reply;
   std::unique_ptr<grpc::ClientWriter<v1::ApplyChunk>> writer =

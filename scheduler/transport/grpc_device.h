@@ -65,6 +65,7 @@ class GrpcDevice : public Device {
   std::string address_;
   std::unique_ptr<Stub> stub_;
   WorkerHealth health_;
+  uint64_t session_id_ = 0;  // of the deltas applied, ended when the device goes
 };
 
 }  // namespace tessera::transport

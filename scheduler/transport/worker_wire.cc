@@ -18,6 +18,7 @@ v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta) {
   *out->mutable_context() = delta.context();
   *out->mutable_objects() = delta.objects();
   *out->mutable_removed() = delta.removed();
+  header.set_following(static_cast<uint64_t>(delta.modules_size()) + delta.chunks_size());
   return header;
 }
 
@@ -37,6 +38,13 @@ bool WriteApplyStream(const v1::StateDelta& delta,
 }
 
 absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
+  bytes_ += part.has_chunk()    ? part.chunk().data().size()
+            : part.has_module() ? part.module().data().size()
+                                : 0;
+  if (bytes_ > max_bytes_) {
+    return absl::ResourceExhaustedError(absl::StrCat("Apply stream carries more than ", max_bytes_,
+                                                     " bytes, more than this device can hold"));
+  }
   switch (part.part_case()) {
     case v1::ApplyChunk::kDelta:
       if (has_delta_) return absl::InvalidArgumentError("Apply stream carries two state deltas");
@@ -46,17 +54,26 @@ absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
             "separate messages");
       }
       delta_ = std::move(*part.mutable_delta());
+      following_ = part.following();
       has_delta_ = true;
       return absl::OkStatus();
     case v1::ApplyChunk::kChunk:
       if (!has_delta_) {
         return absl::InvalidArgumentError("Apply stream starts with a buffer chunk, not a delta");
       }
+      if (++received_ > following_) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "Apply stream carries more than the ", following_, " messages its delta announced"));
+      }
       *delta_.add_chunks() = std::move(*part.mutable_chunk());
       return absl::OkStatus();
     case v1::ApplyChunk::kModule:
       if (!has_delta_) {
         return absl::InvalidArgumentError("Apply stream starts with a module slice, not a delta");
+      }
+      if (++received_ > following_) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "Apply stream carries more than the ", following_, " messages its delta announced"));
       }
       *delta_.add_modules() = std::move(*part.mutable_module());
       return absl::OkStatus();
@@ -69,6 +86,12 @@ absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
 
 absl::StatusOr<v1::StateDelta> DeltaAssembler::Finish() && {
   if (!has_delta_) return absl::InvalidArgumentError("Apply stream ended without a state delta");
+  if (received_ != following_) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "Apply stream ended after ", received_, " of the ", following_,
+        " chunk messages its delta announced (cut short, or a message was malformed or too "
+        "large); nothing was applied"));
+  }
   return std::move(delta_);
 }
 

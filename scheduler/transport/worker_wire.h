@@ -37,12 +37,21 @@ class DeltaAssembler {
  public:
   // INVALID_ARGUMENT if the stream does not start with the delta or carries it twice. Module
   // slices are only collected: the device checks them against their hashes.
+  // RESOURCE_EXHAUSTED once the chunks and slices received hold more than `max_bytes`: a delta
+  // larger than the device's memory cannot be applied, and collecting it first would end the
+  // process (every session with it) before the delta is even checked.
+  explicit DeltaAssembler(uint64_t max_bytes = ~uint64_t{0}) : max_bytes_(max_bytes) {}
   absl::Status Add(v1::ApplyChunk&& part);
-  // INVALID_ARGUMENT if no delta arrived.
+  // INVALID_ARGUMENT if no delta arrived, or fewer or more messages than its header announced
+  // (a stream cut short by a malformed or oversized message reads as ended).
   absl::StatusOr<v1::StateDelta> Finish() &&;
 
  private:
   bool has_delta_ = false;
+  uint64_t following_ = 0;  // announced by the header
+  uint64_t received_ = 0;   // chunks and module slices after it
+  uint64_t max_bytes_;
+  uint64_t bytes_ = 0;  // data bytes of the chunks and slices so far
   v1::StateDelta delta_;
 };
 

@@ -122,6 +122,55 @@ TEST(WorkerWireTest, MalformedApplyStreamsAreRejected) {
   }
 }
 
+// gRPC ends a server's reads the same way at the end of a stream and at a message it could not
+// parse or that was too large: the header says how many messages follow, and a stream that ends
+// with fewer (or carries more) is refused instead of applied in part.
+TEST(WorkerWireTest, ApplyStreamsCutShortOrPaddedAreRefused) {
+  std::vector<v1::ApplyChunk> messages;
+  ASSERT_TRUE(WriteApplyStream(SampleDelta(), [&](const v1::ApplyChunk& m) {
+    messages.push_back(m);
+    return true;
+  }));
+  ASSERT_EQ(messages.front().following(), messages.size() - 1);
+  {
+    DeltaAssembler a;
+    for (size_t i = 0; i + 1 < messages.size(); ++i) {
+      ASSERT_TRUE(a.Add(v1::ApplyChunk(messages[i])).ok());
+    }
+    absl::StatusOr<v1::StateDelta> out = std::move(a).Finish();
+    EXPECT_EQ(out.status().code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(out.status().message().find("cut short"), std::string::npos) << out.status();
+  }
+  {
+    DeltaAssembler a;
+    for (const v1::ApplyChunk& m : messages) ASSERT_TRUE(a.Add(v1::ApplyChunk(m)).ok());
+    EXPECT_EQ(a.Add(v1::ApplyChunk(messages.back())).code(), absl::StatusCode::kInvalidArgument);
+  }
+}
+
+// A stream larger than the device could ever hold is refused as it arrives, before it is held.
+TEST(WorkerWireTest, ApplyStreamsBeyondTheByteLimitAreRefusedEarly) {
+  v1::StateDelta delta = SampleDelta();
+  size_t data_bytes = 0;
+  for (const v1::BufferChunk& c : delta.chunks()) data_bytes += c.data().size();
+  for (const v1::ModuleChunk& m : delta.modules()) data_bytes += m.data().size();
+  ASSERT_GT(data_bytes, 1u);
+  std::vector<v1::ApplyChunk> messages;
+  ASSERT_TRUE(WriteApplyStream(delta, [&](const v1::ApplyChunk& m) {
+    messages.push_back(m);
+    return true;
+  }));
+  DeltaAssembler a(data_bytes - 1);
+  absl::Status last;
+  for (v1::ApplyChunk& m : messages) {
+    last = a.Add(std::move(m));
+    if (!last.ok()) break;
+  }
+  EXPECT_EQ(last.code(), absl::StatusCode::kResourceExhausted) << last;
+  DeltaAssembler enough(data_bytes);
+  for (const v1::ApplyChunk& m : messages) ASSERT_TRUE(enough.Add(v1::ApplyChunk(m)).ok());
+}
+
 // Applies regions by offset into a byte image, as the host does.
 std::string Paint(const std::vector<v1::TileResult>& pieces, size_t size) {
   std::string image(size, '.');

@@ -222,6 +222,25 @@ TEST(WorkerProcessTest, OutOfOrderDeltaIsRejectedAndTheNextValidOneWorks) {
   EXPECT_EQ(f[4 * (5 * 10 + 9) + 1], 5.f);
 }
 
+// A worker someone else runs outlives its hosts: a device that goes (its context destroyed)
+// ends its session there, so the worker holds no replica for it any more.
+TEST(WorkerProcessTest, ADeviceThatGoesEndsItsSessionOnARunningWorker) {
+  std::unique_ptr<WorkerProcess> worker = Spawn({});
+  ASSERT_NE(worker, nullptr);
+  const std::string address = worker->address();
+  {
+    auto device = GrpcDevice::Connect(address);
+    ASSERT_TRUE(device.ok()) << device.status();
+    ASSERT_TRUE((*device)->Apply(WriteIndexDelta(1, 8, 8)).ok());
+  }
+  auto device = GrpcDevice::Connect(address);
+  ASSERT_TRUE(device.ok()) << device.status();
+  std::atomic<bool> cancel{false};
+  absl::Status s = (*device)->Launch(TwoTiles(8, 8), cancel, [](v1::TileResult&&) {});
+  EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition) << s;
+  EXPECT_NE(s.message().find("no state for session"), std::string::npos) << s;
+}
+
 TEST(WorkerProcessTest, LargeWrittenRegionsArriveInBoundedMessages) {
   std::unique_ptr<WorkerProcess> worker = Spawn({});
   ASSERT_NE(worker, nullptr);

@@ -148,4 +148,11 @@ grpc::Status AuthenticatedWorker::Health(grpc::ServerContext* context,
   return inner_->Health(context, request, reply);
 }
 
+grpc::Status AuthenticatedWorker::EndSession(grpc::ServerContext* context,
+                                             const v1::EndSessionRequest* request,
+                                             v1::EndSessionReply* reply) {
+  if (grpc::Status s = Admit(context, "EndSession"); !s.ok()) return s;
+  return inner_->EndSession(context, request, reply);
+}
+
 }  // namespace tessera::worker

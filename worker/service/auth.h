@@ -74,6 +74,8 @@ class AuthenticatedWorker final : public v1::Worker::Service {
                       grpc::ServerWriter<v1::TileResult>* writer) override;
   grpc::Status Health(grpc::ServerContext* context, const v1::HealthRequest* request,
                       v1::HealthReply* reply) override;
+  grpc::Status EndSession(grpc::ServerContext* context, const v1::EndSessionRequest* request,
+                          v1::EndSessionReply* reply) override;
 
  private:
   // OK, or the refusal to return (after logging it).

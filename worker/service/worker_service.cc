@@ -161,7 +161,9 @@ void WorkerService::ForgetIfEmpty(uint64_t id, const std::shared_ptr<Session>& s
 grpc::Status WorkerService::Apply(grpc::ServerContext* context,
                                   grpc::ServerReader<v1::ApplyChunk>* reader,
                                   v1::ApplyReply* reply) {
-  DeltaAssembler assembler;
+  // No delta larger than the machine's memory can be applied: refuse it as it arrives.
+  DeltaAssembler assembler(scheduler::TotalSystemMemory() > 0 ? scheduler::TotalSystemMemory()
+                                                              : ~uint64_t{0});
   v1::ApplyChunk part;
   while (reader->Read(&part)) {
     if (absl::Status s = assembler.Add(std::move(part)); !s.ok()) return ToGrpcStatus(s);
@@ -285,6 +287,18 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");
   }
   return ToGrpcStatus(results.status());
+}
+
+grpc::Status WorkerService::EndSession(grpc::ServerContext* context,
+                                       const v1::EndSessionRequest* request,
+                                       v1::EndSessionReply* reply) {
+  std::shared_ptr<Session> session = FindSession(request->session_id(), /*create=*/false);
+  if (session == nullptr) return grpc::Status::OK;
+  session->mu.Lock();  // after the running Apply or Launch
+  Held held{session.get()};
+  session->device.reset();
+  ForgetIfEmpty(request->session_id(), session);
+  return grpc::Status::OK;
 }
 
 grpc::Status WorkerService::Health(grpc::ServerContext* context, const v1::HealthRequest* request,

@@ -40,6 +40,9 @@ class WorkerService final : public v1::Worker::Service {
                       grpc::ServerWriter<v1::TileResult>* writer) override;
   grpc::Status Health(grpc::ServerContext* context, const v1::HealthRequest* request,
                       v1::HealthReply* reply) override;
+  // Forgets the session once its running call (if any) ended.
+  grpc::Status EndSession(grpc::ServerContext* context, const v1::EndSessionRequest* request,
+                          v1::EndSessionReply* reply) override;
 
  private:
   struct Session {

@@ -183,6 +183,48 @@ TEST_F(WorkerServiceTest, OutOfOrderDeltaKeepsTheSessionAndSequenceOneRestartsIt
   ExpectIndices(FinalOutput(results), 5, 3);
 }
 
+// A stream that ends before every announced message arrived (a message gRPC could not parse or
+// refused as too large ends it the same way) changes nothing: the same sequence number is still
+// the next one.
+TEST_F(WorkerServiceTest, AnApplyStreamCutShortChangesNothing) {
+  ASSERT_TRUE(Apply(WriteIndexDelta(11, 1, 4, 4)).ok());
+  std::vector<v1::ApplyChunk> messages;
+  transport::WriteApplyStream(WriteIndexDelta(11, 2, 6, 6), [&](const v1::ApplyChunk& m) {
+    messages.push_back(m);
+    return true;
+  });
+  ASSERT_GT(messages.size(), 1u);
+  messages.pop_back();
+  grpc::Status s = Apply(messages);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << s.error_message();
+  ASSERT_TRUE(Apply(WriteIndexDelta(11, 2, 6, 6)).ok());
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(11, 6, 6, &results).ok());
+  ExpectIndices(FinalOutput(results), 6, 6);
+}
+
+// A host done with a session ends it, and the worker lets go of its replica.
+TEST_F(WorkerServiceTest, EndSessionDropsTheReplica) {
+  ASSERT_TRUE(Apply(WriteIndexDelta(12, 1, 4, 4)).ok());
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(12, 4, 4, &results).ok());
+  for (int i = 0; i < 2; ++i) {  // ending it again, or one never begun, is fine
+    grpc::ClientContext context;
+    v1::EndSessionRequest request;
+    request.set_session_id(12);
+    v1::EndSessionReply reply;
+    ASSERT_TRUE(stub_->EndSession(&context, request, &reply).ok());
+  }
+  results.clear();
+  grpc::Status s = Launch(12, 4, 4, &results);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_NE(s.error_message().find("no state for session 12"), std::string::npos);
+  ASSERT_TRUE(Apply(WriteIndexDelta(12, 1, 4, 4)).ok());  // sequence 1 begins it again
+  results.clear();
+  ASSERT_TRUE(Launch(12, 4, 4, &results).ok());
+  ExpectIndices(FinalOutput(results), 4, 4);
+}
+
 TEST_F(WorkerServiceTest, LargeResultsArriveInBoundedMessages) {
   constexpr uint64_t kW = 1024, kH = 600;  // 9.4 MiB of float4
   ASSERT_TRUE(Apply(WriteIndexDelta(3, 1, kW, kH)).ok());
