@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -75,18 +78,29 @@ std::string FirstLines(const std::string& text, int lines) {
 
 // Headers a source includes from outside the include directories (a "common.h" beside it) are
 // part of the module too. After each compile the compiler's dependency list is kept beside the
-// modules as `<source key>.deps` (one path per line); the module's name hashes the source key
-// with those files' current contents, so editing a header is a new module, as editing the source
-// is. Returns 0 when a listed file cannot be read (compiled again).
+// modules as `<lookup key>.deps` (one path per line; the lookup key adds the source's directory,
+// where `#include "..."` looks first); the module's name hashes the source key with those files'
+// current contents (not their paths: the same text with the same headers elsewhere is the same
+// module), so editing a header is a new module, as editing the source is. Returns 0 when a
+// listed file cannot be read (compiled again).
 uint64_t DependencyKey(uint64_t source_key, const std::vector<std::string>& files) {
   uint64_t key = source_key;
   for (const std::string& file : files) {
     std::ifstream in(file, std::ios::binary);
     if (!in) return 0;
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    key = HashString(bytes, HashString(file, key));
+    key = HashString(bytes, key);
   }
   return key == 0 ? 1 : key;
+}
+
+// Where the dependency list of `key`'s source at `source_path` is kept: the same text in two
+// directories may include different headers.
+uint64_t LookupKey(uint64_t key, const std::string& source_path) {
+  if (source_path.empty()) return key;
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(source_path, ec);
+  return HashString(fs::weakly_canonical(absolute, ec).parent_path().string(), key);
 }
 
 std::vector<std::string> ReadLines(const std::string& path, bool* found) {
@@ -134,6 +148,43 @@ std::string TempSuffix() {
   return absl::StrCat(getpid(), "-", rd());
 }
 
+// ModuleCacheDir(), created; where it cannot be created or written and the application did not
+// choose it ($TESSERA_CACHE_DIR), a private temporary directory, said once on stderr and removed
+// at exit, as the devices' module cache does (docs/programs.md): a HOME that cannot be written
+// (a service account's /nonexistent) must not stop programs from compiling.
+absl::StatusOr<std::string> UsableModuleCacheDir() {
+  const std::string wanted = ModuleCacheDir();
+  std::error_code ec;
+  fs::create_directories(wanted, ec);
+  if (!ec && access(wanted.c_str(), W_OK | X_OK) == 0) return wanted;
+  const std::string why = ec ? ec.message() : std::strerror(errno);
+  const char* chosen = std::getenv("TESSERA_CACHE_DIR");
+  if (chosen != nullptr && *chosen != '\0') {
+    return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("cannot use module cache directory '",
+                                                         wanted, "' ($TESSERA_CACHE_DIR): ", why));
+  }
+  static std::mutex mu;
+  static std::string* temp_dir = nullptr;
+  std::lock_guard<std::mutex> lock(mu);
+  if (temp_dir != nullptr) return *temp_dir;
+  fs::path root = fs::temp_directory_path(ec);
+  if (ec) root = "/tmp";
+  std::string temp = (root / "tessera-compile-XXXXXX").string();
+  if (mkdtemp(temp.data()) == nullptr) {
+    return RtError(RT_ERROR_INVALID_SOURCE,
+                   absl::StrCat("cannot create module cache directory '", wanted, "': ", why,
+                                "; nor a temporary one: ", std::strerror(errno)));
+  }
+  std::fprintf(stderr, "tessera: compile cache %s is not usable (%s); using %s instead\n",
+               wanted.c_str(), why.c_str(), temp.c_str());
+  temp_dir = new std::string(temp);
+  std::atexit([] {
+    std::error_code ignored;
+    fs::remove_all(*temp_dir, ignored);
+  });
+  return *temp_dir;
+}
+
 }  // namespace
 
 std::string ModuleCacheDir() {
@@ -159,8 +210,9 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   uint64_t key = HashString(source);
   key = HashString(absl::StrJoin(command, "\x1f"), key);
   key ^= HeaderTreeHash(ProgramIncludeDirs());
-  const std::string cache_dir = ModuleCacheDir();
-  const std::string deps_path = absl::StrCat(cache_dir, "/", HexHash(key), ".deps");
+  TS_ASSIGN_OR_RETURN(const std::string cache_dir, UsableModuleCacheDir());
+  const std::string deps_path =
+      absl::StrCat(cache_dir, "/", HexHash(LookupKey(key, source_path)), ".deps");
   std::error_code ec;
   bool have_deps = false;
   const std::vector<std::string> deps = ReadLines(deps_path, &have_deps);
@@ -173,12 +225,6 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
       return cached;
     }
   }
-  fs::create_directories(cache_dir, ec);
-  if (ec) {
-    return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("cannot create module cache directory '",
-                                                         cache_dir, "': ", ec.message()));
-  }
-
   const std::string suffix = TempSuffix();
   std::string input = source_path;
   std::string temp_source;
@@ -205,10 +251,14 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   const std::vector<std::string> compiled_deps = ParseDepFile(temp_deps, input);
   fs::remove(temp_deps, ec);
   if (!temp_source.empty()) fs::remove(temp_source, ec);
+  const char* chosen = std::getenv("TESSERA_CXX");
+  const bool from_env = chosen != nullptr && *chosen != '\0';
   if (!result.ok()) {
     return RtError(RT_ERROR_INVALID_SOURCE,
                    absl::StrCat("cannot run the C++ compiler: ", result.status().message(),
-                                " (set TESSERA_CXX to choose one)"));
+                                from_env ? " (it is $TESSERA_CXX: name a C++ compiler there; "
+                                           "it is run directly, without a shell)"
+                                         : " (set TESSERA_CXX to choose one)"));
   }
   if (result->exit_code != 0) {
     fs::remove(temp_module, ec);
@@ -216,6 +266,15 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
                    absl::StrCat("compiling '", source_path.empty() ? "<string>" : source_path,
                                 "' failed (", command.front(), " exit code ", result->exit_code,
                                 "):\n", FirstLines(result->output, kErrorLines)));
+  }
+  if (!fs::is_regular_file(temp_module, ec)) {
+    // Exit status 0 and no output: not a compiler (TESSERA_CXX=/bin/true), or one that ignored -o.
+    return RtError(
+        RT_ERROR_INVALID_SOURCE,
+        absl::StrCat("compiling '", source_path.empty() ? "<string>" : source_path, "': '",
+                     command.front(), "'", from_env ? " ($TESSERA_CXX)" : "",
+                     " exited with status 0 but wrote no module; is it a C++ compiler?",
+                     result->output.empty() ? "" : "\n", FirstLines(result->output, kErrorLines)));
   }
   // The module's name covers the headers as they were read; a header edited since is read
   // again at the next lookup, differs, and compiles again.

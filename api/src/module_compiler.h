@@ -1,6 +1,8 @@
 // Compiles C++ program sources into program modules with the system compiler, cached by content:
 // the key hashes the source, the compiler command and the program-side headers, so editing
-// tessera/device.h recompiles. Headers next to the source are not part of the key.
+// tessera/device.h recompiles. Headers the source includes from elsewhere (a "common.h" beside
+// it) are part of the module's name through the compiler's dependency list, kept per source
+// directory, so the same text in two directories with different headers never shares a module.
 #ifndef TESSERA_API_SRC_MODULE_COMPILER_H_
 #define TESSERA_API_SRC_MODULE_COMPILER_H_
 

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <tuple>
 
 #include "api_test_util.h"
 #include "gtest/gtest.h"
@@ -113,6 +114,57 @@ TEST_F(HostProgramTest, EditingAnIncludedHeaderCompilesAgain) {
   Write("inc/value.h", "#define VALUE 1\n");
   create();
   EXPECT_EQ(CachedModules(), 2u);
+}
+
+// The same source in two directories reads the headers beside it: different headers, different
+// modules; the same headers, one module.
+TEST_F(HostProgramTest, TheSameSourceBesideOtherHeadersIsAnotherModule) {
+  const std::string text = "#include \"value.h\"\nextern \"C\" int shade() { return VALUE; }\n";
+  RTprogram p = nullptr;
+  for (const auto& [dir, value, modules] :
+       std::vector<std::tuple<std::string, int, size_t>>{{"a", 1, 1}, {"b", 2, 2}, {"c", 1, 2}}) {
+    SCOPED_TRACE(dir);
+    Write(dir + "/value.h", "#define VALUE " + std::to_string(value) + "\n");
+    const std::string src = Write(dir + "/use.cu", text);
+    ASSERT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "shade", &p), RT_SUCCESS)
+        << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+    EXPECT_EQ(CachedModules(), modules);
+  }
+}
+
+// A home directory that cannot hold the default compile cache (a service account's) does not
+// stop programs from compiling: a private temporary directory takes its place, and says so.
+TEST_F(HostProgramTest, AnUnusableDefaultCacheFallsBackToATemporaryOne) {
+  Write("plain_file", "not a directory");
+  ScopedEnv cache("TESSERA_CACHE_DIR", nullptr);
+  ScopedEnv xdg("XDG_CACHE_HOME", nullptr);
+  ScopedEnv home("HOME", (dir_ / "plain_file" / "home").c_str());
+  const std::string src = Write("fallback.cu", "extern \"C\" void shade() {}\n");
+  RTprogram p = nullptr;
+  ::testing::internal::CaptureStderr();
+  const RTresult r = rtProgramCreateFromPTXFile(ctx, src.c_str(), "shade", &p);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  ASSERT_EQ(r, RT_SUCCESS) << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  EXPECT_NE(err.find("is not usable"), std::string::npos) << err;
+}
+
+// TESSERA_CXX naming something that is not a compiler says so.
+TEST_F(HostProgramTest, ACompilerThatWritesNothingOrCannotRunIsNamed) {
+  const std::string src = Write("nocompiler.cu", "extern \"C\" void shade() { int x = 1; }\n");
+  RTprogram p = nullptr;
+  {
+    ScopedEnv cxx("TESSERA_CXX", "/bin/true");
+    ASSERT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "shade", &p), RT_ERROR_INVALID_SOURCE);
+    const std::string message = ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+    EXPECT_NE(message.find("wrote no module"), std::string::npos) << message;
+    EXPECT_NE(message.find("$TESSERA_CXX"), std::string::npos) << message;
+  }
+  {
+    ScopedEnv cxx("TESSERA_CXX", (dir_ / "no-such-compiler").c_str());
+    ASSERT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "shade", &p), RT_ERROR_INVALID_SOURCE);
+    const std::string message = ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+    EXPECT_NE(message.find("it is $TESSERA_CXX"), std::string::npos) << message;
+  }
 }
 
 TEST_F(HostProgramTest, AModuleCutShortIsInvalidSourceNotACrash) {
