@@ -11,8 +11,22 @@
 # where `run` starts the executable with the packed loader and libraries, and spawned workers
 # (TESSERA_WORKER) get the same.
 set -euo pipefail
+usage() { sed -n '2,12s/^# \{0,1\}//p' "$0"; }
+if [[ $# -ge 1 && ( $1 == -h || $1 == --help ) ]]; then usage; exit 0; fi
+if [[ $# -lt 2 ]]; then
+  echo "bundle-for-device.sh: expected BUILD_DIR OUT.tar.xz [EXECUTABLE...]" >&2
+  usage >&2
+  exit 2
+fi
+if [[ ! -x $1/worker/service/tessera-worker ]]; then
+  echo "bundle-for-device.sh: $1 is not a Tessera build directory (no worker/service/tessera-worker)" >&2
+  exit 2
+fi
+for f in "${@:3}"; do
+  [[ -f $f ]] || { echo "bundle-for-device.sh: executable $f not found" >&2; exit 2; }
+done
 build="$(cd "$1" && pwd)"
-out="$2"
+out="$(realpath -m "$2")"
 shift 2
 stage="$(mktemp -d)"
 trap 'rm -rf "$stage"' EXIT
@@ -25,6 +39,7 @@ for f in "$@"; do files+=("$(realpath "$f")"); done  # staged under their absolu
 mapfile -t modules < <(find "$build" -name '*.so' -path '*modules*' -o -name 'libtessera*.so*')
 files+=("${modules[@]}")
 
+echo "collecting ${#files[@]} files and the libraries they load" >&2
 for f in "${files[@]}"; do
   mkdir -p "$stage$(dirname "$f")"
   cp -L "$f" "$stage$f"
@@ -45,5 +60,6 @@ cat >"$libs/worker" <<SCRIPT
 exec /opt/tessera-libs/ld-linux-x86-64.so.2 --library-path /opt/tessera-libs $worker "\$@"
 SCRIPT
 chmod +x "$libs/run" "$libs/worker"
+echo "compressing $(du -sh "$stage" | cut -f1) into $out (takes minutes on few cores)" >&2
 XZ_OPT="${XZ_OPT:--T0 -3}" tar -C "$stage" -cJf "$out" .  # xz on every core
 echo "packed $(du -h "$out" | cut -f1) into $out"

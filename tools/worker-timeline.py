@@ -19,15 +19,25 @@ CALL = re.compile(r'call of launch (\d+) .*waited ([0-9.]+)ms, ran ([0-9.]+)ms, 
                   r'sent the rest in ([0-9.]+)ms.*monotonic clock ([0-9.]+) to ([0-9.]+)ms')
 
 
+def read_lines(path):
+    """The file's lines, or exit with one line naming it (a glob that matched nothing arrives as
+    its own pattern, e.g. /tmp/wl/*.log when TESSERA_WORKER_LOG_DIR was not set)."""
+    try:
+        with open(path, errors='replace') as f:
+            return f.readlines()
+    except OSError as e:
+        sys.exit(f'worker-timeline.py: cannot read {path}: {e.strerror}')
+
+
 def main(host_file, worker_logs):
     launches = []  # (id, start, end)
-    for line in open(host_file, errors='replace'):
+    for line in read_lines(host_file):
         m = HOST.search(line)
         if m:
             launches.append((int(m.group(1)), float(m.group(2)), float(m.group(3))))
     calls = defaultdict(lambda: defaultdict(list))  # launch id -> log -> [(busy from, to, ran, sent)]
     for log in worker_logs:
-        for line in open(log, errors='replace'):
+        for line in read_lines(log):
             m = CALL.search(line)
             if not m:
                 continue
@@ -63,6 +73,9 @@ def main(host_file, worker_logs):
 
 
 if __name__ == '__main__':
+    if len(sys.argv) >= 2 and sys.argv[1] in ('-h', '--help'):
+        print(__doc__)
+        sys.exit(0)
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     main(sys.argv[1], sys.argv[2:])

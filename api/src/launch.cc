@@ -42,13 +42,20 @@ bool IsDeviceLoss(const absl::Status& status) {
          status.code() == absl::StatusCode::kDeadlineExceeded;
 }
 
-void WarnLost(const DeviceSlot& slot, uint64_t launch_id, const absl::Status& reason) {
+// `others_took_over`: whether other devices ran (or will run) its tiles; false when the launch
+// fails for want of any. Only local:N workers are started again; the host reconnects to others.
+void WarnLost(const DeviceSlot& slot, uint64_t launch_id, const absl::Status& reason,
+              bool others_took_over) {
+  const bool spawned = slot.desc.type == DeviceSpecEntry::Type::kLocal;
   std::fprintf(stderr,
-               "tessera: device '%s' (%s) was lost during launch %llu: %s. Its tiles ran on the "
-               "other devices; its copies of GPU_LOCAL buffers are gone. It is started again for "
-               "the next launch.\n",
+               "tessera: device '%s' (%s) was lost during launch %llu: %s. %s; its copies of "
+               "GPU_LOCAL buffers are gone. %s\n",
                slot.desc.name.c_str(), slot.desc.address.c_str(),
-               static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str());
+               static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str(),
+               others_took_over ? "Its tiles ran on the other devices"
+                                : "No other device was left to run its tiles",
+               spawned ? "It is started again for the next launch."
+                       : "The next launch connects to it again.");
 }
 
 // TESSERA_LAUNCH_TIMING=1: one line per launch on stderr with where the host's time went, to tell
@@ -126,6 +133,7 @@ bool NothingNew(const v1::StateDelta& delta, const DeviceSync& sync,
 absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
   size_t alive = 0;
   std::string lost;
+  std::vector<std::pair<DeviceSlot*, absl::Status>> warn;  // said once it is known who is left
   for (DeviceSlot& slot : context.device_slots()) {
     if (slot.device == nullptr) continue;
     PreparedDelta prepared = BuildDelta(context, slot.sync);
@@ -138,7 +146,7 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
     for (const v1::BufferChunk& chunk : prepared.delta.chunks()) bytes += chunk.data().size();
     absl::Status status = slot.device->Apply(prepared.delta);
     if (IsDeviceLoss(status)) {
-      WarnLost(slot, launch_id, status);
+      warn.emplace_back(&slot, status);
       absl::StrAppend(&lost, lost.empty() ? "" : "; ", slot.desc.name, ": ", status.message());
       context.LoseDevice(slot);
       continue;
@@ -149,6 +157,7 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
     slot.sync.last_context = std::move(context_bytes);
     ++alive;
   }
+  for (const auto& [slot, status] : warn) WarnLost(*slot, launch_id, status, alive > 0);
   if (alive == 0) {
     return RtError(RT_ERROR_CONNECTION_FAILED, absl::StrCat("every device was lost (", lost, ")"));
   }
@@ -300,7 +309,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   }
 
   for (const scheduler::LostDevice& lost : dispatcher.lost()) {
-    WarnLost(*slots[lost.device], launch_id, lost.reason);
+    WarnLost(*slots[lost.device], launch_id, lost.reason, !cancelled && dispatcher.status().ok());
   }
   timing.Mark("devices");
   absl::Status tile_status = gather.Finish();

@@ -1,6 +1,11 @@
 #include "tutorial/cli.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstring>
 #include <exception>
 #include <string>
 
@@ -10,6 +15,37 @@
 #include "tutorial/steps.h"
 
 namespace tessera::tutorial {
+namespace {
+
+// Whether `path` can be written, checked before rendering: a long render should not end in
+// "Could not open file". Names the directory or file and the system's reason.
+void CheckOutputWritable(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "."
+                          : slash == 0               ? "/"
+                                                     : path.substr(0, slash);
+  struct stat st {};
+  if (stat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw TutorialError("cannot write '" + path + "': it is a directory");
+    if (access(path.c_str(), W_OK) != 0) {
+      throw TutorialError("cannot write '" + path + "': " + std::strerror(errno));
+    }
+    return;
+  }
+  if (stat(dir.c_str(), &st) != 0) {
+    throw TutorialError("cannot write '" + path + "': directory '" + dir +
+                        "': " + std::strerror(errno));
+  }
+  if (!S_ISDIR(st.st_mode)) {
+    throw TutorialError("cannot write '" + path + "': '" + dir + "' is not a directory");
+  }
+  if (access(dir.c_str(), W_OK | X_OK) != 0) {
+    throw TutorialError("cannot write '" + path + "': directory '" + dir +
+                        "': " + std::strerror(errno));
+  }
+}
+
+}  // namespace
 
 int RunTutorialMain(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
   CLI::App app{"Renders a step of the OptiX SDK tutorial (Whitted-style ray tracing) with Tessera.",
@@ -35,6 +71,7 @@ int RunTutorialMain(int argc, const char* const* argv, std::ostream& out, std::o
     // Check what needs no rendering first, so mistakes fail fast.
     const StepConfig& step = GetStep(options.step);
     FormatForPath(out_path);
+    CheckOutputWritable(out_path);
     options.module_dir = ResolveModuleDir(modules);
     if (step.step == 5) {
       out << "note: step 5 draws a sky gradient instead of an environment map; environment maps "

@@ -4,9 +4,13 @@
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <mutex>
 #include <utility>
 
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "tessera/scheduler/result_pool.h"
 #include "tessera/v1/worker.grpc.pb.h"
@@ -24,10 +28,26 @@ std::chrono::system_clock::time_point DeadlineIn(absl::Duration timeout) {
 
 // TESSERA_WORKER_TIMEOUT (seconds, default 10): how long a worker may stay silent during a launch
 // before the host gives up on it and runs its tiles elsewhere.
+// Workers send a heartbeat twice a second, so a limit under a second would take a working worker
+// for a silent one. A value that is not a number of seconds from 1 up is said on stderr (once)
+// and the default used, as TESSERA_MODULE_CACHE_MAX_MB is.
 absl::Duration SilenceDeadline() {
+  constexpr double kDefault = 10.0;
+  constexpr double kMin = 1.0;
   const char* env = std::getenv("TESSERA_WORKER_TIMEOUT");
-  double seconds = env != nullptr ? std::atof(env) : 0.0;
-  return absl::Seconds(seconds > 0 ? seconds : 10.0);
+  if (env == nullptr || *env == '\0') return absl::Seconds(kDefault);
+  double seconds = 0;
+  if (absl::SimpleAtod(env, &seconds) && std::isfinite(seconds) && seconds >= kMin) {
+    return absl::Seconds(seconds);
+  }
+  static std::once_flag warned;
+  std::call_once(warned, [env] {
+    std::fprintf(stderr,
+                 "tessera: TESSERA_WORKER_TIMEOUT='%s' is not a number of seconds from %g up "
+                 "(workers send a heartbeat twice a second); using %g\n",
+                 env, kMin, kDefault);
+  });
+  return absl::Seconds(kDefault);
 }
 
 }  // namespace

@@ -188,6 +188,23 @@ TEST_F(FaultTest, ForkedChildGetsItsOwnWorkersAndLeavesTheParentsAlone) {
   EXPECT_NE(message.find("ray generation program 'render_crash'"), std::string::npos) << message;
 }
 
+// A worker timeout that is not a number of seconds from 1 up (workers send a heartbeat twice a
+// second, so 0.01 would lose every working worker) is said on stderr and the default used.
+TEST_F(FaultTest, AnUnusableWorkerTimeoutIsSaidAndTheDefaultUsed) {
+  const std::string reference = Reference();
+  setenv("TESSERA_WORKER_TIMEOUT", "0.01", 1);
+  testing::internal::CaptureStderr();
+  Create("local:1");
+  RTresult r = rtContextLaunch2D(ctx_, 1, kW, kH);
+  const std::string warning = testing::internal::GetCapturedStderr();
+  unsetenv("TESSERA_WORKER_TIMEOUT");
+  ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
+  EXPECT_TRUE(ReadBytes(scene_.image) == reference);
+  EXPECT_NE(warning.find("TESSERA_WORKER_TIMEOUT='0.01' is not a number of seconds from 1 up"),
+            std::string::npos)
+      << warning;
+}
+
 TEST_F(FaultTest, CrashingProgramNamesDeviceAndProgram) {
   Create("local:2");
   RTprogram crash;
@@ -237,8 +254,13 @@ TEST_F(FaultTest, EveryDeviceLostIsConnectionFailed) {
     const auto start = Clock::now();
     testing::internal::CaptureStderr();
     RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
-    testing::internal::GetCapturedStderr();
+    const std::string warning = testing::internal::GetCapturedStderr();
     EXPECT_EQ(r, RT_ERROR_CONNECTION_FAILED) << ErrorText(ctx_, r);
+    if (attempt == 0) {  // the warning says what happened, not what a surviving device did
+      EXPECT_NE(warning.find("No other device was left"), std::string::npos) << warning;
+      EXPECT_NE(warning.find("The next launch connects to it again"), std::string::npos) << warning;
+      EXPECT_EQ(warning.find("ran on the other devices"), std::string::npos) << warning;
+    }
     EXPECT_NE(ErrorText(ctx_, r).find("every device was lost"), std::string::npos)
         << ErrorText(ctx_, r);
     EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 30.0);

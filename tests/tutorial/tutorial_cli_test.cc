@@ -78,6 +78,16 @@ TEST(TutorialCli, MissingOutFails) {
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
 }
 
+// An output that cannot be written fails before rendering, with the reason.
+TEST(TutorialCli, UnwritableOutFailsBeforeRendering) {
+  const Result r = RunCli({"--step", "10", "--width", "16", "--height", "12", "--out",
+                           "/nonexistent/no-such-dir/a.png"});
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("directory '/nonexistent/no-such-dir': No such file or directory"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(TutorialCli, MissingModulesNamed) {
   const TempFile file("nomodules.png");
   const Result r = RunCli({"--step", "0", "--width", "16", "--height", "12", "--out", file.path,

@@ -1,6 +1,7 @@
 #include "listen_address.h"
 
 #include <arpa/inet.h>
+#include <netdb.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -94,6 +95,59 @@ absl::Status CheckUnixSocketNotInUse(absl::string_view listen) {
       absl::StrCat("--listen ", listen,
                    ": another process is listening on that socket (a worker already "
                    "running there?); a stale socket nobody listens on would be replaced"));
+}
+
+absl::Status CheckCanBind(absl::string_view listen) {
+  if (absl::StartsWith(listen, "unix:")) {
+    std::string dir(listen.substr(5));
+    const size_t slash = dir.rfind('/');
+    dir = slash == std::string::npos ? "." : slash == 0 ? "/" : dir.substr(0, slash);
+    struct stat st {};
+    int error = 0;
+    if (stat(dir.c_str(), &st) != 0) {
+      error = errno;
+    } else if (!S_ISDIR(st.st_mode)) {
+      error = ENOTDIR;
+    } else if (access(dir.c_str(), W_OK | X_OK) != 0) {
+      error = errno;
+    }
+    if (error != 0) {
+      return absl::FailedPreconditionError(absl::StrCat(
+          "--listen ", listen, ": cannot create the socket in ", dir, ": ", std::strerror(error)));
+    }
+    return absl::OkStatus();
+  }
+  const Split split = SplitHost(listen);
+  const std::string port(listen.substr(split.host_part.size() + 1));
+  addrinfo hints{};
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_PASSIVE;
+  addrinfo* found = nullptr;
+  if (const int rc = getaddrinfo(split.host.empty() ? nullptr : split.host.c_str(), port.c_str(),
+                                 &hints, &found);
+      rc != 0) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("--listen ", listen, ": cannot resolve ", split.host, ": ", gai_strerror(rc)));
+  }
+  int error = 0;
+  for (addrinfo* a = found; a != nullptr; a = a->ai_next) {
+    const int fd = socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC, a->ai_protocol);
+    if (fd < 0) continue;
+    const int one = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));  // as gRPC binds
+    const bool bound = bind(fd, a->ai_addr, a->ai_addrlen) == 0;
+    if (!bound) error = errno;
+    close(fd);
+    if (bound) {
+      freeaddrinfo(found);
+      return absl::OkStatus();
+    }
+  }
+  freeaddrinfo(found);
+  return absl::FailedPreconditionError(absl::StrCat(
+      "--listen ", listen, ": cannot bind: ", std::strerror(error),
+      error == EADDRINUSE ? " (another process listens on that port; port 0 picks a free one)"
+                          : ""));
 }
 
 bool IsLoopbackAddress(absl::string_view listen) {

@@ -21,6 +21,12 @@ absl::Status CheckListenAddress(absl::string_view listen);
 // running worker unreachable while both report listening there. FAILED_PRECONDITION naming it.
 absl::Status CheckUnixSocketNotInUse(absl::string_view listen);
 
+// OK when the worker can bind `listen` (checked with a socket of its own, closed again): a unix
+// socket's directory exists and can be written, a TCP address resolves and its port is free.
+// FAILED_PRECONDITION naming the address and the system's reason otherwise, so that the worker
+// exits 2 with one line instead of gRPC's log and a guess.
+absl::Status CheckCanBind(absl::string_view listen);
+
 // True when only this machine can connect: unix sockets, localhost, 127.0.0.0/8 and ::1. A worker
 // runs the code its host sends, so anything else needs TLS and a token (docs/security.md).
 bool IsLoopbackAddress(absl::string_view listen);

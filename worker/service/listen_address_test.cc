@@ -1,6 +1,8 @@
 #include "listen_address.h"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <stdlib.h>  // mkdtemp
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -64,6 +66,29 @@ TEST(ListenAddressTest, AUnixSocketSomeoneListensOnIsInUseAndAStaleOneIsNot) {
   EXPECT_TRUE(CheckUnixSocketNotInUse("127.0.0.1:0").ok());
   unlink(path.c_str());
   rmdir(dir);
+}
+
+// What would make the server fail to bind is said with the system's reason before it starts.
+TEST(ListenAddressTest, AddressesThatCannotBeBoundAreNamedWithTheReason) {
+  absl::Status s = CheckCanBind("unix:/nonexistent/dir/w.sock");
+  EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(s.message().find("cannot create the socket in /nonexistent/dir: No such file"),
+            std::string::npos)
+      << s;
+  EXPECT_TRUE(CheckCanBind("127.0.0.1:0").ok());
+  // A port another socket listens on.
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)), 0);
+  ASSERT_EQ(listen(fd, 1), 0);
+  socklen_t length = sizeof(a);
+  ASSERT_EQ(getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length), 0);
+  s = CheckCanBind("127.0.0.1:" + std::to_string(ntohs(a.sin_port)));
+  close(fd);
+  EXPECT_NE(s.message().find("Address already in use"), std::string::npos) << s;
 }
 
 TEST(ListenAddressTest, ResolvedAddressCarriesTheBoundPort) {

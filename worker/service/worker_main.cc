@@ -39,6 +39,7 @@ int Serve(const std::string& listen, int threads, tessera::transport::ResultAren
           const tessera::worker::SecurityOptions& security) {
   absl::Status address = tessera::worker::CheckListenAddress(listen);
   if (address.ok()) address = tessera::worker::CheckUnixSocketNotInUse(listen);
+  if (address.ok()) address = tessera::worker::CheckCanBind(listen);
   if (!address.ok()) {
     std::fprintf(stderr, "tessera-worker: %s\n", std::string(address.message()).c_str());
     return 2;
@@ -168,8 +169,8 @@ int main(int argc, char** argv) {
   std::string module_cache;
   app.add_option("--module-cache", module_cache,
                  "directory of the program modules hosts send, by content hash (default: "
-                 "$TESSERA_MODULE_CACHE, else $XDG_CACHE_HOME/tessera/modules or "
-                 "~/.cache/tessera/modules)");
+                 "$TESSERA_MODULE_CACHE, else $TESSERA_CACHE_DIR, else "
+                 "$XDG_CACHE_HOME/tessera/modules, else ~/.cache/tessera/modules)");
   CLI11_PARSE(app, argc, argv);
   tessera::SetModuleCacheDirectory(module_cache);
   // Resolved now, so that falling back to a temporary directory or ignoring a malformed bound is
