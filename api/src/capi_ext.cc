@@ -99,4 +99,13 @@ RTresult tesseraContextGetRaceCount(RTcontext context, RTsize* count) {
   });
 }
 
+RTresult tesseraContextGetLaunchProgress(RTcontext context, RTsize* tiles_done,
+                                         RTsize* tiles_total) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    if (tiles_done != nullptr) *tiles_done = c.tiles_done();
+    if (tiles_total != nullptr) *tiles_total = c.tiles_total();
+    return absl::OkStatus();
+  });
+}
+
 }  // extern "C"

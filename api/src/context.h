@@ -127,6 +127,15 @@ class Context : public Object {
   uint64_t last_race_count() const { return last_race_count_; }
   void set_last_race_count(uint64_t count) { last_race_count_ = count; }
   void CountReceived(uint64_t bytes) { bytes_received_ += bytes; }
+  // Tiles of the running (or last) launch finished and in all (tesseraContextGetLaunchProgress);
+  // atomic: another thread may ask while the launching thread counts.
+  void StartProgress(uint64_t total) {
+    tiles_done_.store(0, std::memory_order_relaxed);
+    tiles_total_.store(total, std::memory_order_relaxed);
+  }
+  void AddProgress(uint64_t tiles) { tiles_done_.fetch_add(tiles, std::memory_order_relaxed); }
+  uint64_t tiles_done() const { return tiles_done_.load(std::memory_order_relaxed); }
+  uint64_t tiles_total() const { return tiles_total_.load(std::memory_order_relaxed); }
 
   // ---- Launch (launch.cc).
   absl::Status Launch(unsigned entry_point, const std::vector<uint64_t>& dims);
@@ -187,6 +196,7 @@ class Context : public Object {
   bool race_check_ = false;
   uint64_t last_race_count_ = 0;
   uint64_t bytes_received_ = 0;
+  std::atomic<uint64_t> tiles_done_{0}, tiles_total_{0};
   std::vector<v1::ExceptionReport> last_exceptions_;
 
   mutable std::mutex error_mu_;

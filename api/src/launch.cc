@@ -275,6 +275,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   // No tiles for the all-zero launch: each device then runs one empty call, which builds its
   // accelerations (bounding-box programs may write buffers: their regions are gathered too).
   std::vector<v1::Tile> tiles = scheduler::MakeTiles(dims, *tile_size);
+  StartProgress(tiles.size());
 
   LaunchGather gather(*this, slots);
   scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles), stable);
@@ -294,6 +295,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     for (scheduler::FinishedBatch& batch : batches) {
       const auto start = std::chrono::steady_clock::now();
       gather.Apply(batch);
+      AddProgress(batch.tiles);
       for (v1::TileResult& r : batch.results) scheduler::RecycleTileResult(std::move(r));
       timing.apply += std::chrono::steady_clock::now() - start;
     }

@@ -1,9 +1,11 @@
 #include "tutorial/render.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
 #include "tessera/rt.h"
+#include "tessera/rt_ext.h"
 #include "tutorial/camera.h"
 #include "tutorial/programs.h"
 #include "tutorial/programs/common_structs.h"
@@ -24,6 +26,20 @@ constexpr unsigned int kShadowRayType = 1;
 constexpr int kMaxDepth = 10;
 // Deep enough for kMaxDepth nested reflection/refraction rays.
 constexpr RTsize kStackSize = 4096 + 512 * kMaxDepth;
+
+// Long renders say how far they got: the timeout callback runs on the launching thread every
+// kProgressSeconds (so short renders print nothing) and takes no argument, hence the static.
+constexpr double kProgressSeconds = 2.0;
+RTcontext g_rendering = nullptr;
+int SayProgress() {
+  RTsize done = 0, total = 0;
+  if (tesseraContextGetLaunchProgress(g_rendering, &done, &total) == RT_SUCCESS && total > 0) {
+    std::fprintf(stderr, "tessera-tutorial: %llu%% rendered (%llu of %llu tiles)\n",
+                 static_cast<unsigned long long>(100 * done / total),
+                 static_cast<unsigned long long>(done), static_cast<unsigned long long>(total));
+  }
+  return 0;  // never cancels
+}
 
 // Owns the context; destroying it destroys every object created in it.
 class ContextHolder {
@@ -148,8 +164,11 @@ Image RenderStep(const RenderOptions& options) {
   ContextHolder holder;
   RTcontext context = holder.get();
   const StepBuffers buffers = SetUpStep(context, options);
+  g_rendering = context;
+  RT_CHECK(context, rtContextSetTimeoutCallback(context, &SayProgress, kProgressSeconds));
   RT_CHECK(context, rtContextLaunch2D(context, 0, static_cast<RTsize>(options.width),
                                       static_cast<RTsize>(options.height)));
+  g_rendering = nullptr;
   return ReadOutput(context, buffers.output, options.width, options.height);
 }
 

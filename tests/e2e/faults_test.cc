@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "e2e_scene.h"
@@ -203,6 +204,42 @@ TEST_F(FaultTest, AnUnusableWorkerTimeoutIsSaidAndTheDefaultUsed) {
   EXPECT_NE(warning.find("TESSERA_WORKER_TIMEOUT='0.01' is not a number of seconds from 1 up"),
             std::string::npos)
       << warning;
+}
+
+// The timeout callback can ask how far the launch got: tiles done never go down and end at the
+// tile count.
+RTcontext g_progress_context = nullptr;
+std::vector<std::pair<RTsize, RTsize>> g_progress;
+int RecordProgress() {
+  RTsize done = 0, total = 0;
+  if (tesseraContextGetLaunchProgress(g_progress_context, &done, &total) == RT_SUCCESS) {
+    g_progress.emplace_back(done, total);
+  }
+  return 0;
+}
+
+TEST_F(FaultTest, ProgressGrowsToTheTileCountDuringALaunch) {
+  Create("local:2");
+  const RTsize tile[2] = {8, 8};
+  Ok(tesseraContextSetTileSize(ctx_, 2, tile));
+  g_progress_context = ctx_;
+  g_progress.clear();
+  Ok(rtContextSetTimeoutCallback(ctx_, &RecordProgress, 0.01));
+  Ok(rtContextLaunch2D(ctx_, 1, kW, kH));
+  constexpr RTsize kTiles = (kW / 8) * (kH / 8);
+  ASSERT_FALSE(g_progress.empty());
+  for (size_t i = 0; i < g_progress.size(); ++i) {
+    EXPECT_EQ(g_progress[i].second, kTiles);
+    EXPECT_LE(g_progress[i].first, kTiles);
+    if (i > 0) {
+      EXPECT_GE(g_progress[i].first, g_progress[i - 1].first);
+    }
+  }
+  RTsize done = 0, total = 0;
+  Ok(tesseraContextGetLaunchProgress(ctx_, &done, &total));
+  EXPECT_EQ(done, kTiles);
+  EXPECT_EQ(total, kTiles);
+  Ok(tesseraContextGetLaunchProgress(ctx_, nullptr, nullptr));
 }
 
 TEST_F(FaultTest, CrashingProgramNamesDeviceAndProgram) {
