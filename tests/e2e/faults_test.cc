@@ -51,6 +51,16 @@ class FaultTest : public ::testing::Test {
     return ReadBytes(scene_.image);
   }
 
+  // Launches entry point `entry`, returning its result, how long it took and its stderr.
+  RTresult TimedLaunch(unsigned entry, double* seconds, std::string* warning) {
+    testing::internal::CaptureStderr();
+    const auto start = Clock::now();
+    RTresult r = rtContextLaunch2D(ctx_, entry, kW, kH);
+    *seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    *warning = testing::internal::GetCapturedStderr();
+    return r;
+  }
+
   RTcontext ctx_ = nullptr;
   Scene scene_;
 };
@@ -101,11 +111,9 @@ TEST_F(FaultTest, StoppedWorkerMissesItsDeadline) {
   g_signal = SIGSTOP;
   g_faults = 0;
   Ok(rtContextSetTimeoutCallback(ctx_, &SignalOneWorker, 0.05));
-  testing::internal::CaptureStderr();
-  const auto start = Clock::now();
-  RTresult r = rtContextLaunch2D(ctx_, 1, kW, kH);
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  std::string warning = testing::internal::GetCapturedStderr();
+  double seconds = 0;
+  std::string warning;
+  RTresult r = TimedLaunch(1, &seconds, &warning);
   unsetenv("TESSERA_WORKER_TIMEOUT");
   ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
   ASSERT_EQ(g_faults.load(), 1);
@@ -128,11 +136,9 @@ TEST_F(FaultTest, WorkerStoppedBetweenLaunchesMissesItsDeadline) {
   RTvariable changed = nullptr;
   Ok(rtContextDeclareVariable(ctx_, "unused_by_programs", &changed));
   Ok(rtVariableSet1f(changed, 1.f));
-  testing::internal::CaptureStderr();
-  const auto start = Clock::now();
-  RTresult r = rtContextLaunch2D(ctx_, 1, kW, kH);
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  std::string warning = testing::internal::GetCapturedStderr();
+  double seconds = 0;
+  std::string warning;
+  RTresult r = TimedLaunch(1, &seconds, &warning);
   unsetenv("TESSERA_WORKER_TIMEOUT");
   kill(workers.front(), SIGKILL);
   ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
