@@ -85,7 +85,10 @@ void* const* Module::Slots() const {
 }
 
 void* Module::Function(const std::string& name) const {
-  return scheduler::FindModuleFunction(handle_, name.c_str());
+  std::lock_guard<std::mutex> lock(functions_mu_);
+  auto [it, inserted] = functions_.try_emplace(name, nullptr);
+  if (inserted) it->second = scheduler::FindModuleFunction(handle_, name.c_str());
+  return it->second;
 }
 
 ModuleCache& ModuleCache::Get() {
