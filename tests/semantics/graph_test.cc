@@ -203,6 +203,49 @@ TEST_F(GraphTest, IntersectionProgramsSeeTheirTransformWithEveryBuilder) {
   }
 }
 
+// A graph node binds only to an rtObject, and an rtObject only to a node: a float2 has the same
+// 8 bytes but would read the node's id as its value.
+TEST_F(GraphTest, NodesBindOnlyToRtObject) {
+  Instance s = SmallSphere();
+  Ok(rtVariableSetObject(ContextVar("pair"), s.group));
+  Ok(rtVariableSetObject(ContextVar("top_object"), s.group));
+  RTresult r = rtContextLaunch2D(ctx_, 0, kW, 1);
+  EXPECT_NE(r, RT_SUCCESS);
+  EXPECT_NE(Error(r).find("'pair' is declared as float2 but is bound to a graph node"),
+            std::string::npos)
+      << Error(r);
+  // A variable keeps its type once set: declare both again.
+  Ok(rtContextRemoveVariable(ctx_, ContextVar("pair")));
+  Ok(rtContextRemoveVariable(ctx_, ContextVar("top_object")));
+  Ok(rtVariableSet2ui(ContextVar("top_object"), 9u, 0u));
+  r = rtContextLaunch2D(ctx_, 0, kW, 1);
+  EXPECT_NE(r, RT_SUCCESS);
+  EXPECT_NE(Error(r).find("'top_object' is declared as rtObject but was set as uint2"),
+            std::string::npos)
+      << Error(r);
+  Ok(rtContextRemoveVariable(ctx_, ContextVar("top_object")));
+  EXPECT_EQ(Hits(s.group), Only({0}));
+}
+
+// A node that only an unattached program's variable names (still on the devices until it is
+// destroyed) cannot fail launches, even when its scene cannot be built.
+TEST_F(GraphTest, NodesOnlyUnattachedProgramsNameDoNotFailLaunches) {
+  Instance s = SmallSphere();
+  Instance orphan = SmallSphere();
+  RTprogram detached = Program(kModule, "miss_ray");
+  RTvariable v = nullptr;
+  Ok(rtProgramDeclareVariable(detached, "top_object", &v));
+  Ok(rtVariableSetObject(v, orphan.group));
+  Ok(rtContextSetMissProgram(ctx_, 0, detached));
+  EXPECT_EQ(Hits(s.group), Only({0}));
+  Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "miss_ray")));
+  RTacceleration accel = nullptr;
+  Ok(rtGeometryGroupGetAcceleration(orphan.group, &accel));
+  Ok(rtAccelerationDestroy(accel));  // the orphan's scene can no longer be built
+  Ok(rtContextValidate(ctx_));
+  EXPECT_EQ(Hits(s.group), Only({0}));
+}
+
 TEST_F(GraphTest, AccelerationsRebuildOnlyWhenDirty) {
   RTbuffer calls = nullptr;
   Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT_OUTPUT, &calls));

@@ -21,6 +21,7 @@ rtDeclareVariable(float, value, , ) = -1.f;
 rtDeclareVariable(float4, sphere, , );
 rtDeclareVariable(float3, ray_origin, , );
 rtDeclareVariable(float3, ray_dir, , );
+rtDeclareVariable(float2, pair, , );  // 8 bytes, like an rtObject: binding tests
 
 // Per launch index: [0] result, [1] what the intersection program saw, [2] any hit, [3] misc.
 rtBuffer<float4, 2> result;

@@ -73,11 +73,30 @@ uint32_t DeclaredValueType(std::string_view name) {
   return 0;
 }
 
+// Whether a declaration names rtObject (optix:: or :: optional): only graph nodes bind to it.
+bool DeclaredAsObject(std::string_view name) {
+  for (std::string_view prefix : {"::", "optix::"}) {
+    if (name.substr(0, prefix.size()) == prefix) name.remove_prefix(prefix.size());
+  }
+  return name == "rtObject";
+}
+
 const char* ValueTypeName(uint32_t type) {
   for (const auto& [type_name, t] : kValueTypes) {
     if (t == type) return type_name;
   }
-  return type == RT_OBJECTTYPE_USER ? "user data" : "another type";
+  switch (type) {
+    case RT_OBJECTTYPE_USER:
+      return "user data";
+    case RT_OBJECTTYPE_BUFFER:
+      return "a buffer";
+    case RT_OBJECTTYPE_PROGRAM:
+      return "a program";
+    case RT_OBJECTTYPE_TEXTURE_SAMPLER:
+      return "a texture sampler";
+    default:
+      return "another type";
+  }
 }
 
 }  // namespace
@@ -196,17 +215,27 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
     if (value->type == RT_OBJECTTYPE_BUFFER || value->type == RT_OBJECTTYPE_PROGRAM ||
         value->type == RT_OBJECTTYPE_TEXTURE_SAMPLER) {
       return absl::InvalidArgumentError(absl::StrCat(
-          b.name, ": variable '", v.name, "' is declared with rtDeclareVariable but bound to an ",
-          "object of type ", value->type, " (use rtBuffer for buffers)"));
+          b.name, ": variable '", v.name, "' is declared with rtDeclareVariable but bound to ",
+          ValueTypeName(value->type), " (use rtBuffer for buffers)"));
     }
     if (IsNodeType(value->type)) {
-      if (v.size != sizeof(uint64_t)) {
+      // Only an rtObject receives a node: a float2 or uint2 has the same 8 bytes but would read
+      // the node's id as its value.
+      if (!DeclaredAsObject(v.type_name) || v.size != sizeof(uint64_t)) {
         return absl::InvalidArgumentError(absl::StrCat(b.name, ": variable '", v.name,
-                                                       "' is bound to a graph node; declare it "
-                                                       "as rtObject"));
+                                                       "' is declared as ", v.type_name,
+                                                       " but is bound to a graph node; declare "
+                                                       "it as rtObject"));
       }
       b.copies.push_back({i, &value->object_id, sizeof(uint64_t)});
       continue;
+    }
+    if (DeclaredAsObject(v.type_name)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(b.name, ": variable '", v.name, "' is declared as rtObject but was set as ",
+                       ValueTypeName(value->type),
+                       "; set it with rtVariableSetObject to a group, "
+                       "geometry group, transform or selector"));
     }
     // As OptiX: a value set with rtVariableSet3i does not bind to a float3, though the bytes
     // fit. User data (rtVariableSetUserData) binds to anything of its size.

@@ -127,6 +127,10 @@ struct LaunchPlan {
   size_t attribute_bytes = 0;                // attribute bytes a hit carries
   long barycentrics_offset = -1;  // of attribute rtTriangleBarycentrics, -1 if none declares it
   std::unordered_map<uint64_t, NodeInfo> nodes;  // every graph node (stable addresses)
+  // Why the scene of a root node (one an object variable names) could not be built. Reported
+  // when a program traces it, not when the plan is made: a variable of an unreachable object (a
+  // program no longer attached, say) still lives on the device and must not fail launches.
+  std::unordered_map<uint64_t, absl::Status> node_problems;
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;
   uint32_t ray_type_count = 0;

@@ -270,7 +270,8 @@ TEST_F(ReplicaFuzz, OneIdNamesOneObject) {
 
 // Scenes stay cached across plans, pointing into the plan that built or checked them; a node that
 // no object variable reaches is not checked, and a program that traced it anyway (its id passed
-// as a plain 8-byte value) used the freed plan of an earlier launch.
+// as a plain 8-byte value) used the freed plan of an earlier launch. Now an rtObject takes only a
+// graph node: the 8-byte value is refused when the program is bound.
 TEST_F(ReplicaFuzz, NodeNoObjectVariableReachesIsNotTraced) {
   std::unique_ptr<Device> device = DeviceWith(scene_);
   ASSERT_TRUE(RunLaunch(*device, ValidRequest(1, 1)).status.ok());
@@ -284,8 +285,10 @@ TEST_F(ReplicaFuzz, NodeNoObjectVariableReachesIsNotTraced) {
   }
   ASSERT_TRUE(device->Apply(d).ok());
   LaunchOutcome out = RunLaunch(*device, ValidRequest(1, 2));
-  EXPECT_EQ(out.status.code(), absl::StatusCode::kFailedPrecondition) << out.status;
-  EXPECT_NE(out.status.message().find("#16"), std::string::npos) << out.status;
+  EXPECT_EQ(out.status.code(), absl::StatusCode::kInvalidArgument) << out.status;
+  EXPECT_NE(out.status.message().find("declared as rtObject but was set as user data"),
+            std::string::npos)
+      << out.status;
 }
 
 // The message read the offending index from Embree's index buffer after releasing the geometry

@@ -180,7 +180,8 @@ absl::Status SceneCache::Update(LaunchPlan& plan, const std::vector<uint64_t>& r
     uint32_t type = plan.NodeType(id);
     if (type == 0) continue;  // reported when a program traces it
     if (absl::StatusOr<const SceneEntry*> e = Node(plan, NodeRef{id, type}, 0); !e.ok()) {
-      return e.status();
+      if (absl::IsCancelled(e.status())) return e.status();
+      plan.node_problems.emplace(id, e.status());
     }
   }
   return absl::OkStatus();

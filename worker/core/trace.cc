@@ -182,6 +182,9 @@ void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, RayData ra
     case RT_OBJECTTYPE_GEOMETRY_GROUP:
     case RT_OBJECTTYPE_GROUP:
       if (node->scene == nullptr) {
+        if (auto it = ts.plan->node_problems.find(id); it != ts.plan->node_problems.end()) {
+          throw FatalError{it->second};
+        }
         throw FatalError{absl::FailedPreconditionError(absl::StrCat(
             "node #", id,
             " has no acceleration structure on the device: no variable of object type reaches "
