@@ -1,5 +1,6 @@
 #include "tessera/scheduler/system_info.h"
 
+#include <sched.h>
 #include <unistd.h>
 
 #include <fstream>
@@ -9,6 +10,13 @@
 namespace tessera::scheduler {
 
 int HardwareThreads() {
+  // The CPUs this process may run on (taskset, a cgroup cpuset, a Slurm allocation), not every
+  // CPU of the machine: defaults such as local:<cores> must not oversubscribe a share of it.
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof(set), &set) == 0) {
+    const int n = CPU_COUNT(&set);
+    if (n > 0) return n;
+  }
   unsigned n = std::thread::hardware_concurrency();
   return n == 0 ? 1 : static_cast<int>(n);
 }

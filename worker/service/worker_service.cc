@@ -44,8 +44,7 @@ v1::TileResult Heartbeat(const v1::LaunchRequest& request) {
 
 int ResolveThreads(int threads) {
   if (threads > 0) return threads;
-  unsigned cores = std::thread::hardware_concurrency();
-  return cores > 0 ? static_cast<int>(cores) : 1;
+  return scheduler::HardwareThreads();  // the CPUs it may run on
 }
 
 std::string DeviceName() {
