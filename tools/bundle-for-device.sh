@@ -60,6 +60,6 @@ cat >"$libs/worker" <<SCRIPT
 exec /opt/tessera-libs/ld-linux-x86-64.so.2 --library-path /opt/tessera-libs $worker "\$@"
 SCRIPT
 chmod +x "$libs/run" "$libs/worker"
-echo "compressing $(du -sh "$stage" | cut -f1) into $out (takes minutes on few cores)" >&2
+echo "compressing $(du -sh "$stage" | cut -f1) into $out" >&2
 XZ_OPT="${XZ_OPT:--T0 -3}" tar -C "$stage" -cJf "$out" .  # xz on every core
 echo "packed $(du -h "$out" | cut -f1) into $out"
