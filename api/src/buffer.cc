@@ -140,8 +140,8 @@ absl::StatusOr<void*> Buffer::Map() {
                    "RT_FORMAT_USER buffer has no element size; call rtBufferSetElementSize");
   }
   mapped_ = true;
-  // Only INPUT data travels to devices, so only then does a map count as a host write.
-  if (is_input()) HostWrote(0, data_.size());
+  // Only data that travels to devices (ships_content) counts a map as a host write.
+  if (ships_content()) HostWrote(0, data_.size());
   static unsigned char empty_buffer_storage[16];
   return data_.empty() ? static_cast<void*>(empty_buffer_storage) : data_.data();
 }
@@ -232,6 +232,13 @@ void Buffer::SyncDevicePointersAfterLaunch() {
   // COPY_ON_DIRTY view the host contents did not take, or every device's own data).
   if (!gathers_content() || ships_content() || data_.empty()) return;
   for (auto& [ordinal, view] : views_) std::memcpy(view.data(), data_.data(), data_.size());
+}
+
+bool Buffer::FeedsTriangles() const {
+  for (const auto& [parent, count] : parents()) {
+    if (parent->alive() && parent->kind() == Kind::kGeometryTriangles) return true;
+  }
+  return false;
 }
 
 void Buffer::HostWrote(uint64_t begin, uint64_t end) {

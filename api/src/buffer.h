@@ -33,8 +33,11 @@ class Buffer : public Object {
   bool is_input() const { return (desc_ & RT_BUFFER_INPUT) != 0; }
   bool is_output() const { return (desc_ & RT_BUFFER_OUTPUT) != 0; }
   bool gpu_local() const { return (desc_ & RT_BUFFER_GPU_LOCAL) != 0; }
-  // Whether host contents go to devices: INPUT and INPUT_OUTPUT buffers.
-  bool ships_content() const { return is_input(); }
+  // Whether host contents go to devices: INPUT and INPUT_OUTPUT buffers, and OUTPUT buffers that
+  // built-in triangles take vertices, indices or material indices from (an animated mesh a launch
+  // computed): each device builds its acceleration from the merged contents, not its own writes.
+  bool ships_content() const { return is_input() || FeedsTriangles(); }
+  bool FeedsTriangles() const;
   // Whether devices send contents back: OUTPUT and INPUT_OUTPUT buffers, unless GPU_LOCAL.
   bool gathers_content() const { return is_output() && !gpu_local(); }
 

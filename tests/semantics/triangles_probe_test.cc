@@ -129,6 +129,36 @@ TEST_P(TrianglesProbeTest, MaterialIndicesWrittenByAProgramAreChecked) {
   LaunchFails({"material index 5"});
 }
 
+// Vertices a launch computes into an OUTPUT buffer (an animated mesh): each device builds its
+// triangles from the merged vertices, not from the ones its own tiles wrote.
+TEST_P(TrianglesProbeTest, VerticesAnimatedByALaunchIntoAnOutputBuffer) {
+  Ok(rtContextSetEntryPointCount(ctx_, 2));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 1, Prog("animate_vertices")));
+  const RTsize one = 1;
+  Ok(tesseraContextSetTileSize(ctx_, 1, &one));  // vertices written by different devices
+  RTbuffer animated = nullptr;
+  Ok(rtBufferCreate(ctx_, RT_BUFFER_OUTPUT, &animated));
+  Ok(rtBufferSetFormat(animated, RT_FORMAT_FLOAT3));
+  Ok(rtBufferSetSize1D(animated, 4));
+  Ok(rtVariableSetObject(ContextVar("animated"), animated));
+  Ok(rtGeometryTrianglesSetVertices(triangles_, 4, animated, 0, 12, RT_FORMAT_FLOAT3));
+  Scene({Material("closest_barycentrics")});
+  RTacceleration accel = nullptr;
+  Ok(rtGeometryGroupGetAcceleration(group_, &accel));
+  for (float shift : {0.f, 0.5f, 0.25f}) {
+    SCOPED_TRACE(shift);
+    Ok(rtVariableSet1f(ContextVar("shift"), shift));
+    Ok(rtContextLaunch1D(ctx_, 1, 4));
+    Ok(rtAccelerationMarkDirty(accel));
+    std::vector<Float4> out = Launch();
+    for (unsigned i = 0; i < out.size(); ++i) {
+      const float x = Coord(i % kSize) - shift, y = Coord(i / kSize);
+      const float expected = x < 0.f ? -1.f : (x + y < 1.f ? 0.f : 1.f);  // miss, or primitive
+      EXPECT_EQ(out[i][0], expected) << "ray " << i;
+    }
+  }
+}
+
 TEST_P(TrianglesProbeTest, MaterialCountMismatchFails) {
   Ok(rtGeometryTrianglesSetMaterialCount(triangles_, 2));
   const unsigned material_of[] = {0, 1};

@@ -124,3 +124,13 @@ RT_PROGRAM void write_material_indices() {
 // Reads a variable of the GeometryTriangles' scope.
 rtDeclareVariable(float, mesh_tag, , );
 RT_PROGRAM void attribute_mesh_tag() { tri_info = make_float4(mesh_tag, 0.f, 0.f, 0.f); }
+
+// Moves the unit square's four vertices by `shift` along x: a mesh animated by a launch.
+rtBuffer<float3, 1> animated;
+rtDeclareVariable(unsigned int, vertex_index, rtLaunchIndex, );
+rtDeclareVariable(float, shift, , );
+RT_PROGRAM void animate_vertices() {
+  const float3 square[4] = {make_float3(0.f, 0.f, 0.f), make_float3(1.f, 0.f, 0.f),
+                            make_float3(0.f, 1.f, 0.f), make_float3(1.f, 1.f, 0.f)};
+  animated[vertex_index] = square[vertex_index] + make_float3(shift, 0.f, 0.f);
+}

@@ -90,7 +90,7 @@ RTCBuildQuality Quality(const AccelRec& a, bool has_filter) {
   auto refit = a.properties.find("refit");
   if (refit != a.properties.end() && refit->second != "0") return RTC_BUILD_QUALITY_REFIT;
   const std::string& b = a.builder;
-  if (b == "Sbvh" || b == "TriangleKdTree" || b == "KdTree" || b == "Trbvh") {
+  if (b == "Sbvh" || b == "TriangleKdTree" || b == "Trbvh") {
     // HIGH uses spatial splits, which can report one primitive twice to a filter callback;
     // any-hit programs must see each candidate once.
     return has_filter ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
@@ -100,8 +100,8 @@ RTCBuildQuality Quality(const AccelRec& a, bool has_filter) {
 }
 
 bool TriangleBuilder(const AccelRec& a) {
-  return a.builder == "Sbvh" || a.builder == "TriangleKdTree" || a.builder == "KdTree" ||
-         a.builder == "Trbvh" || a.properties.count("vertex_buffer_name") > 0;
+  return a.builder == "Sbvh" || a.builder == "TriangleKdTree" || a.builder == "Trbvh" ||
+         a.properties.count("vertex_buffer_name") > 0;
 }
 
 std::string Property(const AccelRec& a, const std::string& name, const std::string& fallback) {
