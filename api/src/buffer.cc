@@ -141,7 +141,14 @@ absl::StatusOr<void*> Buffer::Map() {
   }
   mapped_ = true;
   // Only data that travels to devices (ships_content) counts a map as a host write.
-  if (ships_content()) HostWrote(0, data_.size());
+  if (ships_content()) {
+    // With one device pointer every device runs on the pointer's contents: the map shows them
+    // (Unmap hands what the host wrote back to the pointers).
+    if (views_.size() == 1 && !data_.empty()) {
+      std::memcpy(data_.data(), views_.begin()->second.data(), data_.size());
+    }
+    HostWrote(0, data_.size());
+  }
   static unsigned char empty_buffer_storage[16];
   return data_.empty() ? static_cast<void*>(empty_buffer_storage) : data_.data();
 }
@@ -149,6 +156,14 @@ absl::StatusOr<void*> Buffer::Map() {
 absl::Status Buffer::Unmap() {
   if (!mapped_) return RtError(RT_ERROR_INVALID_VALUE, "buffer is not mapped");
   mapped_ = false;
+  // With one device pointer, every device runs on the pointer's contents before a launch: the
+  // pointer takes what the host wrote (and with COPY_ON_DIRTY the write is news for every
+  // device). With a pointer per device each runs on its own data; the host copy does not replace
+  // them (docs/devices.md).
+  if (ships_content() && !data_.empty() && views_.size() == 1) {
+    std::memcpy(views_.begin()->second.data(), data_.data(), data_.size());
+    views_dirty_ = true;
+  }
   return absl::OkStatus();
 }
 

@@ -117,6 +117,12 @@ class Context : public Object {
   // The tile size launches use: empty = automatic.
   absl::Status SetTileSize(std::vector<uint64_t> size);
   const std::vector<uint64_t>& tile_size() const { return tile_size_; }
+  // The launch size and tile size of the last launch with stable ownership on the current device
+  // set: a later launch of that size in other tiles moves launch indices to other devices.
+  struct StableLayout {
+    std::vector<uint64_t> dims, tile;
+  };
+  StableLayout& last_stable_layout() { return last_stable_layout_; }
   // Buffer bytes shipped to devices and gathered from them (tesseraContextGetTransferStats).
   uint64_t bytes_sent() const { return bytes_sent_; }
   uint64_t bytes_received() const { return bytes_received_; }
@@ -192,6 +198,7 @@ class Context : public Object {
   uint64_t session_id_;
   uint64_t sessions_ = 0;  // sessions opened after session_id_ (ids session_id_ + n)
   std::vector<uint64_t> tile_size_;
+  StableLayout last_stable_layout_;
   uint64_t bytes_sent_ = 0;
   bool race_check_ = false;
   uint64_t last_race_count_ = 0;

@@ -21,6 +21,7 @@ void Context::ResetDeviceSlots() {
     slots_.push_back(std::move(slot));
   }
   injected_devices_ = false;
+  last_stable_layout_ = {};  // new devices hold no GPU_LOCAL state yet
 }
 
 absl::Status Context::SetDevices(const std::vector<int>& ordinals) {

@@ -8,6 +8,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 #include "acceleration.h"
 #include "buffer.h"
 #include "context.h"
@@ -44,16 +45,40 @@ bool IsDeviceLoss(const absl::Status& status) {
 
 // `others_took_over`: whether other devices ran (or will run) its tiles; false when the launch
 // fails for want of any. Only local:N workers are started again; the host reconnects to others.
-void WarnLost(const DeviceSlot& slot, uint64_t launch_id, const absl::Status& reason,
-              bool others_took_over) {
+// Buffers whose devices each run on their own data (device pointers for every device of the
+// context): launch indices of a lost device that run elsewhere read another device's data.
+std::string PerDeviceDataBuffers(Context& context) {
+  const size_t devices = context.device_slots().size();
+  std::string names;
+  if (devices < 2) return names;
+  for (const auto& [id, object] : context.objects()) {
+    if (object->kind() != Kind::kBuffer) continue;
+    const auto& b = static_cast<const Buffer&>(*object);
+    if (b.ships_content() && b.device_pointer_count() == devices) {
+      absl::StrAppend(&names, names.empty() ? "" : ", ", b.Describe());
+    }
+  }
+  return names;
+}
+
+void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
+              const absl::Status& reason, bool others_took_over) {
   const bool spawned = slot.desc.type == DeviceSpecEntry::Type::kLocal;
+  const std::string per_device = others_took_over ? PerDeviceDataBuffers(context) : "";
+  const std::string moved =
+      per_device.empty()
+          ? std::string()
+          : absl::StrCat(" Its launch indices read another device's data of ", per_device,
+                         " (device pointers for every device): this launch's output is not what "
+                         "it would have been without the loss.");
   std::fprintf(stderr,
                "tessera: device '%s' (%s) was lost during launch %llu: %s. %s; its copies of "
-               "GPU_LOCAL buffers are gone. %s\n",
+               "GPU_LOCAL buffers are gone.%s %s\n",
                slot.desc.name.c_str(), slot.desc.address.c_str(),
                static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str(),
                others_took_over ? "Its tiles ran on the other devices"
                                 : "No other device was left to run its tiles",
+               moved.c_str(),
                spawned ? "It is started again for the next launch."
                        : "The next launch connects to it again.");
 }
@@ -157,7 +182,7 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
     slot.sync.last_context = std::move(context_bytes);
     ++alive;
   }
-  for (const auto& [slot, status] : warn) WarnLost(*slot, launch_id, status, alive > 0);
+  for (const auto& [slot, status] : warn) WarnLost(context, *slot, launch_id, status, alive > 0);
   if (alive == 0) {
     return RtError(RT_ERROR_CONNECTION_FAILED, absl::StrCat("every device was lost (", lost, ")"));
   }
@@ -183,11 +208,34 @@ absl::Status SyncDevicePointers(Context& context) {
 
 // GPU_LOCAL buffers hold per-device state across launches (accumulation, RNG seeds): launches
 // then keep every launch index on the same device (DESIGN.md "Buffer semantics").
-bool NeedsStableOwnership(Context& context) {
+const Buffer* FirstGpuLocalBuffer(Context& context) {
   for (const auto& [id, object] : context.objects()) {
-    if (object->kind() == Kind::kBuffer && static_cast<Buffer*>(object)->gpu_local()) return true;
+    if (object->kind() == Kind::kBuffer && static_cast<Buffer*>(object)->gpu_local()) {
+      return static_cast<Buffer*>(object);
+    }
   }
-  return false;
+  return nullptr;
+}
+bool NeedsStableOwnership(Context& context) { return FirstGpuLocalBuffer(context) != nullptr; }
+
+// Stable ownership keeps tile i on device i mod N; tiles of another size at the same launch size
+// cover other launch indices, which then read another device's GPU_LOCAL copy. Said on stderr, as
+// a lost device's GPU_LOCAL copies are.
+void WarnIfTilesMoved(Context& context, uint64_t launch_id, const std::vector<uint64_t>& dims,
+                      const std::vector<uint64_t>& tile_size) {
+  Context::StableLayout& last = context.last_stable_layout();
+  if (last.dims == dims && !last.tile.empty() && last.tile != tile_size) {
+    const Buffer* b = FirstGpuLocalBuffer(context);
+    std::fprintf(stderr,
+                 "tessera: launch %llu: the tile size changed from %s to %s at the same launch "
+                 "size %s; launch indices move to other devices and see those devices' copies "
+                 "of GPU_LOCAL buffers (%s)\n",
+                 static_cast<unsigned long long>(launch_id), absl::StrJoin(last.tile, "x").c_str(),
+                 absl::StrJoin(tile_size, "x").c_str(), absl::StrJoin(dims, "x").c_str(),
+                 b != nullptr ? b->Describe().c_str() : "");
+  }
+  last.dims = dims;
+  last.tile = tile_size;
 }
 
 // The context's tile size (tesseraContextSetTileSize), else TESSERA_TILE_SIZE, else chosen from
@@ -272,6 +320,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   }
   auto tile_size = TileSizeFor(*this, dims, total_threads);
   if (!tile_size.ok()) return tile_size.status();
+  if (stable && slots.size() > 1) WarnIfTilesMoved(*this, launch_id, dims, *tile_size);
   // No tiles for the all-zero launch: each device then runs one empty call, which builds its
   // accelerations (bounding-box programs may write buffers: their regions are gathered too).
   std::vector<v1::Tile> tiles = scheduler::MakeTiles(dims, *tile_size);
@@ -311,7 +360,8 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   }
 
   for (const scheduler::LostDevice& lost : dispatcher.lost()) {
-    WarnLost(*slots[lost.device], launch_id, lost.reason, !cancelled && dispatcher.status().ok());
+    WarnLost(*this, *slots[lost.device], launch_id, lost.reason,
+             !cancelled && dispatcher.status().ok());
   }
   timing.Mark("devices");
   absl::Status tile_status = gather.Finish();

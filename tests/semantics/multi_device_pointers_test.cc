@@ -50,6 +50,24 @@ TEST_P(DevicePointerTest, OnePointerReachesEveryDeviceAtEveryLaunch) {
   }
 }
 
+// With one pointer every device runs on the pointer's contents: a map shows them, and what the
+// host writes through the map reaches the pointer and every device (COPY_ON_DIRTY too).
+TEST_P(DevicePointerTest, HostWritesThroughAMapReachTheDevicesOfABufferWithAPointer) {
+  for (unsigned type :
+       {unsigned{RT_BUFFER_INPUT}, unsigned{RT_BUFFER_INPUT | RT_BUFFER_COPY_ON_DIRTY}}) {
+    SCOPED_TRACE(type);
+    unsigned* p = PointerOnDevice0(type);
+    const std::vector<unsigned> first = Values(500), second = Values(900);
+    std::copy(first.begin(), first.end(), p);
+    Launch1D(kCount);
+    EXPECT_EQ(Contents<unsigned>(input_), first);
+    Write(input_, second);
+    Launch1D(kCount);
+    EXPECT_EQ(Contents<unsigned>(copied_), second);
+    EXPECT_EQ(std::vector<unsigned>(p, p + kCount), second);
+  }
+}
+
 TEST_P(DevicePointerTest, CopyOnDirtyCopiesOnlyAfterThePointerOrMarkDirty) {
   PinTilesToDevices();
   unsigned* p = PointerOnDevice0(RT_BUFFER_INPUT | RT_BUFFER_COPY_ON_DIRTY);

@@ -170,6 +170,50 @@ TEST_F(DeviceSetProbeTest, SurvivorsKeepTheirGpuLocalPixelsWhenAWorkerDiedBetwee
   }
 }
 
+// Stable ownership keeps tile i on device i mod N; a new tile size at the same launch size moves
+// launch indices to devices that hold other GPU_LOCAL contents. Said, not silent.
+TEST_F(DeviceSetProbeTest, ChangingTheTileSizeUnderGpuLocalStateIsSaid) {
+  UseDevices("local:3");
+  RayGen("accumulate_local");
+  Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_INT, {24, 8}, "local_acc");
+  Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_INT, {24, 8}, "local_copy");
+  TileSize({4, 4});
+  Launch2D(24, 8);
+  TileSize({8, 2});
+  ::testing::internal::CaptureStderr();
+  Launch2D(24, 8);
+  const std::string said = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("the tile size changed from 4x4 to 8x2 at the same launch size 24x8"),
+            std::string::npos)
+      << said;
+  EXPECT_NE(said.find("GPU_LOCAL"), std::string::npos) << said;
+}
+
+// A device pointer for every device: each device runs on its own data, so a lost device's launch
+// indices read another device's data. The warning names the buffer.
+TEST_F(DeviceSetProbeTest, LosingADeviceNamesBuffersWithAPointerForEveryDevice) {
+  UseDevices("local:3");
+  RayGen("copy_from_pointer");
+  Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {64}, "copied");
+  PinTilesToDevices();
+  TileSize({8});
+  RTbuffer in = Buffer(RT_BUFFER_INPUT, RT_FORMAT_UNSIGNED_INT, {64}, "from_pointer");
+  for (int d = 0; d < 3; ++d) {
+    void* p = nullptr;
+    Ok(rtBufferGetDevicePointer(in, d, &p));
+  }
+  Launch1D(64);
+  std::vector<pid_t> workers = WorkersOf(getpid());
+  ASSERT_EQ(workers.size(), 3u);
+  ASSERT_EQ(kill(workers.back(), SIGKILL), 0);
+  usleep(100 * 1000);
+  SetUint("salt", 1);  // a state update to every device: the dead one is found
+  ::testing::internal::CaptureStderr();
+  Launch1D(64);
+  const std::string said = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("device pointers for every device"), std::string::npos) << said;
+}
+
 const DeviceCase kProbeCases[] = {
     {"Inproc", "inproc", 1},
     {"Local2", "local:2", 2},
