@@ -51,6 +51,18 @@ class FaultTest : public ::testing::Test {
     return ReadBytes(scene_.image);
   }
 
+  // Launches render_crash, which kills its worker; returns the launch's result and message.
+  RTresult LaunchCrashingProgram(std::string* message) {
+    RTprogram crash;
+    EXPECT_EQ(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render_crash", &crash), RT_SUCCESS);
+    EXPECT_EQ(rtContextSetRayGenerationProgram(ctx_, 0, crash), RT_SUCCESS);
+    testing::internal::CaptureStderr();
+    RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
+    testing::internal::GetCapturedStderr();
+    *message = ErrorText(ctx_, r);
+    return r;
+  }
+
   // Launches entry point `entry`, returning its result, how long it took and its stderr.
   RTresult TimedLaunch(unsigned entry, double* seconds, std::string* warning) {
     testing::internal::CaptureStderr();
@@ -184,14 +196,8 @@ TEST_F(FaultTest, ForkedChildGetsItsOwnWorkersAndLeavesTheParentsAlone) {
   EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), 2u);
   Ok(rtContextLaunch2D(ctx_, 1, kW, kH));
   EXPECT_TRUE(ReadBytes(scene_.image) == reference);
-  RTprogram crash;
-  Ok(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render_crash", &crash));
-  Ok(rtContextSetRayGenerationProgram(ctx_, 0, crash));
-  testing::internal::CaptureStderr();
-  RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
-  testing::internal::GetCapturedStderr();
-  ASSERT_EQ(r, RT_ERROR_LAUNCH_FAILED) << ErrorText(ctx_, r);
-  const std::string message = ErrorText(ctx_, r);
+  std::string message;
+  ASSERT_EQ(LaunchCrashingProgram(&message), RT_ERROR_LAUNCH_FAILED) << message;
   EXPECT_NE(message.find("ray generation program 'render_crash'"), std::string::npos) << message;
 }
 
@@ -250,14 +256,8 @@ TEST_F(FaultTest, ProgressGrowsToTheTileCountDuringALaunch) {
 
 TEST_F(FaultTest, CrashingProgramNamesDeviceAndProgram) {
   Create("local:2");
-  RTprogram crash;
-  Ok(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render_crash", &crash));
-  Ok(rtContextSetRayGenerationProgram(ctx_, 0, crash));
-  testing::internal::CaptureStderr();
-  RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
-  testing::internal::GetCapturedStderr();
-  ASSERT_EQ(r, RT_ERROR_LAUNCH_FAILED);
-  const std::string message = ErrorText(ctx_, r);
+  std::string message;
+  ASSERT_EQ(LaunchCrashingProgram(&message), RT_ERROR_LAUNCH_FAILED) << message;
   EXPECT_NE(message.find("Tessera local worker"), std::string::npos) << message;
   EXPECT_NE(message.find("SIGSEGV"), std::string::npos) << message;
   EXPECT_NE(message.find("ray generation program 'render_crash'"), std::string::npos) << message;
@@ -267,7 +267,7 @@ TEST_F(FaultTest, CrashingProgramNamesDeviceAndProgram) {
   Ok(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render", &render));
   Ok(rtContextSetRayGenerationProgram(ctx_, 0, render));
   testing::internal::CaptureStderr();
-  r = rtContextLaunch2D(ctx_, 0, kW, kH);
+  RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
   testing::internal::GetCapturedStderr();
   Ok(r);
   EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), 2u);
