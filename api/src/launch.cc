@@ -43,8 +43,6 @@ bool IsDeviceLoss(const absl::Status& status) {
          status.code() == absl::StatusCode::kDeadlineExceeded;
 }
 
-// `others_took_over`: whether other devices ran (or will run) its tiles; false when the launch
-// fails for want of any. Only local:N workers are started again; the host reconnects to others.
 // Buffers whose devices each run on their own data (device pointers for every device of the
 // context): launch indices of a lost device that run elsewhere read another device's data.
 std::string PerDeviceDataBuffers(Context& context) {
@@ -61,6 +59,8 @@ std::string PerDeviceDataBuffers(Context& context) {
   return names;
 }
 
+// `others_took_over`: whether other devices ran (or will run) its tiles; false when the launch
+// fails for want of any. Only local:N workers are started again; the host reconnects to others.
 void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
               const absl::Status& reason, bool others_took_over) {
   const bool spawned = slot.desc.type == DeviceSpecEntry::Type::kLocal;
