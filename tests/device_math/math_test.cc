@@ -421,6 +421,74 @@ TEST(MathTest, Conversions) {
 // The same function must be reachable qualified, through a using-directive and through ADL;
 // these compile only if every spelling resolves without ambiguity.
 
+TEST(MathTest, AssembledVectors) {
+  EXPECT_FLOAT3_EQ(make_float3(1.f, make_float2(2.f, 3.f)), 1.f, 2.f, 3.f);
+  EXPECT_FLOAT4_EQ(make_float4(1.f, make_float3(2.f, 3.f, 4.f)), 1.f, 2.f, 3.f, 4.f);
+  EXPECT_FLOAT4_EQ(make_float4(make_float2(1.f, 2.f), make_float2(3.f, 4.f)), 1.f, 2.f, 3.f, 4.f);
+  EXPECT_FLOAT4_EQ(make_float4(1.f, 2.f, make_float2(3.f, 4.f)), 1.f, 2.f, 3.f, 4.f);
+  EXPECT_FLOAT4_EQ(make_float4(1.f, make_float2(2.f, 3.f), 4.f), 1.f, 2.f, 3.f, 4.f);
+}
+
+// The SDK's triangle test: distance, the weights of p1 and p2, and the unnormalized normal.
+TEST(MathTest, IntersectTriangle) {
+  const float3 p0 = make_float3(0.f, 0.f, 0.f), p1 = make_float3(2.f, 0.f, 0.f),
+               p2 = make_float3(0.f, 2.f, 0.f);
+  optix::Ray down =
+      optix::make_Ray(make_float3(0.5f, 0.5f, 1.f), make_float3(0.f, 0.f, -1.f), 0, 0.f, 10.f);
+  float3 n;
+  float t, beta, gamma;
+  ASSERT_TRUE(intersect_triangle(down, p0, p1, p2, n, t, beta, gamma));  // found through ADL
+  EXPECT_FLOAT_EQ(t, 1.f);
+  EXPECT_FLOAT_EQ(beta, 0.25f);
+  EXPECT_FLOAT_EQ(gamma, 0.25f);
+  EXPECT_FLOAT3_EQ(n, 0.f, 0.f, 4.f);
+  // From below the same weights; outside the triangle, beyond tmax, or along its plane: no hit.
+  optix::Ray up =
+      optix::make_Ray(make_float3(0.5f, 1.0f, -2.f), make_float3(0.f, 0.f, 1.f), 0, 0.f, 10.f);
+  ASSERT_TRUE(optix::intersect_triangle_branchless(up, p0, p1, p2, n, t, beta, gamma));
+  EXPECT_FLOAT_EQ(t, 2.f);
+  EXPECT_FLOAT_EQ(beta, 0.25f);
+  EXPECT_FLOAT_EQ(gamma, 0.5f);
+  optix::Ray outside = down;
+  outside.origin = make_float3(1.5f, 1.5f, 1.f);
+  EXPECT_FALSE(optix::intersect_triangle_earlyexit(outside, p0, p1, p2, n, t, beta, gamma));
+  optix::Ray short_ray = down;
+  short_ray.tmax = 0.5f;
+  EXPECT_FALSE(intersect_triangle(short_ray, p0, p1, p2, n, t, beta, gamma));
+  optix::Ray along =
+      optix::make_Ray(make_float3(-1.f, 0.5f, 0.f), make_float3(1.f, 0.f, 0.f), 0, 0.f, 10.f);
+  EXPECT_FALSE(intersect_triangle(along, p0, p1, p2, n, t, beta, gamma));
+}
+
+TEST(MathTest, SamplingAndOrthonormalBasis) {
+  for (float u1 : {0.f, 0.3f, 0.99f}) {
+    for (float u2 : {0.f, 0.25f, 0.7f}) {
+      float3 p;
+      cosine_sample_hemisphere(u1, u2, p);
+      EXPECT_NEAR(length(p), 1.f, 1e-5f);
+      EXPECT_GE(p.z, 0.f);
+      EXPECT_NEAR(p.z, std::sqrt(1.f - u1), 1e-5f);
+      const float2 d = square_to_disk(make_float2(u1, u2));
+      EXPECT_LE(length(d), 1.f + 1e-5f);
+    }
+  }
+  EXPECT_FLOAT2_EQ(square_to_disk(make_float2(0.5f, 0.5f)), 0.f, 0.f);
+  const float2 corner = square_to_disk(make_float2(1.f, 0.5f));  // edge midpoint -> circle
+  EXPECT_NEAR(corner.x, 1.f, 1e-6f);
+  EXPECT_NEAR(corner.y, 0.f, 1e-6f);
+  for (float3 normal : {make_float3(0.f, 0.f, 1.f), normalize(make_float3(1.f, 2.f, 0.5f)),
+                        make_float3(-1.f, 0.f, 0.f)}) {
+    const optix::Onb onb(normal);
+    EXPECT_NEAR(dot(onb.m_tangent, onb.m_binormal), 0.f, 1e-6f);
+    EXPECT_NEAR(dot(onb.m_tangent, onb.m_normal), 0.f, 1e-6f);
+    EXPECT_NEAR(dot(onb.m_binormal, onb.m_normal), 0.f, 1e-6f);
+    EXPECT_NEAR(length(onb.m_tangent), 1.f, 1e-6f);
+    float3 z = make_float3(0.f, 0.f, 1.f);
+    onb.inverse_transform(z);
+    EXPECT_NEAR(length(z - normal), 0.f, 1e-6f);
+  }
+}
+
 TEST(MathNamesTest, QualifiedOptixNamesAreTheGlobalFunctions) {
   const float3 v = make_float3(3.0f, 0.0f, 4.0f);
   EXPECT_FLOAT3_EQ(optix::normalize(v), 0.6f, 0.0f, 0.8f);

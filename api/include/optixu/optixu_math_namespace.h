@@ -18,7 +18,8 @@
 
 #include <cmath>
 
-#include "../tessera/cuda_compat.h"  // Global min/max for int and unsigned, as CUDA has them.
+#include "../internal/optix_datatypes.h"  // optix::Ray, for intersect_triangle
+#include "../tessera/cuda_compat.h"       // Global min/max for int and unsigned, as CUDA has them.
 #include "optixu_vector_types.h"
 
 // ---- Constants ----------------------------------------------------------------------------------
@@ -270,6 +271,32 @@ inline float3 fresnel_schlick(float cos_theta, float exponent, const float3& min
                      fresnel_schlick(cos_theta, exponent, minimum.z, maximum.z));
 }
 
+// ---- Sampling and local frames (path tracers) ---------------------------------------------------
+// A direction on the +z hemisphere with density proportional to cos(theta), from two uniform
+// numbers in [0, 1): a point of the unit disk (radius sqrt(u1), angle 2 pi u2) lifted onto it.
+inline void cosine_sample_hemisphere(float u1, float u2, float3& p) {
+  const float r = sqrtf(u1), phi = 2.0f * M_PIf * u2;
+  p.x = r * cosf(phi);
+  p.y = r * sinf(phi);
+  p.z = sqrtf(optixu_detail::Fmaxf(0.0f, 1.0f - p.x * p.x - p.y * p.y));
+}
+
+// Shirley and Chiu's concentric map from [0, 1)^2 to the unit disk: squares around the centre go
+// to circles, so stratified samples stay stratified.
+inline float2 square_to_disk(const float2& sample) {
+  const float a = 2.0f * sample.x - 1.0f, b = 2.0f * sample.y - 1.0f;
+  if (a == 0.0f && b == 0.0f) return make_float2(0.0f, 0.0f);
+  float r, phi;
+  if (std::fabs(a) > std::fabs(b)) {
+    r = a;
+    phi = M_PI_4f * (b / a);
+  } else {
+    r = b;
+    phi = 2.0f * M_PI_4f - M_PI_4f * (a / b);
+  }
+  return make_float2(r * cosf(phi), r * sinf(phi));
+}
+
 // ---- Component access by index ------------------------------------------------------------------
 // i must be in [0, N); out-of-range indices read or write the last component. Selecting the member,
 // rather than indexing past x, keeps this defined behavior in C++.
@@ -327,6 +354,19 @@ inline float4 make_float4(float s) { return make_float4(s, s, s, s); }
 inline float4 make_float4(const float3& a) { return make_float4(a.x, a.y, a.z, 0.0f); }
 inline float4 make_float4(const float3& a, float w) { return make_float4(a.x, a.y, a.z, w); }
 inline float4 make_float4(const float2& a, float z, float w) { return make_float4(a.x, a.y, z, w); }
+inline float3 make_float3(float x, const float2& yz) { return make_float3(x, yz.x, yz.y); }
+inline float4 make_float4(float x, const float3& yzw) {
+  return make_float4(x, yzw.x, yzw.y, yzw.z);
+}
+inline float4 make_float4(const float2& xy, const float2& zw) {
+  return make_float4(xy.x, xy.y, zw.x, zw.y);
+}
+inline float4 make_float4(float x, float y, const float2& zw) {
+  return make_float4(x, y, zw.x, zw.y);
+}
+inline float4 make_float4(float x, const float2& yz, float w) {
+  return make_float4(x, yz.x, yz.y, w);
+}
 inline float4 make_float4(const int4& a) {
   return make_float4(static_cast<float>(a.x), static_cast<float>(a.y), static_cast<float>(a.z),
                      static_cast<float>(a.w));
@@ -413,6 +453,7 @@ using ::refract;
 using ::setByIndex;
 using ::smoothstep;
 // Repeating these using-declarations picks up the conversion overloads added above.
+using ::cosine_sample_hemisphere;
 using ::make_float2;
 using ::make_float3;
 using ::make_float4;
@@ -422,6 +463,54 @@ using ::make_int4;
 using ::make_uint2;
 using ::make_uint3;
 using ::make_uint4;
+using ::square_to_disk;
+
+// An orthonormal frame around `normal` (unit length): inverse_transform takes a vector given in
+// the frame (z along the normal), such as a hemisphere sample, to the normal's space. The
+// binormal is perpendicular to the normal and to the axis, x or z, the normal leans from most.
+struct Onb {
+  Onb(const float3& normal)  // NOLINT(google-explicit-constructor): implicit, as in OptiX
+      : m_normal(normal) {
+    m_binormal = std::fabs(normal.x) > std::fabs(normal.z)
+                     ? normalize(make_float3(-normal.y, normal.x, 0.0f))
+                     : normalize(make_float3(0.0f, -normal.z, normal.y));
+    m_tangent = cross(m_binormal, m_normal);
+  }
+  void inverse_transform(float3& p) const {
+    p = p.x * m_tangent + p.y * m_binormal + p.z * m_normal;
+  }
+  float3 m_tangent, m_binormal, m_normal;
+};
+
+// Ray against the triangle p0 p1 p2: true when the ray meets its interior at a distance strictly
+// between tmin and tmax. Sets t, the weights beta and gamma of p1 and p2 (p0's is 1 - beta -
+// gamma), and the unnormalized normal n = (p1 - p0) x (p2 - p0), whatever the result. A ray in
+// the triangle's plane (or a degenerate triangle) gives NaNs, which compare false: no hit.
+// Found from optix::Ray by argument-dependent lookup, as with the SDK's header.
+inline bool intersect_triangle(const Ray& ray, const float3& p0, const float3& p1, const float3& p2,
+                               float3& n, float& t, float& beta, float& gamma) {
+  const float3 e1 = p1 - p0, e2 = p2 - p0;
+  n = cross(e1, e2);
+  const float3 to_origin = ray.origin - p0;
+  const float3 across = cross(to_origin, ray.direction);
+  const float inv = 1.0f / dot(n, ray.direction);  // Cramer's rule over (d, e1, e2)
+  t = -dot(n, to_origin) * inv;
+  beta = -dot(across, e2) * inv;
+  gamma = dot(across, e1) * inv;
+  return (t > ray.tmin) & (t < ray.tmax) & (beta >= 0.0f) & (gamma >= 0.0f) &
+         (beta + gamma <= 1.0f);
+}
+// The SDK's variants compute the same; they differ only in how their GPU code branches.
+inline bool intersect_triangle_branchless(const Ray& ray, const float3& p0, const float3& p1,
+                                          const float3& p2, float3& n, float& t, float& beta,
+                                          float& gamma) {
+  return intersect_triangle(ray, p0, p1, p2, n, t, beta, gamma);
+}
+inline bool intersect_triangle_earlyexit(const Ray& ray, const float3& p0, const float3& p1,
+                                         const float3& p2, float3& n, float& t, float& beta,
+                                         float& gamma) {
+  return intersect_triangle(ray, p0, p1, p2, n, t, beta, gamma);
+}
 }  // namespace optix
 
 #endif  // OPTIXU_OPTIXU_MATH_NAMESPACE_H_
