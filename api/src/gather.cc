@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <tuple>
 
 #include "absl/strings/str_cat.h"
@@ -39,22 +40,8 @@ void LaunchGather::ReportExceptions() {
                      };
                      return key(a) < key(b);
                    });
-  if (context_.print_enabled()) {
-    // Only at the launch index rtContextSetPrintLaunchIndex selects, as for rtPrintf (-1: any).
-    const std::array<int, 3>& only = context_.print_launch_index();
-    auto selected = [&](const v1::ExceptionReport& e) {
-      for (int i = 0; i < 3; ++i) {
-        const uint64_t at = i < e.launch_index_size() ? e.launch_index(i) : 0;
-        if (only[i] >= 0 && at != static_cast<uint64_t>(only[i])) return false;
-      }
-      return true;
-    };
-    for (const auto& e : exceptions_) {
-      if (selected(e)) std::fwrite(e.details().data(), 1, e.details().size(), stdout);
-    }
-    std::fflush(stdout);
-    return;
-  }
+  // With printing enabled the reports were printed among the prints (Finish).
+  if (context_.print_enabled()) return;
   std::fprintf(stderr,
                "tessera: %zu launch index(es) raised an exception and the entry point has no "
                "exception program; first: %s",
@@ -285,6 +272,25 @@ absl::Status LaunchGather::Finish() {
     }
   }
 
+  // With printing enabled, a report of an exception that reached no exception program is the
+  // last output of its launch index (the exception ended it): it takes its place in launch-index
+  // order among the prints and counts against the print buffer like them. Only at the launch index
+  // rtContextSetPrintLaunchIndex selects, as for rtPrintf (-1: any).
+  if (context_.print_enabled()) {
+    const std::array<int, 3>& only = context_.print_launch_index();
+    for (const v1::ExceptionReport& e : exceptions_) {
+      bool selected = true;
+      for (int i = 0; i < 3; ++i) {
+        const uint64_t at = i < e.launch_index_size() ? e.launch_index(i) : 0;
+        if (only[i] >= 0 && at != static_cast<uint64_t>(only[i])) selected = false;
+      }
+      if (!selected) continue;
+      v1::PrintRecord& p = prints_.emplace_back();
+      *p.mutable_launch_index() = e.launch_index();
+      p.set_sequence(std::numeric_limits<uint64_t>::max());
+      p.set_text(e.details());
+    }
+  }
   std::stable_sort(
       prints_.begin(), prints_.end(), [](const v1::PrintRecord& a, const v1::PrintRecord& b) {
         return std::make_tuple(IndexAt(a, 2), IndexAt(a, 1), IndexAt(a, 0), a.sequence()) <

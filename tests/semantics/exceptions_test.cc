@@ -3,6 +3,7 @@
 #include <string>
 
 #include "rt_fixture.h"
+#include "tessera/rt_ext.h"
 
 namespace tessera::testing {
 namespace {
@@ -78,6 +79,21 @@ TEST_F(ExceptionsTest, UserExceptionOnlyWhenEnabled) {
   EXPECT_EQ(on[0][0], 1.f);
   EXPECT_EQ(on[1][0], float(RT_EXCEPTION_USER + 7));
   EXPECT_EQ(on[2][0], 1.f);
+}
+
+// An exception raised inside the exception program ends its launch index and is reported like
+// one no exception program handled, not lost.
+TEST_F(ExceptionsTest, AnExceptionInTheExceptionProgramIsReported) {
+  Ok(rtContextSetExceptionProgram(ctx_, 0, Program(kModule, "exception_out_of_bounds")));
+  Ok(rtContextSetExceptionEnabled(ctx_, RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS, 1));
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  ::testing::internal::CaptureStdout();
+  Run("raygen_throw", RT_EXCEPTION_USER, true);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  RTsize count = 0;
+  Ok(tesseraContextGetExceptionReportCount(ctx_, &count));
+  EXPECT_EQ(count, 1u);
+  EXPECT_NE(out.find("raised in exception program"), std::string::npos) << out;
 }
 
 TEST_F(ExceptionsTest, BufferIndexOutOfBoundsOnlyWhenEnabled) {

@@ -253,6 +253,52 @@ TEST_P(LaunchRulesTest, ExceptionProgramRunsAtEveryThrowingIndexAndPrintsInOrder
   }
 }
 
+// rtPrintf output is bytes: text that is not UTF-8 comes out as it is, from every device.
+TEST_P(LaunchRulesTest, PrintsThatAreNotUtf8ComeOutAsTheyAre) {
+  RayGen("print_latin1");
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  TileSize({1, 1});
+  ::testing::internal::CaptureStdout();
+  RTresult r = rtContextLaunch2D(ctx_, 0, 3, 1);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  ASSERT_EQ(r, RT_SUCCESS) << Error(r);
+  EXPECT_EQ(out, "caf\xe9 \xff 0\ncaf\xe9 \xff 1\ncaf\xe9 \xff 2\n");
+}
+
+// A report of an exception no exception program handles is its launch index's last output: in
+// launch-index order among the prints, and counted against the print buffer like them.
+TEST_P(LaunchRulesTest, ExceptionReportsTakeTheirPlaceAmongPrints) {
+  RayGen("print_then_throw_some");
+  Ok(rtContextSetExceptionEnabled(ctx_, RT_EXCEPTION_USER, 1));
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  TileSize({2, 2});
+  ::testing::internal::CaptureStdout();
+  RTresult r = rtContextLaunch2D(ctx_, 0, 4, 2);
+  std::vector<std::string> lines = Lines(::testing::internal::GetCapturedStdout());
+  ASSERT_EQ(r, RT_SUCCESS) << Error(r);
+  size_t at = 0;
+  for (unsigned y = 0; y < 2; ++y) {
+    for (unsigned x = 0; x < 4; ++x) {
+      ASSERT_LT(at, lines.size());
+      EXPECT_EQ(lines[at++], Format("[%u,%u]", x, y));
+      if ((y * 4 + x) % 3 == 0) {
+        ASSERT_LT(at, lines.size());
+        EXPECT_NE(lines[at++].find(Format("(%u, %u, 0)", x, y)), std::string::npos);
+      }
+    }
+  }
+  EXPECT_EQ(at, lines.size());
+  // A small print buffer bounds the reports too.
+  Ok(rtContextSetPrintBufferSize(ctx_, 16));
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  r = rtContextLaunch2D(ctx_, 0, 4, 2);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  ::testing::internal::GetCapturedStderr();
+  ASSERT_EQ(r, RT_SUCCESS) << Error(r);
+  EXPECT_LE(out.size(), 16u) << out;
+}
+
 TEST_P(LaunchRulesTest, ExceptionsWithoutAProgramAreCountedAndReportedInOrder) {
   Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT4, {kPrintW, kPrintH}, "exception_log");
   RayGen("throw_some");

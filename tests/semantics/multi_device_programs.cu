@@ -139,6 +139,16 @@ RT_PROGRAM void print_indices() {
   rtPrintf("[%u,%u] second\n", index2.x, index2.y);
 }
 
+// Bytes that are not UTF-8 (Latin-1 text, binary): printed as they are.
+RT_PROGRAM void print_latin1() { rtPrintf("caf\xe9 \xff %u\n", index2.x); }
+
+// Prints, then every third launch index throws (as throw_some): reports and prints interleave.
+RT_PROGRAM void print_then_throw_some() {
+  rtPrintf("[%u,%u]\n", index2.x, index2.y);
+  const unsigned int linear = index2.y * dim2.x + index2.x;
+  if (linear % 3u == 0) rtThrow(RT_EXCEPTION_USER + linear % 16u);
+}
+
 // Every third launch index (row-major) throws a user code that depends on it.
 RT_PROGRAM void throw_some() {
   const unsigned int linear = index2.y * dim2.x + index2.x;

@@ -213,6 +213,11 @@ RT_PROGRAM void raygen_invalid_ray() {
   result[launch_index] = make_float4(1.f, 0.f, 0.f, 0.f);  // reached only if not raised
 }
 
+// An exception program that raises an exception itself (an index out of bounds).
+RT_PROGRAM void exception_out_of_bounds() {
+  result[make_uint2(launch_index.x, launch_index.y + 100000u)] = make_float4(1.f);
+}
+
 RT_PROGRAM void raygen_throw() {
   if (launch_index.x == 1) rtThrow(RT_EXCEPTION_USER + 7);
   result[launch_index] = make_float4(1.f, 0.f, 0.f, 0.f);

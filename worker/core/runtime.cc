@@ -357,8 +357,17 @@ __attribute__((noinline)) void HandleException(ThreadState& ts, const LaunchPlan
     try {
       Enter(ts, *ex);
       CallProgram(ts, *ex);
-    } catch (ExceptionSignal&) {
-      // An exception inside the exception program ends this launch index.
+    } catch (ExceptionSignal& inner) {
+      // An exception inside the exception program ends this launch index; it reaches the host as
+      // a report (printed in order, or counted on stderr) instead of vanishing.
+      ResetNesting(ts);
+      v1::ExceptionReport* r = ts.out->add_exceptions();
+      for (uint32_t i : ts.index) r->add_launch_index(i);
+      r->set_code(inner.code);
+      ts.exception_code = inner.code;
+      ts.exception_details =
+          absl::StrCat(inner.details, " (raised in exception program ", ex->name, ")");
+      r->set_details(ExceptionText());
     }
   } else {
     v1::ExceptionReport* r = ts.out->add_exceptions();
