@@ -7,6 +7,7 @@
 #include <iterator>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "api_test_util.h"
 #include "gtest/gtest.h"
@@ -164,6 +165,27 @@ TEST_F(HostProgramTest, ACompilerThatWritesNothingOrCannotRunIsNamed) {
     ASSERT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "shade", &p), RT_ERROR_INVALID_SOURCE);
     const std::string message = ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
     EXPECT_NE(message.find("it is $TESSERA_CXX"), std::string::npos) << message;
+  }
+}
+
+// Program-side features not built yet stop the compile at their declaration, naming themselves.
+TEST_F(HostProgramTest, UnsupportedProgramFeaturesSayWhatTheyAre) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"rtTextureSampler<float4, 2> envmap;\n", "no texture samplers yet"},
+      {"rtCallableProgram(float3, shade, (float3));\n", "no callable program variables yet"},
+      {"rtDeclareVariable(rtCallableProgramId<float3(float3)>, fn, , );\n",
+       "no callable program variables yet"},
+      {"rtBuffer<rtBufferId<float3, 1>, 1> ids;\n", "no buffer ids yet"},
+  };
+  for (const auto& [code, said] : cases) {
+    const std::string source = std::string("#include <optix_world.h>\nusing namespace optix;\n") +
+                               code + "RT_PROGRAM void shade_ok() {}\n";
+    RTprogram p = nullptr;
+    EXPECT_EQ(rtProgramCreateFromPTXString(ctx, source.c_str(), "shade_ok", &p),
+              RT_ERROR_INVALID_SOURCE)
+        << code;
+    const std::string message = ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+    EXPECT_NE(message.find(said), std::string::npos) << message;
   }
 }
 

@@ -264,6 +264,48 @@ class buffer {
 
 #define rtBuffer ::optix::buffer
 
+// ---- Not supported yet ----------------------------------------------------------------------
+// Declared so that a program using them stops at its declaration with a message naming the
+// feature, instead of an unknown-name error suggesting the host's RTtexturesampler
+// (docs/COMPATIBILITY.md "Program-side API"). The asserts depend on T: only a use fires them.
+namespace tessera::detail {
+template <typename T>
+inline constexpr bool kNotYet = sizeof(T) == 0;
+}  // namespace tessera::detail
+template <typename T, int Dim = 1, int ReadMode = 0>
+struct rtTextureSampler {
+  static_assert(::tessera::detail::kNotYet<T>,
+                "rtTextureSampler: Tessera has no texture samplers yet (docs/COMPATIBILITY.md)");
+};
+template <typename T, typename... Coordinates>
+T tex1D(const rtTextureSampler<T, 1>&, Coordinates...);
+template <typename T, typename... Coordinates>
+T tex2D(const rtTextureSampler<T, 2>&, Coordinates...);
+template <typename T, typename... Coordinates>
+T tex3D(const rtTextureSampler<T, 3>&, Coordinates...);
+template <typename T, int Dim = 1>
+struct rtBufferId {
+  static_assert(::tessera::detail::kNotYet<T>,
+                "rtBufferId: Tessera has no buffer ids yet (OptiX 3.5+; docs/COMPATIBILITY.md)");
+};
+template <typename Signature>
+struct rtCallableProgramId {
+  static_assert(::tessera::detail::kNotYet<Signature>,
+                "rtCallableProgramId: Tessera has no callable program variables yet (OptiX 3.5+; "
+                "docs/COMPATIBILITY.md)");
+};
+template <typename Signature>
+struct rtCallableProgramX {
+  static_assert(::tessera::detail::kNotYet<Signature>,
+                "rtCallableProgramX: Tessera has no callable program variables yet (OptiX 3.5+; "
+                "docs/COMPATIBILITY.md)");
+};
+#define rtCallableProgram(return_type, name, parameters)           \
+  static_assert(::tessera::detail::kNotYet<return_type>,           \
+                "rtCallableProgram " #name                         \
+                ": Tessera has no callable program variables yet " \
+                "(OptiX 3.5+; docs/COMPATIBILITY.md)")
+
 // ---- Tracing ---------------------------------------------------------------------------------
 template <typename T>
 inline void rtTrace(rtObject top, const optix::Ray& ray, T& payload) {
