@@ -48,6 +48,26 @@ void ClampToEmbreeRange(float* b) {
   for (int k = 0; k < 6; ++k) b[k] = std::clamp(b[k], -kMaxBoundsExtent, kMaxBoundsExtent);
 }
 
+// A triangle vertex Embree would leave out of the build with its triangles (never hit, without a
+// word): finite but beyond its FLT_LARGE. Vertices cannot be clamped like bounds (the triangle
+// would change), so the launch fails naming it. NaN vertices only make their triangles vanish,
+// as degenerate triangles do in OptiX (so does a vertex with any infinite coordinate). OK
+// otherwise.
+absl::Status CheckVertexInRange(const std::string& what, const float* v, uint32_t vertex) {
+  constexpr float kEmbreeLarge = 1.844e18f;
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+    return absl::OkStatus();
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (std::fabs(v[k]) > kEmbreeLarge) {
+      return absl::OutOfRangeError(absl::StrCat(
+          what, ": vertex ", vertex, " at (", v[0], ", ", v[1], ", ", v[2],
+          ") lies beyond +-1.844e18, which Embree cannot build (scale the scene down)"));
+    }
+  }
+  return absl::OkStatus();
+}
+
 Box TransformBox(const std::array<float, 16>& m, const Box& b) {
   Box out = EmptyBox();
   if (IsEmpty(b)) return out;
@@ -336,6 +356,11 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
             return absl::OutOfRangeError(absl::StrCat("geometry instance #", gid, ": triangle ", i,
                                                       " uses vertex ", vertex,
                                                       " but the vertex buffer holds ", nverts));
+          } else if (absl::Status in_range = CheckVertexInRange(
+                         absl::StrCat("geometry instance #", gid), v + 3 * vertex, vertex);
+                     !in_range.ok()) {
+            rtcReleaseGeometry(geom);
+            return in_range;
           }
         }
       }
@@ -475,6 +500,11 @@ absl::StatusOr<RTCGeometry> SceneCache::BuiltinTriangles(const Replica& r, uint6
         rtcReleaseGeometry(geom);
         return absl::OutOfRangeError(absl::StrCat(what, ": triangle ", t, " uses vertex ", vertex,
                                                   " but there are ", nverts, " vertices"));
+      }
+      if (absl::Status in_range = CheckVertexInRange(what, v + 3 * vertex, vertex);
+          !in_range.ok()) {
+        rtcReleaseGeometry(geom);
+        return in_range;
       }
       idx[3 * t + k] = vertex;
     }
