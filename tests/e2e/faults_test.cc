@@ -144,8 +144,8 @@ TEST_F(FaultTest, WorkerStoppedBetweenLaunchesMissesItsDeadline) {
   std::vector<pid_t> workers = ChildrenNamed(getpid(), kWorker);
   ASSERT_EQ(workers.size(), 2u);
   ASSERT_EQ(kill(workers.front(), SIGSTOP), 0);
-  Ok(rtVariableSet1i(scene_.iterations, kIterations));  // a state update for every device
-  RTvariable changed = nullptr;
+  ASSERT_TRUE(WaitUntilStopped(workers.front(), std::chrono::seconds(5)));
+  RTvariable changed = nullptr;  // a state update for every device
   Ok(rtContextDeclareVariable(ctx_, "unused_by_programs", &changed));
   Ok(rtVariableSet1f(changed, 1.f));
   double seconds = 0;

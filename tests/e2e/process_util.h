@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -25,6 +26,22 @@ inline std::string CommandName(pid_t pid) {
   std::string name;
   std::getline(in, name);
   return name;
+}
+
+// Waits until `pid` is stopped (state T in /proc/PID/stat): kill(SIGSTOP) returns before the
+// process has stopped, and a worker may still answer a call in between.
+inline bool WaitUntilStopped(pid_t pid, std::chrono::milliseconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t close = stat.rfind(')');
+    if (close != std::string::npos && close + 2 < stat.size() && stat[close + 2] == 'T') {
+      return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return false;
 }
 
 // The value after --listen on the command line of `pid`, empty if none.
