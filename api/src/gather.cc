@@ -253,6 +253,7 @@ absl::Status LaunchGather::Finish() {
     Object* object = context_.FindById(id);
     if (object == nullptr) continue;
     const auto* b = static_cast<const Buffer*>(object);
+    const bool ships = b->ships_content();
     for (size_t d = 0; d < slots_.size(); ++d) {
       auto state = slots_[d]->sync.buffers.find(id);
       if (state == slots_[d]->sync.buffers.end()) continue;
@@ -265,7 +266,7 @@ absl::Status LaunchGather::Finish() {
           continue;
         }
         const uint64_t n = std::min<uint64_t>(kChunkBytes, b->byte_size() - begin);
-        hashes[c] = writers[c] == static_cast<int>(d) && b->ships_content()
+        hashes[c] = writers[c] == static_cast<int>(d) && ships
                         ? ChunkHash(reinterpret_cast<const char*>(b->bytes()) + begin, n)
                         : 0;
       }

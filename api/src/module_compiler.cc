@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -248,7 +249,15 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   command.push_back("-o");
   command.push_back(temp_module);
   auto result = RunCommand(command);
-  const std::vector<std::string> compiled_deps = ParseDepFile(temp_deps, input);
+  // Tessera's own headers are in the key already (HeaderTreeHash): list only the others.
+  std::vector<std::string> compiled_deps = ParseDepFile(temp_deps, input);
+  for (const std::string& dir : ProgramIncludeDirs()) {
+    const std::string prefix = dir.back() == '/' ? dir : dir + "/";
+    compiled_deps.erase(
+        std::remove_if(compiled_deps.begin(), compiled_deps.end(),
+                       [&](const std::string& f) { return f.rfind(prefix, 0) == 0; }),
+        compiled_deps.end());
+  }
   fs::remove(temp_deps, ec);
   if (!temp_source.empty()) fs::remove(temp_source, ec);
   const char* chosen = std::getenv("TESSERA_CXX");
