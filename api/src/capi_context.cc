@@ -55,7 +55,7 @@ RTresult rtContextCreate(RTcontext* context) {
 
 RTresult rtContextDestroy(RTcontext context) {
   return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
-    if (c.running()) {
+    if (!c.TryStartRunning()) {  // held until the context is gone: no launch starts meanwhile
       return RtError(RT_ERROR_INVALID_CONTEXT, "cannot destroy a context while it launches");
     }
     c.DestroyAll();

@@ -95,6 +95,13 @@ class Context : public Object {
   RTtimeoutcallback timeout_callback() const { return timeout_callback_; }
   double timeout_polling_seconds() const { return timeout_polling_seconds_; }
   bool running() const { return running_.load(); }
+  // Claims the context for a launch or its destruction: false while one is under way, also one
+  // that another thread began at the same moment (a context is used by one thread at a time, as in
+  // OptiX, but a second thread must get an error, not a second launch over the first one's state).
+  bool TryStartRunning() {
+    bool idle = false;
+    return running_.compare_exchange_strong(idle, true);
+  }
 
   // ---- Devices. Ordinals index the context's device list (TESSERA_DEVICES unless
   // tesseraContextSetDeviceSpec replaced it).
@@ -139,7 +146,8 @@ class Context : public Object {
     tiles_done_.store(0, std::memory_order_relaxed);
     tiles_total_.store(total, std::memory_order_relaxed);
   }
-  void AddProgress(uint64_t tiles) { tiles_done_.fetch_add(tiles, std::memory_order_relaxed); }
+  // What the launch's dispatcher counts finished tiles in.
+  std::atomic<uint64_t>* progress_counter() { return &tiles_done_; }
   uint64_t tiles_done() const { return tiles_done_.load(std::memory_order_relaxed); }
   uint64_t tiles_total() const { return tiles_total_.load(std::memory_order_relaxed); }
 

@@ -60,6 +60,7 @@ LaunchGather::LaunchGather(Context& context, std::vector<DeviceSlot*> slots)
     auto* b = static_cast<Buffer*>(object);
     if (!b->gathers_content()) continue;
     layouts_[id] = LayoutOf(*b);
+    host_epochs_[id] = b->host_write_epoch();
     if (!check_races_ || b->element_size() == 0) continue;
     RaceState& state = race_state_[id];
     state.before.assign(reinterpret_cast<const char*>(b->bytes()), b->byte_size());
@@ -253,7 +254,11 @@ absl::Status LaunchGather::Finish() {
     Object* object = context_.FindById(id);
     if (object == nullptr) continue;
     const auto* b = static_cast<const Buffer*>(object);
-    const bool ships = b->ships_content();
+    // A chunk a device alone wrote into matches the host's only if the host did not write the
+    // buffer during the launch (the timeout callback may map it): otherwise it travels again.
+    auto epoch = host_epochs_.find(id);
+    const bool host_wrote = epoch == host_epochs_.end() || epoch->second != b->host_write_epoch();
+    const bool ships = b->ships_content() && !host_wrote;
     for (size_t d = 0; d < slots_.size(); ++d) {
       auto state = slots_[d]->sync.buffers.find(id);
       if (state == slots_[d]->sync.buffers.end()) continue;

@@ -83,6 +83,9 @@ class LaunchGather {
   const bool check_races_;
   absl::flat_hash_map<uint64_t, RaceState> race_state_;
   absl::flat_hash_map<uint64_t, Layout> layouts_;  // of every buffer results may land in
+  // Buffer::host_write_epoch() of those buffers when the launch began: a host write since (the
+  // timeout callback mapping one) is in no device's copy.
+  absl::flat_hash_map<uint64_t, uint64_t> host_epochs_;
   absl::flat_hash_set<uint64_t> layout_reported_;
   std::vector<Race> races_;
   uint64_t race_count_ = 0;

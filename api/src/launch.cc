@@ -2,9 +2,12 @@
 // results, and deal with devices lost on the way.
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <mutex>
+#include <thread>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -124,14 +127,52 @@ class LaunchTiming {
   std::string line_;
 };
 
-// Sets the running flag for the duration of a launch.
+// Clears the running flag (claimed with TryStartRunning) when the launch returns.
 class RunningScope {
  public:
-  explicit RunningScope(Context& c) : c_(c) { c_.set_running(true); }
+  explicit RunningScope(Context& c) : c_(c) {}
   ~RunningScope() { c_.set_running(false); }
 
  private:
   Context& c_;
+};
+
+// Polls the timeout callback on the launching thread (OptiX semantics: the callback runs on the
+// application's thread and may ask to stop), while state ships and while tiles run. The callback
+// and its interval are read at every poll, so removing or changing it (from the callback) takes
+// effect at once.
+class TimeoutPoller {
+ public:
+  using TimePoint = std::chrono::steady_clock::time_point;
+  explicit TimeoutPoller(Context& c) : c_(c) { Reset(); }
+  bool cancelled() const { return cancelled_; }
+  // When Poll next has something to do (max: never).
+  TimePoint deadline() const {
+    return !cancelled_ && c_.timeout_callback() != nullptr ? next_ : TimePoint::max();
+  }
+  // Calls the callback if its time came; returns whether the launch is to stop.
+  bool Poll() {
+    RTtimeoutcallback callback = c_.timeout_callback();
+    if (cancelled_ || callback == nullptr || std::chrono::steady_clock::now() < next_) {
+      return cancelled_;
+    }
+    if (callback() != 0) cancelled_ = true;
+    Reset();
+    return cancelled_;
+  }
+
+ private:
+  void Reset() {
+    // At least a millisecond; at most about 30 years, beyond which the clock's nanoseconds
+    // overflow (an infinite interval means never).
+    const double seconds = std::clamp(c_.timeout_polling_seconds(), 0.001, 1e9);
+    next_ = std::chrono::steady_clock::now() +
+            std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                std::chrono::duration<double>(seconds));
+  }
+  Context& c_;
+  TimePoint next_;
+  bool cancelled_ = false;
 };
 
 absl::Status CheckNothingMapped(Context& context) {
@@ -155,10 +196,17 @@ bool NothingNew(const v1::StateDelta& delta, const DeviceSync& sync,
          context_bytes == sync.last_context;
 }
 
-absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
+absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& poller) {
   size_t alive = 0;
   std::string lost;
   std::vector<std::pair<DeviceSlot*, absl::Status>> warn;  // said once it is known who is left
+  struct Job {
+    DeviceSlot* slot;
+    PreparedDelta prepared;
+    std::string context_bytes;
+    absl::Status status;
+  };
+  std::vector<Job> jobs;
   for (DeviceSlot& slot : context.device_slots()) {
     if (slot.device == nullptr) continue;
     PreparedDelta prepared = BuildDelta(context, slot.sync);
@@ -167,21 +215,62 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id) {
       ++alive;  // an unchanged launch costs no round trip per device
       continue;
     }
+    jobs.push_back(Job{&slot, std::move(prepared), std::move(context_bytes), absl::OkStatus()});
+  }
+  // Devices take their deltas at once (hundreds of MB of INPUT buffers take seconds), each on a
+  // thread of its own that touches only its delta and its device, while this thread polls the
+  // timeout callback. An update cannot be interrupted: a cancel stops the launch once they end.
+  if (!jobs.empty()) {
+    std::mutex mu;
+    std::condition_variable cv;
+    size_t finished = 0;
+    std::vector<std::thread> threads;
+    threads.reserve(jobs.size());
+    for (Job& job : jobs) {
+      threads.emplace_back([&job, &mu, &cv, &finished] {
+        job.status = job.slot->device->Apply(job.prepared.delta);
+        std::lock_guard<std::mutex> lock(mu);
+        ++finished;
+        cv.notify_all();
+      });
+    }
+    {
+      std::unique_lock<std::mutex> lock(mu);
+      while (finished < jobs.size()) {
+        const auto deadline = poller.deadline();
+        auto all_done = [&] { return finished == jobs.size(); };
+        if (deadline == TimeoutPoller::TimePoint::max()) {
+          cv.wait(lock, all_done);
+        } else if (!cv.wait_until(lock, deadline, all_done)) {
+          lock.unlock();
+          poller.Poll();
+          lock.lock();
+        }
+      }
+    }
+    for (std::thread& t : threads) t.join();
+  }
+  absl::Status rejected;
+  for (Job& job : jobs) {
+    DeviceSlot& slot = *job.slot;
     uint64_t bytes = 0;
-    for (const v1::BufferChunk& chunk : prepared.delta.chunks()) bytes += chunk.data().size();
-    absl::Status status = slot.device->Apply(prepared.delta);
-    if (IsDeviceLoss(status)) {
-      warn.emplace_back(&slot, status);
-      absl::StrAppend(&lost, lost.empty() ? "" : "; ", slot.desc.name, ": ", status.message());
+    for (const v1::BufferChunk& chunk : job.prepared.delta.chunks()) bytes += chunk.data().size();
+    if (IsDeviceLoss(job.status)) {
+      warn.emplace_back(&slot, job.status);
+      absl::StrAppend(&lost, lost.empty() ? "" : "; ", slot.desc.name, ": ", job.status.message());
       context.LoseDevice(slot);
       continue;
     }
-    if (!status.ok()) return DeviceError(slot, "rejected the state update", status);
+    if (!job.status.ok()) {
+      if (rejected.ok()) rejected = DeviceError(slot, "rejected the state update", job.status);
+      continue;
+    }
     context.CountSent(bytes);
-    CommitDelta(std::move(prepared), &slot.sync);
-    slot.sync.last_context = std::move(context_bytes);
+    CommitDelta(std::move(job.prepared), &slot.sync);
+    slot.sync.last_context = std::move(job.context_bytes);
     ++alive;
   }
+  if (!rejected.ok()) return rejected;
   for (const auto& [slot, status] : warn) WarnLost(context, *slot, launch_id, status, alive > 0);
   if (alive == 0) {
     return RtError(RT_ERROR_CONNECTION_FAILED, absl::StrCat("every device was lost (", lost, ")"));
@@ -224,18 +313,21 @@ bool NeedsStableOwnership(Context& context) { return FirstGpuLocalBuffer(context
 void WarnIfTilesMoved(Context& context, uint64_t launch_id, const std::vector<uint64_t>& dims,
                       const std::vector<uint64_t>& tile_size) {
   Context::StableLayout& last = context.last_stable_layout();
-  if (last.dims == dims && !last.tile.empty() && last.tile != tile_size) {
+  // Compared as cut: sizes past the launch's extent (or grown to bound the tile count) that give
+  // the same tiles move nothing.
+  const std::vector<uint64_t> effective = scheduler::EffectiveTileSize(dims, tile_size);
+  if (last.dims == dims && !last.tile.empty() && last.tile != effective) {
     const Buffer* b = FirstGpuLocalBuffer(context);
     std::fprintf(stderr,
                  "tessera: launch %llu: the tile size changed from %s to %s at the same launch "
                  "size %s; launch indices move to other devices and see those devices' copies "
                  "of GPU_LOCAL buffers (%s)\n",
                  static_cast<unsigned long long>(launch_id), absl::StrJoin(last.tile, "x").c_str(),
-                 absl::StrJoin(tile_size, "x").c_str(), absl::StrJoin(dims, "x").c_str(),
+                 absl::StrJoin(effective, "x").c_str(), absl::StrJoin(dims, "x").c_str(),
                  b != nullptr ? b->Describe().c_str() : "");
   }
   last.dims = dims;
-  last.tile = tile_size;
+  last.tile = effective;
 }
 
 // The context's tile size (tesseraContextSetTileSize), else TESSERA_TILE_SIZE, else chosen from
@@ -263,9 +355,12 @@ absl::StatusOr<std::vector<uint64_t>> TileSizeFor(const Context& context,
 }  // namespace
 
 absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& dims) {
-  if (running()) {
+  // Claimed before anything else: checking the flag here and setting it after validation let a
+  // second thread's launch start in between and gather into the same buffers.
+  if (!TryStartRunning()) {
     return RtError(RT_ERROR_INVALID_CONTEXT, "a launch is already running on this context");
   }
+  RunningScope running_scope(*this);
   if (entry_point >= entry_point_count()) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat("entry point index ", entry_point, " is out of range (",
@@ -287,11 +382,15 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   for (DeviceSlot& slot : device_slots()) {
     if (slot.device != nullptr) slot.threads = std::max(1, slot.device->Info().thread_count);
   }
-  RunningScope running_scope(*this);
   const uint64_t launch_id = NextLaunchId();
   LaunchTiming timing;
-  TS_RETURN_IF_ERROR(ApplyDeltas(*this, launch_id));
+  TimeoutPoller poller(*this);
+  StartProgress(0);  // while state ships: no tiles yet (not the last launch's figures)
+  TS_RETURN_IF_ERROR(ApplyDeltas(*this, launch_id, poller));
   timing.Mark("deltas");
+  if (poller.cancelled()) {
+    return RtError(RT_TIMEOUT_CALLBACK, "launch cancelled by the timeout callback");
+  }
 
   v1::LaunchRequest common;
   common.set_launch_id(launch_id);
@@ -327,35 +426,25 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   StartProgress(tiles.size());
 
   LaunchGather gather(*this, slots);
-  scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles), stable);
+  scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles), stable,
+                                   progress_counter());
 
-  // The launching thread applies results as they arrive and polls the timeout callback (OptiX
-  // semantics: the callback runs on the application's thread and may ask to stop).
+  // The launching thread applies results as they arrive and polls the timeout callback.
   bool cancelled = false;
-  RTtimeoutcallback callback = timeout_callback();
-  const auto interval = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(std::max(timeout_polling_seconds(), 0.001)));
-  auto next_poll = std::chrono::steady_clock::now() + interval;
   std::vector<scheduler::FinishedBatch> batches;
   while (true) {
-    const bool polling = callback != nullptr && !cancelled;
-    const bool done = dispatcher.Wait(
-        polling ? next_poll : std::chrono::steady_clock::time_point::max(), &batches);
+    const bool done = dispatcher.Wait(poller.deadline(), &batches);
     for (scheduler::FinishedBatch& batch : batches) {
       const auto start = std::chrono::steady_clock::now();
       gather.Apply(batch);
-      AddProgress(batch.tiles);
       for (v1::TileResult& r : batch.results) scheduler::RecycleTileResult(std::move(r));
       timing.apply += std::chrono::steady_clock::now() - start;
     }
     batches.clear();
     if (done) break;
-    if (polling && std::chrono::steady_clock::now() >= next_poll) {
-      if (callback() != 0) {
-        cancelled = true;
-        dispatcher.Cancel();
-      }
-      next_poll = std::chrono::steady_clock::now() + interval;
+    if (!cancelled && poller.Poll()) {
+      cancelled = true;
+      dispatcher.Cancel();
     }
   }
 

@@ -277,7 +277,8 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
 
   for (Object* o : objects) {
     auto known = sync.versions.find(o->id());
-    if (known == sync.versions.end() || known->second != o->version()) {
+    const bool relowered = known == sync.versions.end() || known->second != o->version();
+    if (relowered) {
       LowerObject(context, *o, delta.add_objects());
       out.versions.emplace_back(o->id(), o->version());
       if (o->kind() == Kind::kProgram) LowerModule(static_cast<Program&>(*o), sync, &out);
@@ -285,8 +286,12 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
     if (o->kind() == Kind::kBuffer) {
       auto& b = static_cast<Buffer&>(*o);
       if (!b.ships_content()) continue;
+      // A buffer object travels again only after the host reallocated it (rtBufferSetSize,
+      // SetFormat, SetElementSize), and a device that takes a new format, element size or
+      // dimensions zeroes its copy, even at the same byte size: chunk hashes it held before say
+      // nothing about it then, so every chunk travels.
       auto it = sync.buffers.find(b.id());
-      const BufferSyncState* state = it == sync.buffers.end() ? nullptr : &it->second;
+      const BufferSyncState* state = relowered || it == sync.buffers.end() ? nullptr : &it->second;
       out.buffers.emplace_back(b.id(), LowerChunks(b, state, sync.ordinal, &delta));
     }
   }

@@ -13,6 +13,7 @@
 #include <random>
 
 #include "absl/container/flat_hash_map.h"
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
@@ -20,7 +21,6 @@
 #include "status.h"
 #include "subprocess.h"
 #include "tessera/scheduler/module_cache_files.h"
-#include "tessera/scheduler/module_file.h"
 
 #ifndef TESSERA_PROGRAM_INCLUDE_DIR
 #define TESSERA_PROGRAM_INCLUDE_DIR ""
@@ -102,6 +102,17 @@ uint64_t LookupKey(uint64_t key, const std::string& source_path) {
   std::error_code ec;
   const fs::path absolute = fs::absolute(source_path, ec);
   return HashString(fs::weakly_canonical(absolute, ec).parent_path().string(), key);
+}
+
+constexpr char kModuleHashLine[] = "sha256 ";
+
+// The SHA-256 of a file, "" when it cannot be read: a cache hit must be the bytes that were
+// compiled, not whatever a disk error or another program left under the module's name.
+std::string FileModuleHash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return in.bad() ? "" : ModuleHash(bytes);
 }
 
 std::vector<std::string> ReadLines(const std::string& path, bool* found) {
@@ -216,13 +227,21 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
       absl::StrCat(cache_dir, "/", HexHash(LookupKey(key, source_path)), ".deps");
   std::error_code ec;
   bool have_deps = false;
-  const std::vector<std::string> deps = ReadLines(deps_path, &have_deps);
-  const uint64_t cached_key = have_deps ? DependencyKey(key, deps) : 0;
+  std::vector<std::string> deps = ReadLines(deps_path, &have_deps);
+  // The list's first line is the SHA-256 of the module compiled (a list without one, from an
+  // older Tessera, is compiled again).
+  std::string compiled_hash;
+  if (!deps.empty() && absl::StartsWith(deps.front(), kModuleHashLine)) {
+    compiled_hash = deps.front().substr(sizeof(kModuleHashLine) - 1);
+    deps.erase(deps.begin());
+  }
+  const uint64_t cached_key = have_deps && !compiled_hash.empty() ? DependencyKey(key, deps) : 0;
   if (cached_key != 0) {
     const std::string cached = absl::StrCat(cache_dir, "/", HexHash(cached_key), ".so");
-    // Anything else under the module's name (cut short, or not a file) is compiled over.
-    if (fs::is_regular_file(cached, ec) && scheduler::CheckModuleFileComplete(cached).ok()) {
+    // Anything else under the module's name (cut short, changed, or not a file) is compiled over.
+    if (fs::is_regular_file(cached, ec) && FileModuleHash(cached) == compiled_hash) {
       scheduler::TouchCacheFile(cached);  // recently used: trimmed last
+      scheduler::TouchCacheFile(deps_path);
       return cached;
     }
   }
@@ -292,6 +311,7 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   {
     const std::string temp_list = absl::StrCat(deps_path, ".", suffix, ".tmp");
     std::ofstream out(temp_list);
+    out << kModuleHashLine << FileModuleHash(temp_module) << "\n";
     for (const std::string& file : compiled_deps) out << file << "\n";
     out.close();
     if (out) fs::rename(temp_list, deps_path, ec);

@@ -1,7 +1,5 @@
 #include "program_loader.h"
 
-#include <dlfcn.h>
-
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -10,13 +8,13 @@
 #include <mutex>
 
 #include "absl/container/flat_hash_map.h"
+#include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "hash.h"
 #include "module_compiler.h"
 #include "status.h"
 #include "tessera/scheduler/module_file.h"
-#include "tessera/scheduler/module_symbol.h"
 
 namespace tessera::api {
 namespace fs = std::filesystem;
@@ -38,27 +36,41 @@ bool IsSourcePath(const std::string& path) {
   return false;
 }
 
-// Loads the module only to see that `function` exists: the host never runs program code.
-// RTLD_LAZY so that a module is not refused for symbols only a device resolves.
-absl::Status CheckModule(const std::string& path, const std::string& function) {
+// Whether `text` is PTX (what nvcc emits for OptiX): after blank lines and // comments, a
+// .version or .target directive. C++ cannot start that way, so nothing valid is refused.
+bool LooksLikePtx(absl::string_view text) {
+  while (!text.empty()) {
+    text = absl::StripLeadingAsciiWhitespace(text);
+    if (!absl::StartsWith(text, "//")) break;
+    const size_t eol = text.find('\n');
+    text = eol == absl::string_view::npos ? absl::string_view() : text.substr(eol + 1);
+  }
+  return absl::StartsWith(text, ".version") || absl::StartsWith(text, ".target");
+}
+
+constexpr char kNoPtx[] =
+    "PTX is not accepted: Tessera runs programs compiled as C++ from their .cu source; pass the "
+    ".cu file (or its text) or a module built from it (README \"Writing programs\")";
+
+// Checks that `function` exists from the module's dynamic symbol table, without loading it: the
+// host never runs program code (dlopen would run the module's global constructors here, and one
+// that crashes or exits would take the application down instead of a worker). What the module
+// needs at run time (its libraries, the module ABI) the device that loads it reports.
+absl::Status CheckModule(const std::string& path, absl::string_view bytes, const std::string& name,
+                         const std::string& function) {
   if (absl::Status whole = scheduler::CheckModuleFileComplete(path); !whole.ok()) {
     return RtError(RT_ERROR_INVALID_SOURCE,
-                   absl::StrCat("cannot load program module '", path, "': ", whole.message()));
+                   absl::StrCat("cannot load program module ", name, ": ", whole.message()));
   }
-  void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
-  if (handle == nullptr) {
-    const char* why = dlerror();
+  absl::Status symbols = scheduler::CheckModuleBytes(bytes, function, /*require_init=*/false);
+  if (absl::IsNotFound(symbols)) {
     return RtError(RT_ERROR_INVALID_SOURCE,
-                   absl::StrCat("cannot load program module '", path,
-                                "': ", why != nullptr ? why : "unknown error"));
-  }
-  dlerror();
-  void* symbol = scheduler::FindModuleFunction(handle, function.c_str());
-  dlclose(handle);
-  if (symbol == nullptr) {
-    return RtError(RT_ERROR_INVALID_SOURCE,
-                   absl::StrCat("program module '", path, "' defines no function '", function,
+                   absl::StrCat("program module ", name, " defines no function '", function,
                                 "' (declare it with RT_PROGRAM)"));
+  }
+  if (!symbols.ok()) {
+    return RtError(RT_ERROR_INVALID_SOURCE,
+                   absl::StrCat("cannot load program module ", name, ": ", symbols.message()));
   }
   return absl::OkStatus();
 }
@@ -78,8 +90,9 @@ std::shared_ptr<const std::string> SharedBytes(const std::string& hash, std::str
   return shared;
 }
 
+// `source`: the C++ file the module was compiled from, which names the program in messages.
 absl::StatusOr<ModuleRef> FromModule(const std::string& path, std::string* bytes,
-                                     const std::string& function) {
+                                     const std::string& function, const std::string& source = "") {
   std::error_code ec;
   fs::path absolute = fs::absolute(path, ec);
   ModuleRef ref;
@@ -89,7 +102,14 @@ absl::StatusOr<ModuleRef> FromModule(const std::string& path, std::string* bytes
     TS_ASSIGN_OR_RETURN(read, ReadFile(ref.path));
     bytes = &read;
   }
-  TS_RETURN_IF_ERROR(CheckModule(ref.path, function));
+  std::string name = absl::StrCat("'", ref.path, "'");
+  if (!source.empty()) {
+    const fs::path absolute_source = fs::absolute(source, ec);
+    const std::string shown = ec ? source : absolute_source.lexically_normal().string();
+    name = absl::StrCat("'", shown, "' (compiled as '", ref.path, "')");
+    ref.path = shown;  // device messages name the source the application gave
+  }
+  TS_RETURN_IF_ERROR(CheckModule(path, *bytes, name, function));
   ref.hash = ModuleHash(*bytes);
   ref.bytes = SharedBytes(ref.hash, std::move(*bytes));
   return ref;
@@ -100,6 +120,12 @@ absl::StatusOr<ModuleRef> FromModule(const std::string& path, std::string* bytes
 absl::StatusOr<ModuleRef> LoadProgramFile(const std::string& path, const std::string& function) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) {
+    if (fs::exists(path, ec)) {
+      return RtError(RT_ERROR_FILE_NOT_FOUND,
+                     absl::StrCat("program file '", path,
+                                  "' is not a regular file (a directory?); name a program module "
+                                  "(.so) or C++ source file"));
+    }
     return RtError(RT_ERROR_FILE_NOT_FOUND, absl::StrCat("program file '", path, "' not found"));
   }
   TS_ASSIGN_OR_RETURN(std::string bytes, ReadFile(path));
@@ -108,16 +134,22 @@ absl::StatusOr<ModuleRef> LoadProgramFile(const std::string& path, const std::st
                                                       "ELF") == 0;
   if (absl::EndsWith(path, ".so") || elf) return FromModule(path, &bytes, function);
   if (!IsSourcePath(path)) {
+    if (LooksLikePtx(bytes)) {
+      return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("'", path, "' is PTX. ", kNoPtx));
+    }
     return RtError(RT_ERROR_INVALID_SOURCE,
                    absl::StrCat("'", path,
                                 "' is neither a program module (.so) nor C++ source "
                                 "(.cu, .cpp, .cc, .cxx)"));
   }
   TS_ASSIGN_OR_RETURN(std::string module, CompileProgramModule(bytes, path));
-  return FromModule(module, nullptr, function);
+  return FromModule(module, nullptr, function, path);
 }
 
 absl::StatusOr<ModuleRef> LoadProgramSource(absl::string_view source, const std::string& function) {
+  if (LooksLikePtx(source)) {
+    return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("the source string is PTX. ", kNoPtx));
+  }
   TS_ASSIGN_OR_RETURN(std::string module, CompileProgramModule(source, ""));
   return FromModule(module, nullptr, function);
 }

@@ -26,8 +26,8 @@ constexpr size_t kGuidedShare = 4;
 }  // namespace
 
 Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
-                       bool stable_ownership)
-    : devices_(std::move(devices)), stable_(stable_ownership) {
+                       bool stable_ownership, std::atomic<uint64_t>* progress)
+    : devices_(std::move(devices)), stable_(stable_ownership), progress_(progress) {
   const size_t n = devices_.size();
   std::lock_guard<std::mutex> lock(mu_);
   if (n == 0) {
@@ -184,10 +184,17 @@ void Dispatcher::Run(size_t d) {
     finished.device = d;
     finished.tiles = batch.size();
     std::mutex results_mu;  // devices call back from their own threads
+    uint64_t reported = 0;  // tiles of this call the device said it finished (progress)
     absl::Status status;
     try {
       status = device.device->Launch(request, stop_, [&](v1::TileResult&& result) {
         std::lock_guard<std::mutex> results_lock(results_mu);
+        if (result.tile_index() == kHeartbeatTileIndex) {
+          const uint64_t done = std::min<uint64_t>(result.tiles_done(), batch.size());
+          if (done > reported) AddProgress(done - reported);
+          reported = std::max(reported, done);
+          return;
+        }
         finished.results.push_back(std::move(result));
       });
     } catch (const std::exception& e) {
@@ -203,12 +210,15 @@ void Dispatcher::Run(size_t d) {
     }
     lock.lock();
     if (status.ok()) {
+      AddProgress(batch.size() - reported);
       remaining_ -= build_only_ ? 1 : batch.size();
       Deliver(std::move(finished));
       if (remaining_ == 0) work_cv_.notify_all();
       if (build_only_) break;
       continue;
     }
+    // The call's tiles count again where they run next.
+    if (progress_ != nullptr) progress_->fetch_sub(reported, std::memory_order_relaxed);
     if (stop_) break;  // cancelled, or the launch already failed elsewhere
     const absl::StatusCode code = status.code();
     if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {

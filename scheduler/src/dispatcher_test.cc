@@ -100,6 +100,25 @@ Outcome RunAll(std::vector<FakeDevice*> fakes, size_t tiles, bool stable, int th
   return out;
 }
 
+// Three dimensions of 2^31 in at most kMaxTiles tiles: each tile covers 2^75 indices, which
+// wrapped to 0 and killed the host with SIGFPE in Take. The launch starts and can be cancelled.
+TEST(DispatcherTest, TilesOfMoreThan2To64IndicesDoNotCrash) {
+  for (bool stable : {false, true}) {
+    FakeDevice a(FakeDevice::Fault::kBlockUntilCancel), b(FakeDevice::Fault::kBlockUntilCancel);
+    std::vector<DispatchDevice> devices;
+    devices.push_back({&a, "a", 2, v1::LaunchRequest()});
+    devices.push_back({&b, "b", 2, v1::LaunchRequest()});
+    Dispatcher dispatcher(std::move(devices),
+                          MakeTiles({1u << 31, 1u << 31, 1u << 31}, MaxTileSize(3)), stable);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    dispatcher.Cancel();
+    std::vector<FinishedBatch> batches;
+    while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
+    }
+    EXPECT_EQ(dispatcher.status().code(), absl::StatusCode::kCancelled);
+  }
+}
+
 TEST(DispatcherTest, DynamicAssignmentRunsEveryTileOnce) {
   FakeDevice a, b, c;
   Outcome out = RunAll({&a, &b, &c}, 100, /*stable=*/false);

@@ -17,8 +17,13 @@ namespace fs = std::filesystem;
 namespace {
 
 // The module a file name holds, "" when it is no module: a worker's `<sha256>.so` or a host
-// compile's `<xxh64>.so`.
+// compile's `<xxh64>.so`, or the dependency list of a host compile (`<xxh64>.deps`, one per
+// source version and directory: without a bound they would pile up for good).
 absl::string_view ModuleStem(absl::string_view name) {
+  if (absl::EndsWith(name, ".deps")) {
+    absl::string_view stem = name.substr(0, name.size() - 5);
+    return stem.size() == 16 && IsLowerHex(stem) ? stem : absl::string_view{};
+  }
   if (!absl::EndsWith(name, ".so")) return {};
   absl::string_view stem = name.substr(0, name.size() - 3);
   return (stem.size() == 64 || stem.size() == 16) && IsLowerHex(stem) ? stem : absl::string_view{};
@@ -27,7 +32,7 @@ absl::string_view ModuleStem(absl::string_view name) {
 // A temporary file of a write into the cache: removable once old enough that no write can still
 // be going on.
 bool IsTemporary(absl::string_view name) {
-  if (absl::EndsWith(name, ".tmp")) return true;
+  if (absl::EndsWith(name, ".tmp") || absl::EndsWith(name, ".tmp.d")) return true;  // .d: -MF
   return absl::EndsWith(name, ".cpp") && name.size() > 17 && name[16] == '.' &&
          IsLowerHex(name.substr(0, 16));
 }

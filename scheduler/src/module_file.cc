@@ -22,7 +22,92 @@ absl::Status CutShort(const std::string& path, uint64_t needed, uint64_t size) {
                                                  " bytes and its ELF headers describe ", needed));
 }
 
+template <typename T>
+bool ReadStruct(absl::string_view bytes, uint64_t offset, T* out) {
+  if (offset > bytes.size() || bytes.size() - offset < sizeof(T)) return false;
+  std::memcpy(out, bytes.data() + offset, sizeof(T));
+  return true;
+}
+
+// Whether [offset, offset + count * size) lies within `bytes`, without overflow.
+bool InBounds(absl::string_view bytes, uint64_t offset, uint64_t count, uint64_t size) {
+  if (offset > bytes.size()) return false;
+  return size == 0 || count <= (bytes.size() - offset) / size;
+}
+
+#if defined(__x86_64__)
+constexpr unsigned kMachine = EM_X86_64;
+#elif defined(__aarch64__)
+constexpr unsigned kMachine = EM_AARCH64;
+#else
+constexpr unsigned kMachine = EM_NONE;  // not checked
+#endif
+
 }  // namespace
+
+absl::Status CheckModuleBytes(absl::string_view bytes, absl::string_view function,
+                              bool require_init) {
+  Elf64_Ehdr header{};
+  if (!ReadStruct(bytes, 0, &header) || std::memcmp(header.e_ident, ELFMAG, SELFMAG) != 0) {
+    return absl::InvalidArgumentError("it is not an ELF shared object");
+  }
+  if (header.e_ident[EI_CLASS] != ELFCLASS64 || header.e_type != ET_DYN ||
+      (kMachine != EM_NONE && header.e_machine != kMachine)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "it is not a 64-bit shared object for this machine (ELF class ", header.e_ident[EI_CLASS],
+        ", type ", header.e_type, ", machine ", header.e_machine, ")"));
+  }
+  if (header.e_shoff == 0 || header.e_shnum == 0) return absl::OkStatus();
+  if (header.e_shentsize != sizeof(Elf64_Shdr) ||
+      !InBounds(bytes, header.e_shoff, header.e_shnum, sizeof(Elf64_Shdr))) {
+    return absl::InvalidArgumentError(absl::StrCat("its section headers reach past its end (",
+                                                   bytes.size(), " bytes): is it cut short?"));
+  }
+  auto section = [&](unsigned i) {
+    Elf64_Shdr s{};
+    ReadStruct(bytes, header.e_shoff + uint64_t{i} * sizeof(Elf64_Shdr), &s);
+    return s;
+  };
+  bool has_function = false;
+  bool has_init = false;
+  bool has_dynsym = false;
+  for (unsigned i = 0; i < header.e_shnum; ++i) {
+    const Elf64_Shdr symbols = section(i);
+    if (symbols.sh_type != SHT_DYNSYM) continue;
+    has_dynsym = true;
+    if (symbols.sh_entsize != sizeof(Elf64_Sym) || symbols.sh_link >= header.e_shnum) {
+      return absl::InvalidArgumentError("its dynamic symbol table is malformed");
+    }
+    const Elf64_Shdr strings = section(symbols.sh_link);
+    if (!InBounds(bytes, symbols.sh_offset, 1, symbols.sh_size) ||
+        !InBounds(bytes, strings.sh_offset, 1, strings.sh_size)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("its dynamic symbol table reaches past its end (", bytes.size(), " bytes)"));
+    }
+    const absl::string_view names = bytes.substr(strings.sh_offset, strings.sh_size);
+    for (uint64_t j = 0; j < symbols.sh_size / sizeof(Elf64_Sym); ++j) {
+      Elf64_Sym sym{};
+      ReadStruct(bytes, symbols.sh_offset + j * sizeof(Elf64_Sym), &sym);
+      if (sym.st_shndx == SHN_UNDEF || ELF64_ST_TYPE(sym.st_info) != STT_FUNC ||
+          sym.st_name >= names.size()) {
+        continue;
+      }
+      absl::string_view name = names.substr(sym.st_name);
+      name = name.substr(0, name.find('\0'));
+      if (name == function && ELF64_ST_BIND(sym.st_info) == STB_GLOBAL) has_function = true;
+      if (name == "tessera_module_init") has_init = true;
+    }
+  }
+  if (!has_dynsym) return absl::InvalidArgumentError("it has no dynamic symbol table");
+  if (require_init && !has_init) {
+    return absl::FailedPreconditionError(
+        "it was not built against tessera/device.h (no tessera_module_init)");
+  }
+  if (!has_function) {
+    return absl::NotFoundError(absl::StrCat("it defines no function '", function, "'"));
+  }
+  return absl::OkStatus();
+}
 
 absl::Status CheckModuleFileComplete(const std::string& path) {
   // O_NONBLOCK: a FIFO under that name must not block; dlopen then reports it.

@@ -57,6 +57,20 @@ std::vector<uint64_t> LimitTileCount(const std::vector<uint64_t>& dims,
 }  // namespace
 
 std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int total_threads) {
+  // Sides of extent 1 take no part: a 1x1xN launch is tiled as the 1D launch of N it is, and
+  // Nx1xM as NxM, instead of tiles clipped to 1x1x4 (4 indices each, 2^18 tiles for N = 2^20).
+  std::vector<uint64_t> reduced;
+  for (uint64_t extent : dims) {
+    if (extent > 1) reduced.push_back(extent);
+  }
+  if (!reduced.empty() && reduced.size() < dims.size()) {
+    const std::vector<uint64_t> chosen = ChooseTileSize(reduced, total_threads);
+    std::vector<uint64_t> size(dims.size(), 1);
+    for (size_t d = 0, r = 0; d < dims.size(); ++d) {
+      if (dims[d] > 1) size[d] = chosen[r++];
+    }
+    return size;
+  }
   std::vector<uint64_t> size = MaxTileSize(dims.size());
   const std::vector<uint64_t> smallest =
       dims.size() == 1
@@ -93,17 +107,25 @@ absl::StatusOr<std::vector<uint64_t>> ParseTileSize(absl::string_view text) {
   return size;
 }
 
+std::vector<uint64_t> EffectiveTileSize(const std::vector<uint64_t>& dims,
+                                        const std::vector<uint64_t>& tile_size) {
+  const size_t n = dims.size();
+  if (n == 0 || n > 3) return {};
+  std::vector<uint64_t> size(n);
+  for (size_t d = 0; d < n; ++d) {
+    if (dims[d] == 0) return {};
+    // A side longer than the launch covers the same indices as one of the launch's length.
+    size[d] = std::clamp<uint64_t>(d < tile_size.size() ? tile_size[d] : 1, 1, dims[d]);
+  }
+  return LimitTileCount(dims, std::move(size));
+}
+
 std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
                                 const std::vector<uint64_t>& tile_size) {
   std::vector<v1::Tile> tiles;
   const size_t n = dims.size();
-  if (n == 0 || n > 3) return tiles;
-  std::vector<uint64_t> size(n);
-  for (size_t d = 0; d < n; ++d) {
-    if (dims[d] == 0) return tiles;
-    size[d] = std::max<uint64_t>(1, d < tile_size.size() ? tile_size[d] : 1);
-  }
-  size = LimitTileCount(dims, std::move(size));
+  const std::vector<uint64_t> size = EffectiveTileSize(dims, tile_size);
+  if (size.empty()) return tiles;
   uint64_t count[3] = {1, 1, 1};
   for (size_t d = 0; d < n; ++d) count[d] = TilesAlong(dims[d], size[d]);
   tiles.reserve(count[0] * count[1] * count[2]);
@@ -127,8 +149,14 @@ std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
 }
 
 uint64_t TileIndices(const v1::Tile& tile) {
+  // Saturates: a tile of a launch with more than 2^64 indices (three dimensions near 2^32 in at
+  // most kMaxTiles tiles) would otherwise wrap, to 0 where its sides are powers of two.
   uint64_t n = 1;
-  for (uint64_t s : tile.size()) n *= std::max<uint64_t>(s, 1);
+  for (uint64_t s : tile.size()) {
+    s = std::max<uint64_t>(s, 1);
+    if (n > UINT64_MAX / s) return UINT64_MAX;
+    n *= s;
+  }
   return n;
 }
 

@@ -78,6 +78,37 @@ TEST(TilingTest, HugeLaunchesGetBoundedTileLists) {
   EXPECT_EQ(MakeTiles({1920, 1080}, {8, 8}).size(), 240u * 135u);
 }
 
+// A tile of a launch of more than 2^64 indices counts UINT64_MAX, never a wrapped 0 (which the
+// dispatcher divides by).
+TEST(TilingTest, TileIndicesSaturate) {
+  for (const std::vector<uint64_t>& dims : std::vector<std::vector<uint64_t>>{
+           {1u << 31, 1u << 31, 1u << 31}, {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu}}) {
+    auto tiles = MakeTiles(dims, MaxTileSize(3));
+    ASSERT_FALSE(tiles.empty());
+    EXPECT_EQ(TileIndices(tiles.front()), UINT64_MAX);
+  }
+  v1::Tile t;
+  for (uint64_t s : {uint64_t{1} << 22, uint64_t{1} << 21, uint64_t{1} << 21}) t.add_size(s);
+  EXPECT_EQ(TileIndices(t), UINT64_MAX);  // exactly 2^64
+}
+
+// Sizes past a launch's extent cut it into the same tiles, and compare equal as cut.
+TEST(TilingTest, EffectiveTileSizeClampsToTheLaunch) {
+  EXPECT_EQ(EffectiveTileSize({37, 29}, {1000, 1000}), std::vector<uint64_t>({37, 29}));
+  EXPECT_EQ(EffectiveTileSize({37, 29}, {64, 64}), EffectiveTileSize({37, 29}, {2000, 37}));
+  EXPECT_NE(EffectiveTileSize({37, 29}, {16, 16}), EffectiveTileSize({37, 29}, {64, 64}));
+  EXPECT_TRUE(EffectiveTileSize({0, 5}, {1, 1}).empty());
+}
+
+// Sides of extent 1 do not shrink tiles to a few indices: 1x1xN is tiled like N.
+TEST(TilingTest, DegenerateSidesAreTiledAsFewerDimensions) {
+  EXPECT_EQ(ChooseTileSize({1, 1, 1u << 22}, 2), std::vector<uint64_t>({1, 1, 4096}));
+  EXPECT_EQ(ChooseTileSize({1u << 22, 1, 1}, 2), std::vector<uint64_t>({4096, 1, 1}));
+  EXPECT_EQ(ChooseTileSize({1, 1u << 22}, 2), std::vector<uint64_t>({1, 4096}));
+  EXPECT_EQ(ChooseTileSize({2048, 1, 2048}, 2), std::vector<uint64_t>({64, 1, 64}));
+  EXPECT_EQ(ChooseTileSize({1, 1, 1}, 2), std::vector<uint64_t>({8, 8, 2}));  // as before
+}
+
 TEST(TilingTest, ParsesOverrides) {
   EXPECT_EQ(*ParseTileSize("32x16"), std::vector<uint64_t>({32, 16}));
   EXPECT_EQ(*ParseTileSize("7"), std::vector<uint64_t>({7}));

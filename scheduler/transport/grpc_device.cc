@@ -201,17 +201,20 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
     v1::TileResult result = scheduler::TakeTileResult();
     while (reader->Read(&result)) {
       watcher.Heard();
-      // Heartbeats only say the worker is alive. The written regions come as several results
-      // with kFinalTileIndex; whoever called collects the whole call before applying any of it.
-      if (result.tile_index() != kHeartbeatTileIndex) {
+      // Heartbeats say the worker is alive, and some how far its call got (passed on for
+      // progress). The written regions come as several results with kFinalTileIndex; whoever
+      // called collects the whole call before applying any of it.
+      const bool heartbeat = result.tile_index() == kHeartbeatTileIndex;
+      if (heartbeat && result.tiles_done() == 0) continue;
+      if (!heartbeat) {
         restored = ResultArena::Restore(arena, lease, &result);
         if (!restored.ok()) {
           context.TryCancel();
           break;
         }
-        on_result(std::move(result));
-        result = scheduler::TakeTileResult();
       }
+      on_result(std::move(result));
+      result = scheduler::TakeTileResult();
     }
     scheduler::RecycleTileResult(std::move(result));  // the one taken for a read that never came
     status = reader->Finish();

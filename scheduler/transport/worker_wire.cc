@@ -115,6 +115,7 @@ std::vector<v1::TileResult> SplitTileResult(v1::TileResult&& result, size_t max_
   v1::TileResult& first = piece_for(0);
   first.set_error(std::move(*result.mutable_error()));
   first.set_error_code(result.error_code());
+  first.set_tiles_done(result.tiles_done());
   for (v1::BufferRegion& region : *result.mutable_regions()) {
     const std::string& data = region.data();
     if (data.size() <= max_bytes) {

@@ -1,6 +1,9 @@
 // Buffer contents between host and devices: changed chunks only, INPUT_OUTPUT merges, GPU_LOCAL
 // broadcasts, and acceleration dirty tracking driven by the structure below.
+#include <atomic>
+#include <chrono>
 #include <cstring>
+#include <thread>
 
 #include "gtest/gtest.h"
 #include "launch_fixture.h"
@@ -78,6 +81,73 @@ TEST_F(BufferSyncTest, ResizingShipsTheDescriptionAndZeroedContents) {
   auto chunks = ChunksOf(LastDelta(), Id(input));
   ASSERT_EQ(chunks.size(), 1u);
   EXPECT_EQ(chunks[0]->data(), std::string(16, '\0'));
+}
+
+TEST_F(BufferSyncTest, ReshapingAtTheSameByteSizeShipsTheContentsAgain) {
+  // A device zeroes its copy when the format or dimensions change, even at the same byte size;
+  // the same contents written again must therefore travel again.
+  RTbuffer b = MakeBytes(RT_BUFFER_INPUT, 64, "reshaped");
+  Poke(b, 3, 7);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetFormat(b, RT_FORMAT_BYTE), RT_SUCCESS);
+  Poke(b, 3, 7);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  auto chunks = ChunksOf(LastDelta(), Id(b));
+  ASSERT_EQ(chunks.size(), 1u);
+  EXPECT_EQ(chunks[0]->data()[3], 7);
+  ASSERT_EQ(rtBufferSetSize2D(b, 8, 8), RT_SUCCESS);  // 64 bytes still
+  Poke(b, 3, 7);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  chunks = ChunksOf(LastDelta(), Id(b));
+  ASSERT_EQ(chunks.size(), 1u);
+  EXPECT_EQ(chunks[0]->data()[3], 7);
+}
+
+RTbuffer g_poked_during_launch = nullptr;
+std::atomic<bool> g_host_poked{false};
+
+int PokeDuringLaunch() {
+  if (!g_host_poked.load()) {
+    void* p = nullptr;
+    if (rtBufferMap(g_poked_during_launch, &p) == RT_SUCCESS) {
+      static_cast<char*>(p)[1] = 'h';
+      rtBufferUnmap(g_poked_during_launch);
+    }
+    g_host_poked = true;
+  }
+  return 0;
+}
+
+TEST_F(BufferSyncTest, HostWritesDuringALaunchReachTheDeviceThatWroteTheChunk) {
+  RTbuffer io = MakeBytes(RT_BUFFER_INPUT_OUTPUT, 64, "accum");
+  const uint64_t id = Id(io);
+  g_poked_during_launch = io;
+  g_host_poked = false;
+  records[0]->answer = [id](const v1::LaunchRequest&, const std::atomic<bool>&,
+                            const std::function<void(v1::TileResult &&)>& on_result) {
+    auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!g_host_poked.load() && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    v1::TileResult result;
+    result.set_tile_index(kFinalTileIndex);
+    v1::BufferRegion* region = result.add_regions();
+    region->set_buffer_id(id);
+    region->set_data(std::string(1, 'x'));  // byte 0 only
+    on_result(std::move(result));
+    return absl::OkStatus();
+  };
+  ASSERT_EQ(rtContextSetTimeoutCallback(ctx, &PokeDuringLaunch, 0.001), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  ASSERT_TRUE(g_host_poked.load());
+  ASSERT_EQ(rtContextSetTimeoutCallback(ctx, nullptr, 0), RT_SUCCESS);
+  records[0]->answer = nullptr;
+  // The device holds its own 'x' but not the host's 'h': the chunk travels again.
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  auto chunks = ChunksOf(LastDelta(), id);
+  ASSERT_EQ(chunks.size(), 1u);
+  EXPECT_EQ(chunks[0]->data()[0], 'x');
+  EXPECT_EQ(chunks[0]->data()[1], 'h');
 }
 
 TEST_F(BufferSyncTest, OutputBuffersNeverShipContents) {

@@ -77,6 +77,21 @@ TEST_F(HostProgramTest, ModulesAreCheckedForTheFunction) {
   EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, ptx.c_str(), "f", &p), RT_ERROR_INVALID_SOURCE);
   EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_SOURCE).find("neither a program module"),
             std::string::npos);
+  // Real PTX (what OptiX applications load) is named as such, as a file and as a string.
+  std::string real_ptx = Write("real.ptx", "// comment\n\n.version 3.0\n.target sm_20\n");
+  EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, real_ptx.c_str(), "f", &p), RT_ERROR_INVALID_SOURCE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_SOURCE).find("PTX is not accepted"),
+            std::string::npos);
+  EXPECT_EQ(rtProgramCreateFromPTXString(ctx, "\n  .version 4.2\n.target sm_30\n", "f", &p),
+            RT_ERROR_INVALID_SOURCE);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_SOURCE).find("PTX is not accepted"),
+            std::string::npos);
+  // A directory exists but is no program file.
+  std::string dir = Write("a_dir/x.cu", "");
+  dir = dir.substr(0, dir.rfind('/'));
+  EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, dir.c_str(), "f", &p), RT_ERROR_FILE_NOT_FOUND);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_FILE_NOT_FOUND).find("not a regular file"), std::string::npos)
+      << ErrorString(ctx, RT_ERROR_FILE_NOT_FOUND);
 }
 
 TEST_F(HostProgramTest, SourceFilesCompileOnceIntoTheCache) {
@@ -217,6 +232,44 @@ TEST_F(HostProgramTest, ACachedCompileCutShortIsCompiledAgain) {
       << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
   EXPECT_EQ(fs::file_size(cached), size);
   EXPECT_EQ(CachedModules(), 1u);
+}
+
+// The host reads a module's symbols without loading it: a module whose global constructor
+// aborts is a device's problem at launch, not the application's at program creation. Messages
+// about a program compiled from a .cu file name that file.
+TEST_F(HostProgramTest, TheHostDoesNotRunModuleCode) {
+  std::string src = Write("ctor.cu",
+                          "#include <optix.h>\n#include <cstdlib>\n"
+                          "struct Boom { Boom() { std::abort(); } } boom;\n"
+                          "RT_PROGRAM void gen() {}\n");
+  RTprogram p = nullptr;
+  ASSERT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "gen", &p), RT_SUCCESS)
+      << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, src.c_str(), "nosuch", &p), RT_ERROR_INVALID_SOURCE);
+  const std::string message = ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  EXPECT_NE(message.find("ctor.cu"), std::string::npos) << message;
+  EXPECT_NE(message.find("nosuch"), std::string::npos) << message;
+}
+
+// A cached module is used only while it is the module that was compiled: another one copied over
+// it is compiled over.
+TEST_F(HostProgramTest, AChangedCachedModuleIsCompiledAgain) {
+  RTprogram p = nullptr;
+  ASSERT_EQ(rtProgramCreateFromPTXString(ctx, "extern \"C\" void other() {}\n", "other", &p),
+            RT_SUCCESS);
+  fs::path other;
+  for (const auto& e : fs::directory_iterator(dir_ / "cache")) {
+    if (e.path().extension() == ".so") other = e.path();
+  }
+  const std::string source = "extern \"C\" void shade() {}\n";
+  ASSERT_EQ(rtProgramCreateFromPTXString(ctx, source.c_str(), "shade", &p), RT_SUCCESS);
+  for (const auto& e : fs::directory_iterator(dir_ / "cache")) {
+    if (e.path().extension() == ".so" && e.path() != other) {
+      fs::copy_file(other, e.path(), fs::copy_options::overwrite_existing);
+    }
+  }
+  EXPECT_EQ(rtProgramCreateFromPTXString(ctx, source.c_str(), "shade", &p), RT_SUCCESS)
+      << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
 }
 
 TEST_F(HostProgramTest, CompileCacheStaysWithinItsBound) {

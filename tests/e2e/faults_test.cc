@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -218,6 +219,37 @@ TEST_F(FaultTest, AnUnusableWorkerTimeoutIsSaidAndTheDefaultUsed) {
       << warning;
 }
 
+// A cancelled launch whose program never returns leaves its workers busy for good: the next
+// launch takes them for hung after the deadline and goes on without them, instead of waiting
+// behind the cancelled call forever (its queued call used to send heartbeats meanwhile).
+int g_cancel_polls = 0;
+int CancelOnSecondPoll() { return ++g_cancel_polls >= 2 ? 1 : 0; }
+
+TEST_F(FaultTest, ACancelledEndlessProgramDoesNotWedgeTheNextLaunch) {
+  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  Create("local:2");
+  Ok(rtVariableSet1i(scene_.iterations, std::numeric_limits<int>::max()));  // hours per index
+  g_cancel_polls = 0;
+  Ok(rtContextSetTimeoutCallback(ctx_, &CancelOnSecondPoll, 0.05));
+  RTresult r = rtContextLaunch2D(ctx_, 1, kW, kH);
+  EXPECT_EQ(r, RT_TIMEOUT_CALLBACK) << ErrorText(ctx_, r);
+  Ok(rtContextSetTimeoutCallback(ctx_, nullptr, 0));
+  double seconds = 0;
+  std::string warning;
+  r = TimedLaunch(0, &seconds, &warning);
+  unsetenv("TESSERA_WORKER_TIMEOUT");
+  // Both workers may be stuck: then no device is left for this launch, and the next one runs on
+  // respawned workers.
+  EXPECT_TRUE(r == RT_SUCCESS || r == RT_ERROR_CONNECTION_FAILED) << ErrorText(ctx_, r);
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
+  // Here the host resends the INPUT_OUTPUT buffer the cancelled launch left unknown, so the
+  // state update finds the workers hung; without one, the launch call itself does.
+  EXPECT_TRUE(warning.find("sent nothing for 1s") != std::string::npos ||
+              warning.find("did not take the state update within 1s") != std::string::npos)
+      << warning;
+  EXPECT_LT(seconds, 30.0);
+}
+
 // The timeout callback can ask how far the launch got: tiles done never go down and end at the
 // tile count.
 RTcontext g_progress_context = nullptr;
@@ -241,6 +273,11 @@ TEST_F(FaultTest, ProgressGrowsToTheTileCountDuringALaunch) {
   constexpr RTsize kTiles = (kW / 8) * (kH / 8);
   ASSERT_FALSE(g_progress.empty());
   for (size_t i = 0; i < g_progress.size(); ++i) {
+    // 0 in all while the launch ships its state, before it made its tiles.
+    if (g_progress[i].second == 0) {
+      EXPECT_EQ(g_progress[i].first, 0u);
+      continue;
+    }
     EXPECT_EQ(g_progress[i].second, kTiles);
     EXPECT_LE(g_progress[i].first, kTiles);
     if (i > 0) {
@@ -252,6 +289,34 @@ TEST_F(FaultTest, ProgressGrowsToTheTileCountDuringALaunch) {
   EXPECT_EQ(done, kTiles);
   EXPECT_EQ(total, kTiles);
   Ok(tesseraContextGetLaunchProgress(ctx_, nullptr, nullptr));
+}
+
+// One device takes a launch in one call; it still says how far the call got while it runs, so a
+// long render on one device does not show 0 tiles done until the end.
+TEST_F(FaultTest, ProgressMovesWhileOneDeviceRunsTheWholeLaunch) {
+  for (const char* spec : {"inproc", "local:1"}) {
+    Create(spec);
+    Ok(rtVariableSet1i(scene_.iterations, 4 * kIterations));  // about a second on two cores
+    const RTsize tile[2] = {8, 8};
+    Ok(tesseraContextSetTileSize(ctx_, 2, tile));
+    g_progress_context = ctx_;
+    g_progress.clear();
+    Ok(rtContextSetTimeoutCallback(ctx_, &RecordProgress, 0.01));
+    Ok(rtContextLaunch2D(ctx_, 1, kW, kH));
+    constexpr RTsize kTiles = (kW / 8) * (kH / 8);
+    bool midway = false;
+    for (size_t i = 0; i < g_progress.size(); ++i) {
+      midway = midway || (g_progress[i].first > 0 && g_progress[i].first < kTiles);
+      if (i > 0) {
+        EXPECT_GE(g_progress[i].first, g_progress[i - 1].first) << spec;
+      }
+    }
+    EXPECT_TRUE(midway) << spec << ": no progress seen before the launch ended ("
+                        << g_progress.size() << " polls)";
+    RTsize done = 0, total = 0;
+    Ok(tesseraContextGetLaunchProgress(ctx_, &done, &total));
+    EXPECT_EQ(done, kTiles) << spec;
+  }
 }
 
 TEST_F(FaultTest, CrashingProgramNamesDeviceAndProgram) {

@@ -227,6 +227,17 @@ TEST_F(GraphTest, NodesBindOnlyToRtObject) {
   EXPECT_EQ(Hits(s.group), Only({0}));
 }
 
+// Tracing an rtObject nobody set says so, instead of naming object #0.
+TEST_F(GraphTest, TracingAnUnsetRtObjectSaysSo) {
+  Instance s = SmallSphere();
+  EXPECT_EQ(Hits(s.group), Only({0}));
+  Ok(rtContextRemoveVariable(ctx_, ContextVar("top_object")));
+  RTresult r = rtContextLaunch2D(ctx_, 0, kW, 1);
+  EXPECT_NE(r, RT_SUCCESS);
+  EXPECT_NE(Error(r).find("rtTrace on an rtObject that no scope sets"), std::string::npos)
+      << Error(r);
+}
+
 // A node that only an unattached program's variable names (still on the devices until it is
 // destroyed) cannot fail launches, even when its scene cannot be built.
 TEST_F(GraphTest, NodesOnlyUnattachedProgramsNameDoNotFailLaunches) {

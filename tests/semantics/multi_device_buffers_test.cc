@@ -121,6 +121,51 @@ TEST_P(BufferRulesTest, OutputWriteOfEveryLaunchIndexReachesTheHost) {
   }
 }
 
+// Reallocating a buffer (rtBufferSetSize, even to the same size; rtBufferSetFormat) zeroes it on
+// the host and on every device; contents the host writes afterwards reach every device, even
+// when they are the bytes the devices held before.
+TEST_P(BufferRulesTest, AReallocatedBufferStartsFromZeroEverywhere) {
+  constexpr size_t kN = 96;
+  RTbuffer counts = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kN}, "out_counts");
+  RayGen("output_increment");
+  TileSize({8});
+  for (int i = 0; i < 3; ++i) Launch1D(kN);
+  ASSERT_EQ(rtBufferSetSize1D(counts, kN), RT_SUCCESS);
+  EXPECT_EQ(Contents<unsigned>(counts), std::vector<unsigned>(kN, 0u));
+  Launch1D(kN);
+  EXPECT_EQ(Contents<unsigned>(counts), std::vector<unsigned>(kN, 1u))
+      << "a device kept counting on its copy from before the reallocation";
+
+  constexpr size_t kElements = 4096, kLaunch = 64;
+  RTbuffer big = Buffer(RT_BUFFER_INPUT, RT_FORMAT_FLOAT4, {kElements}, "big_input");
+  RTbuffer seen = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, {kLaunch}, "seen");
+  std::vector<Float4> values(kElements);
+  for (size_t i = 0; i < kElements; ++i) {
+    const float f = static_cast<float>(i);
+    values[i] = {f, f + 0.5f, 2.f * f, 3.f * f};
+  }
+  SetUint("probe_a", 7);
+  SetUint("probe_b", kElements - 3);
+  RayGen("read_input");
+  TileSize({4});
+  for (int pass = 0; pass < 2; ++pass) {
+    SCOPED_TRACE(pass == 0 ? "first fill" : "the same bytes after rtBufferSetFormat");
+    if (pass == 1) {
+      ASSERT_EQ(rtBufferSetFormat(big, RT_FORMAT_USER), RT_SUCCESS);
+      ASSERT_EQ(rtBufferSetElementSize(big, sizeof(Float4)), RT_SUCCESS);
+      ASSERT_EQ(rtBufferSetSize1D(big, kElements), RT_SUCCESS);
+    }
+    Write(big, values);
+    Launch1D(kLaunch);
+    std::vector<Float4> s = Contents<Float4>(seen);
+    for (size_t i = 0; i < kLaunch; ++i) {
+      const Float4 want = {values[7][0], values[kElements - 3][0], values[i][1],
+                           values[kElements - 1 - i][2]};
+      ASSERT_EQ(s[i], want) << "launch index " << i;
+    }
+  }
+}
+
 TEST_P(BufferRulesTest, ScatterWritesOutsideTheWritersTileReachTheHost) {
   constexpr size_t kN = 1000;  // 7919 is prime: i -> (i * 7919) % 1000 is a permutation
   RTbuffer out = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kN}, "scattered");

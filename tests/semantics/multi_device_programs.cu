@@ -70,6 +70,10 @@ RT_PROGRAM void io_increment_or_fail() {
   if (index1 == fail_at) rtThrow(0x10);
 }
 
+// Adds one to its element of an OUTPUT buffer: what a device's copy held before shows.
+rtBuffer<unsigned int, 1> out_counts;  // OUTPUT
+RT_PROGRAM void output_increment() { out_counts[index1] += 1u; }
+
 // ---- GPU_LOCAL ---------------------------------------------------------------------------------
 rtBuffer<int, 2> local_acc;   // INPUT_OUTPUT | GPU_LOCAL
 rtBuffer<int, 2> local_copy;  // OUTPUT

@@ -37,6 +37,31 @@ struct TileState {
   bool abandoned = false;  // a piece stopped at a cancel
 };
 
+// Counts a call's finished tiles and says how many now and then (a heartbeat with tiles_done),
+// so that a long call shows progress before its results come back. Calls shorter than the
+// interval say nothing. Guarded by the call's result lock.
+class CallProgress {
+ public:
+  explicit CallProgress(std::chrono::steady_clock::time_point started) : last_(started) {}
+  void TileFinished(const v1::LaunchRequest& request,
+                    const std::function<void(v1::TileResult&&)>& on_result) {
+    ++done_;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < kInterval) return;
+    last_ = now;
+    v1::TileResult r;
+    r.set_launch_id(request.launch_id());
+    r.set_tile_index(kHeartbeatTileIndex);
+    r.set_tiles_done(done_);
+    on_result(std::move(r));
+  }
+
+ private:
+  static constexpr std::chrono::milliseconds kInterval{100};
+  std::chrono::steady_clock::time_point last_;
+  uint32_t done_ = 0;
+};
+
 // Launch indices per thread in a write epoch of a call whose results go out while it traces:
 // small enough that a call of the dispatcher's usual size (16384 per thread) makes several.
 constexpr uint64_t kEpochIndicesPerThread = 4096;
@@ -192,6 +217,7 @@ class InprocDevice : public Device {
     const std::vector<worker::TilePiece> pieces =
         worker::SplitTiles(request.tiles(), dims, threads);
     std::vector<TileState> tile_states(request.tiles_size());
+    CallProgress progress(started);
     for (const worker::TilePiece& p : pieces) ++tile_states[p.tile].pieces_left;
     auto run_piece = [&](const worker::TilePiece& piece) {
       TileState& state = tile_states[piece.tile];
@@ -215,7 +241,9 @@ class InprocDevice : public Device {
       std::lock_guard<std::mutex> lock(result_mu);
       if (!done) state.abandoned = true;
       state.result.MergeFrom(part);  // prints and reports carry their launch index
-      if (--state.pieces_left > 0 || (state.abandoned && state.result.error().empty())) return;
+      if (--state.pieces_left > 0) return;
+      if (!state.abandoned) progress.TileFinished(request, on_result);
+      if (state.abandoned && state.result.error().empty()) return;
       // A tile with nothing to say costs no message: over a worker's wire each is a message
       // to write, send and parse, and the host counts finished tiles by call, not by tile.
       if (state.result.prints_size() == 0 && state.result.exceptions_size() == 0 &&

@@ -207,6 +207,21 @@ TEST(ModuleStoreTest, TrimmingRemovesTheLeastRecentlyUsedModulesFirst) {
   EXPECT_TRUE(fs::exists(path(a + ".so")));
 }
 
+// The host compile cache's dependency lists and the compiler's temporaries go too: each edit of
+// a source leaves a list behind.
+TEST(ModuleStoreTest, TrimmingTakesDependencyListsAndCompilerTemporaries) {
+  TempDir temp;
+  const std::string a = ModuleHash("a");
+  auto path = [&](const std::string& name) { return temp.path() + "/" + name; };
+  WriteAged(path(a + ".so"), 1000, std::chrono::seconds(0));
+  WriteAged(path("0123456789abcdef.deps"), 3000, std::chrono::hours(6));
+  WriteAged(path("0123456789abcdef.12-34.tmp.d"), 100, std::chrono::hours(2));
+  TrimModuleCache(temp.path(), 2000, a);
+  EXPECT_TRUE(fs::exists(path(a + ".so")));
+  EXPECT_FALSE(fs::exists(path("0123456789abcdef.deps")));
+  EXPECT_FALSE(fs::exists(path("0123456789abcdef.12-34.tmp.d")));
+}
+
 TEST(ModuleStoreTest, CacheLimitFollowsTheEnvironment) {
   {
     ScopedEnv env("TESSERA_MODULE_CACHE_MAX_MB", nullptr);

@@ -484,9 +484,6 @@ void Replica::Stage(const v1::Buffer& b, bool removed,
       it->second.held_marks = held->second.written.size();
     }
   }
-  const uint32_t old_format = r.format;
-  const uint64_t old_element_size = r.element_size;
-  const std::array<uint64_t, 3> old_dims = r.dims;
   r.desc = b.desc();
   r.format = b.format();
   r.element_size = b.element_size();
@@ -494,9 +491,11 @@ void Replica::Stage(const v1::Buffer& b, bool removed,
   r.dims = {0, 1, 1};
   for (int i = 0; i < b.dims_size(); ++i) r.dims[i] = b.dims(i);
   if (r.ndims == 0) r.dims[0] = 0;
-  if (r.format != old_format || r.element_size != old_element_size || r.dims != old_dims) {
-    it->second.reshaped = true;
-  }
+  // The host sends a buffer's description again only when it reallocated the buffer
+  // (rtBufferSetSize, SetFormat, SetElementSize), which zeroes its contents even at the same
+  // shape: so does this copy, which programs read for OUTPUT buffers (the host resends the
+  // contents of INPUT ones).
+  it->second.reshaped = true;
 }
 
 absl::Status Replica::Allocate(std::unordered_map<uint64_t, StagedBuffer>& staged) const {

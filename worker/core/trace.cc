@@ -409,6 +409,12 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   if (__builtin_expect(node != ts.last_node_id || ts.last_node == nullptr, 0)) {
     ts.last_node = plan.Node(node);
     ts.last_node_id = node;
+    if (ts.last_node == nullptr && node == 0) {
+      throw FatalError{absl::InvalidArgumentError(absl::StrCat(
+          "rtTrace on an rtObject that no scope sets (", ts.current->name,
+          "): set the rtObject variable it traces with rtVariableSetObject to a group, geometry "
+          "group, transform or selector"))};
+    }
     if (ts.last_node == nullptr) {
       throw FatalError{absl::InvalidArgumentError(absl::StrCat(
           "rtTrace on object #", node, " which is not a graph node (", ts.current->name, ")"))};

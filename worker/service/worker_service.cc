@@ -219,7 +219,10 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     if (context->IsCancelled()) {
       return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");
     }
-    if (std::chrono::steady_clock::now() - last_write >= kHeartbeatInterval) {
+    // A cancelled call still running holds the device, maybe forever (a program that never
+    // returns): say nothing, so that the host's silence deadline takes this worker for hung.
+    if (!session->holder_cancelled.load() &&
+        std::chrono::steady_clock::now() - last_write >= kHeartbeatInterval) {
       if (!writer->Write(Heartbeat(*request))) {
         return grpc::Status(grpc::StatusCode::CANCELLED, "the host went away");
       }
@@ -263,6 +266,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     // while they go out (they carry the call's sequence, by which the host orders calls).
     if (done) held.Release();
     if (context->IsCancelled()) cancel = true;
+    if (cancel.load() && !done) session->holder_cancelled = true;
     if (batch.empty() && !done && writable &&
         std::chrono::steady_clock::now() - last_write >= kHeartbeatInterval) {
       batch.push_back(Heartbeat(*request));

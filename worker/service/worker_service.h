@@ -5,6 +5,7 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
@@ -53,7 +54,13 @@ class WorkerService final : public v1::Worker::Service {
     std::mutex turn_mu;
     std::condition_variable turn_cv;
     uint64_t releases = 0;
+    // Set while the running Launch was cancelled by its host but its program has not returned
+    // (one that never ends cannot be stopped): launches queued behind it stop sending
+    // heartbeats, so the host sees a hung worker after TESSERA_WORKER_TIMEOUT instead of
+    // waiting forever.
+    std::atomic<bool> holder_cancelled{false};
     void Release() {
+      holder_cancelled = false;
       mu.Unlock();
       {
         std::lock_guard<std::mutex> lock(turn_mu);

@@ -49,10 +49,13 @@ RTAPI RTresult tesseraContextSetRaceCheck(RTcontext context, int enabled);
 /* How many elements the last launch found written by two devices (0 unless checking). */
 RTAPI RTresult tesseraContextGetRaceCount(RTcontext context, RTsize* count);
 
-/* How far the running launch got: tiles whose results reached the host, and tiles in all. Call
- * it from the timeout callback (which runs on the launching thread during long launches) to show
- * progress; after a launch it gives that launch's final figures (done < total when it failed or
- * was cancelled). Before any launch both are 0. Either pointer may be null. */
+/* How far the running launch got: tiles the devices finished, and tiles in all. Call it from the
+ * timeout callback (which runs on the launching thread during long launches) or from another
+ * thread to show progress; devices say how far a long call got about every 0.1 s, before its
+ * results reach the host. Tiles done go down only when a device is lost during the launch (its
+ * unfinished call's tiles run again elsewhere). After a launch it gives that launch's final
+ * figures (done < total when it failed or was cancelled). Before any launch both are 0. Either
+ * pointer may be null. */
 RTAPI RTresult tesseraContextGetLaunchProgress(RTcontext context, RTsize* tiles_done,
                                                RTsize* tiles_total);
 

@@ -51,7 +51,9 @@ class Device {
 // Marks the TileResult that carries the written regions of a Launch call.
 inline constexpr uint32_t kFinalTileIndex = 0xFFFFFFFFu;
 // Marks an empty TileResult a worker sends while it runs long tiles, so that the host can tell a
-// busy worker from a hung one.
+// busy worker from a hung one. Devices also pass such results to `on_result` with `tiles_done`
+// set: how many of the call's tiles have finished so far, for launch progress (callers that do
+// not show progress ignore them).
 inline constexpr uint32_t kHeartbeatTileIndex = 0xFFFFFFFEu;
 
 // Levels of Groups and Transforms (a Selector counts as a Group) a device traverses below the node

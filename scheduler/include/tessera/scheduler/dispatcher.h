@@ -53,9 +53,12 @@ struct LostDevice {
 
 class Dispatcher {
  public:
-  // Starts two threads per device at once (none for a null device).
+  // Starts two threads per device at once (none for a null device). `progress`, when given,
+  // counts the tiles devices finished, while their calls run (tesseraContextGetLaunchProgress):
+  // a call's tiles count once it ends, or earlier as far as its device says; they are taken back
+  // when the call fails (they run again elsewhere).
   Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
-             bool stable_ownership);
+             bool stable_ownership, std::atomic<uint64_t>* progress = nullptr);
   // Stops and joins the device threads (cancelling running calls).
   ~Dispatcher();
   Dispatcher(const Dispatcher&) = delete;
@@ -85,6 +88,9 @@ class Dispatcher {
   };
 
   void Run(size_t d);
+  void AddProgress(uint64_t tiles) {
+    if (progress_ != nullptr) progress_->fetch_add(tiles, std::memory_order_relaxed);
+  }
   // Takes the next batch for device `d`; empty when the launch is over for it.
   std::vector<v1::Tile> Take(size_t d) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   // Hands the tiles of lost device `d` (its batch and, for stable ownership, its queue) on.
@@ -99,6 +105,7 @@ class Dispatcher {
 
   std::vector<DispatchDevice> devices_;
   const bool stable_;
+  std::atomic<uint64_t>* const progress_;
   bool build_only_ = false;        // set in the constructor, before the threads start
   std::atomic<bool> stop_{false};  // cancels running calls: user cancel or launch failure
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "absl/strings/string_view.h"
 
 namespace tessera::scheduler {
 
@@ -14,6 +15,18 @@ namespace tessera::scheduler {
 // the process dies of SIGBUS at the first access past the end, instead of failing. OK for anything
 // else (a complete module, or a file dlopen refuses with a message of its own).
 absl::Status CheckModuleFileComplete(const std::string& path);
+
+// Whether `bytes`, a program module's file, is a shared object for this machine whose dynamic
+// symbol table defines `function` as a global function (and, with `require_init`,
+// tessera_module_init), read from
+// the bytes without loading them: dlopen would run the module's global constructors (and IFUNC
+// resolvers) in the calling process, which on the host must not run program code, so that a
+// module that crashes or exits as it loads takes down a worker, not the application.
+// INVALID_ARGUMENT for what is no such shared object, NOT_FOUND for a missing `function`,
+// FAILED_PRECONDITION for a module not built against tessera/device.h. Messages do not name the
+// file. A shared object without section headers is not checked (OK): devices report it.
+absl::Status CheckModuleBytes(absl::string_view bytes, absl::string_view function,
+                              bool require_init);
 
 }  // namespace tessera::scheduler
 

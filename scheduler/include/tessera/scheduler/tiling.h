@@ -17,7 +17,8 @@ std::vector<uint64_t> MaxTileSize(size_t dimensionality);
 
 // A tile size for `dims` on devices with `total_threads` threads in all: the largest tiles that
 // still give every thread about 64 tiles, halving no further than 256 (1D), 16x16 (2D) or
-// 8x8x2 (3D) — below that, per-tile overhead outweighs balance.
+// 8x8x2 (3D) — below that, per-tile overhead outweighs balance. Sides of extent 1 get 1 and the
+// others are chosen as for a launch of fewer dimensions (1x1xN as N, Nx1xM as NxM).
 std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int total_threads);
 
 // Parses an override such as "32x32", "4096" or "16x16x4" (TESSERA_TILE_SIZE); one entry per
@@ -36,7 +37,13 @@ inline constexpr uint64_t kMaxTiles = uint64_t{1} << 18;
 std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
                                 const std::vector<uint64_t>& tile_size);
 
-// How many launch indices `tile` covers (a size of 0 counts as 1).
+// The tile size MakeTiles cuts `dims` with for `tile_size`: each side clamped to 1..its extent,
+// grown where the launch would get more than kMaxTiles tiles. Two sizes with the same effective
+// size cut a launch into the same tiles. Empty when `dims` is empty or has a 0.
+std::vector<uint64_t> EffectiveTileSize(const std::vector<uint64_t>& dims,
+                                        const std::vector<uint64_t>& tile_size);
+
+// How many launch indices `tile` covers (a size of 0 counts as 1), saturating at UINT64_MAX.
 uint64_t TileIndices(const v1::Tile& tile);
 
 }  // namespace tessera::scheduler
