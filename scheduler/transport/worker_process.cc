@@ -27,6 +27,7 @@
 #include <set>
 #include <thread>
 
+#include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
@@ -247,6 +248,27 @@ std::string DescribeExit(int status) {
   return "stopped";
 }
 
+// What RelayStartupLines compares: the line without the names of what each worker made for
+// itself (the private module cache it falls back to, tessera-modules-<pid>-XXXXXX). Otherwise a
+// line every worker prints differs per worker, and a host that spawns workers for every context
+// prints it, and keeps it, once per worker.
+std::string StartupLineKey(absl::string_view line) {
+  static constexpr absl::string_view kPrivate = "tessera-modules-";
+  std::string key;
+  while (true) {
+    const size_t at = line.find(kPrivate);
+    if (at == absl::string_view::npos) break;
+    key.append(line.data(), at + kPrivate.size());
+    key.push_back('*');
+    line.remove_prefix(at + kPrivate.size());
+    while (!line.empty() && (absl::ascii_isalnum(line.front()) || line.front() == '-')) {
+      line.remove_prefix(1);
+    }
+  }
+  key.append(line.data(), line.size());
+  return key;
+}
+
 // Passes on what a worker printed while it started: warnings about the environment it shares with
 // the host (a module cache it cannot use, a malformed TESSERA_* value) would otherwise stay in a
 // log that nobody reads and that goes with the worker. A line that several workers print (they
@@ -256,7 +278,7 @@ void RelayStartupLines(const std::string& log, int index) {
   static auto* seen = new std::set<std::string>;
   std::lock_guard<std::mutex> lock(mu);
   for (absl::string_view line : absl::StrSplit(log, '\n', absl::SkipWhitespace())) {
-    if (!seen->emplace(line).second) continue;
+    if (!seen->emplace(StartupLineKey(line)).second) continue;
     std::fprintf(stderr, "%.*s (said by local worker %d at startup)\n",
                  static_cast<int>(line.size()), line.data(), index);
   }

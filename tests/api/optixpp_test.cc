@@ -777,6 +777,58 @@ TEST_F(OptixppTest, SelectorProgramAndChildren) {
   EXPECT_EQ(s->getChildCount(), 0u);
 }
 
+// What OptiX 3-6 host code spells differently from the guide: int indices for removeChild,
+// removeChild(node) returning the index, getMatrixNxM, map(level, flags) / unmap(level).
+TEST_F(OptixppTest, OptixSpellingsOfRemoveChildMatrixGettersAndMap) {
+  optix::Group group = ctx_->createGroup();
+  optix::Transform t0 = ctx_->createTransform(), t1 = ctx_->createTransform();
+  group->addChild(t0);
+  group->addChild(t1);
+  EXPECT_EQ(group->removeChild(t0), 0u);  // the index it had
+  int index = 0;
+  group->removeChild(index);  // int, as loops write it
+  EXPECT_EQ(group->getChildCount(), 0u);
+
+  // Selectors keep their order (visit programs pick children by index), as OptiX's do.
+  optix::Selector s = ctx_->createSelector();
+  std::vector<optix::Group> kids = {ctx_->createGroup(), ctx_->createGroup(), ctx_->createGroup()};
+  for (const optix::Group& k : kids) s->addChild(k);
+  s->removeChild(0);
+  ASSERT_EQ(s->getChildCount(), 2u);
+  EXPECT_EQ(s->getChild<optix::Group>(0), kids[1]);
+  EXPECT_EQ(s->getChild<optix::Group>(1), kids[2]);
+
+  // A null handle is nobody's child, not the first empty slot.
+  group->setChildCount(1);
+  ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { group->getChildIndex(optix::Transform()); });
+  ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { group->removeChild(optix::Transform()); });
+  EXPECT_EQ(group->getChildCount(), 1u);
+  // Kind mismatches name both kinds.
+  group->setChild(0, t1);
+  const std::string message =
+      ExpectThrows(RT_ERROR_TYPE_MISMATCH, [&] { group->getChild<optix::GeometryGroup>(0); });
+  EXPECT_NE(message.find("is a transform, not a geometry group"), std::string::npos) << message;
+
+  const float m[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+  ctx_["m"]->setMatrix4x4fv(false, m);
+  float out[16] = {};
+  ctx_["m"]->getMatrix4x4(true, out);
+  EXPECT_EQ(out[1], 5.f);
+
+  optix::Buffer b = ctx_->createBuffer(RT_BUFFER_INPUT, RT_FORMAT_FLOAT, 4);
+  float* w = static_cast<float*>(b->map(0, RT_BUFFER_MAP_WRITE_DISCARD));
+  w[3] = 7.f;
+  b->unmap(0);
+  EXPECT_EQ(static_cast<const float*>(b->map(0, RT_BUFFER_MAP_READ))[3], 7.f);
+  b->unmap();
+  ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { b->map(1); });
+  ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { b->map(0, 3); });
+  float mine[4];
+  ExpectThrows(RT_ERROR_NOT_SUPPORTED, [&] { b->map(0, RT_BUFFER_MAP_READ_WRITE, mine); });
+  EXPECT_NO_THROW(b->map());  // none of the failed maps left it mapped
+  b->unmap();
+}
+
 TEST_F(OptixppTest, AccelerationProperties) {
   optix::Acceleration a = ctx_->createAcceleration("Sbvh", "Bvh");
   EXPECT_EQ(a->getBuilder(), "Sbvh");

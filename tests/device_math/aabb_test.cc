@@ -107,6 +107,10 @@ TEST(AabbTest, MeasuresAndCenter) {
   EXPECT_FLOAT_EQ(box.maxExtent(), 4.0f);
   EXPECT_EQ(Aabb(make_float3(0.0f), make_float3(5.0f, 1.0f, 1.0f)).longestAxis(), 0);
   EXPECT_EQ(Aabb(make_float3(0.0f), make_float3(1.0f, 5.0f, 1.0f)).longestAxis(), 1);
+  // Ties as in OptiX: a cube gives z, x == y > z gives y, x == z > y gives z.
+  EXPECT_EQ(Aabb(make_float3(0.0f), make_float3(1.0f)).longestAxis(), 2);
+  EXPECT_EQ(Aabb(make_float3(0.0f), make_float3(2.0f, 2.0f, 1.0f)).longestAxis(), 1);
+  EXPECT_EQ(Aabb(make_float3(0.0f), make_float3(2.0f, 1.0f, 2.0f)).longestAxis(), 2);
 }
 
 TEST(AabbTest, IntersectsAndIntersection) {

@@ -3,10 +3,13 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <type_traits>
 
+#include "optix_math.h"
 #include "optixu/optixu_math.h"
 #include "optixu/optixu_math_namespace.h"
+#include "optixu/optixu_math_stream_namespace.h"
 
 namespace {
 
@@ -328,6 +331,18 @@ TEST(MathTest, RefractFollowsSnellsLaw) {
   EXPECT_NEAR(length(t), 1.0f, 1e-5f);
 }
 
+// OptiX normalizes the transmitted direction, so r is unit length whatever the length of i: for
+// i = (2, -2, 0) the unnormalized result would be (4/3, -1.5275, 0).
+TEST(MathTest, RefractNormalizesItsResult) {
+  const float3 n = make_float3(0.0f, 1.0f, 0.0f);
+  float3 r;
+  ASSERT_TRUE(refract(r, make_float3(2.0f, -2.0f, 0.0f), n, 1.5f));
+  EXPECT_NEAR(length(r), 1.0f, 1e-6f);
+  const float k = 1.0f + 3.0f / 2.25f;  // 1 - eta^2 (1 - cos^2) with eta = 1/1.5, cos = 2.
+  const float3 expected = normalize(make_float3(4.0f / 3.0f, -std::sqrt(k), 0.0f));
+  EXPECT_FLOAT3_NEAR(r, expected.x, expected.y, expected.z, 1e-6f);
+}
+
 TEST(MathTest, RefractReportsTotalInternalReflection) {
   const float3 n = make_float3(0.0f, 1.0f, 0.0f);
   // Leaving glass of index 1.5 at 60 degrees: past the critical angle of asin(1/1.5) ~ 41.8.
@@ -337,6 +352,24 @@ TEST(MathTest, RefractReportsTotalInternalReflection) {
   EXPECT_FLOAT3_EQ(t, 0.0f, 0.0f, 0.0f);
   // The same direction entering the denser medium always refracts.
   EXPECT_TRUE(refract(t, -i, n, 1.5f));
+}
+
+// Clamped as OptiX clamps, max(minimum, min(f, maximum)): with the bounds swapped (a "1 - F"
+// weight) the result is minimum.
+TEST(MathTest, FresnelSchlickClampOrder) {
+  EXPECT_FLOAT_EQ(fresnel_schlick(1.0f), 0.0f);
+  EXPECT_FLOAT_EQ(fresnel_schlick(0.0f), 1.0f);
+  EXPECT_FLOAT_EQ(fresnel_schlick(0.5f, 5.0f, 1.0f, 0.0f), 1.0f);
+}
+
+TEST(MathTest, StreamOperators) {
+  std::ostringstream out;
+  out << make_float3(1.5f, 2.0f, 3.0f) << ' ' << make_int2(-1, 2) << ' ' << make_uint4(1, 2, 3, 4);
+  EXPECT_EQ(out.str(), "[1.5, 2, 3] [-1, 2] [1, 2, 3, 4]");
+  std::istringstream in("[4, 5, 6]");
+  float3 v;
+  in >> v;
+  EXPECT_FLOAT3_EQ(v, 4.0f, 5.0f, 6.0f);
 }
 
 TEST(MathTest, Luminance) {
@@ -427,6 +460,37 @@ TEST(MathTest, AssembledVectors) {
   EXPECT_FLOAT4_EQ(make_float4(make_float2(1.f, 2.f), make_float2(3.f, 4.f)), 1.f, 2.f, 3.f, 4.f);
   EXPECT_FLOAT4_EQ(make_float4(1.f, 2.f, make_float2(3.f, 4.f)), 1.f, 2.f, 3.f, 4.f);
   EXPECT_FLOAT4_EQ(make_float4(1.f, make_float2(2.f, 3.f), 4.f), 1.f, 2.f, 3.f, 4.f);
+}
+
+// The integer families assemble like the float ones (OptiX has the same set for int and uint).
+TEST(MathTest, AssembledIntegerVectors) {
+  EXPECT_TRUE(make_int3(1, make_int2(2, 3)) == make_int3(1, 2, 3));
+  EXPECT_TRUE(make_int4(1, make_int3(2, 3, 4)) == make_int4(1, 2, 3, 4));
+  EXPECT_TRUE(make_int4(make_int2(1, 2), make_int2(3, 4)) == make_int4(1, 2, 3, 4));
+  EXPECT_TRUE(make_int4(make_int2(1, 2), 3, 4) == make_int4(1, 2, 3, 4));
+  EXPECT_TRUE(make_int4(1, 2, make_int2(3, 4)) == make_int4(1, 2, 3, 4));
+  EXPECT_TRUE(make_int4(1, make_int2(2, 3), 4) == make_int4(1, 2, 3, 4));
+  EXPECT_TRUE(make_uint3(1u, make_uint2(2, 3)) == make_uint3(1, 2, 3));
+  EXPECT_TRUE(make_uint4(make_uint2(1, 2), make_uint2(3, 4)) == make_uint4(1, 2, 3, 4));
+  EXPECT_TRUE(make_uint4(1u, make_uint3(2, 3, 4)) == make_uint4(1, 2, 3, 4));
+}
+
+// Out-of-range and NaN components saturate as the GPU's conversion does, instead of being
+// undefined (x86 gives 0x80000000, or wraps for unsigned). Volatile keeps g++ from folding.
+TEST(MathTest, FloatToIntegerVectorsSaturate) {
+  volatile float big = 3e9f, nan = std::numeric_limits<float>::quiet_NaN(), minus_one = -1.0f;
+  EXPECT_TRUE(make_int2(make_float2(big, nan)) == make_int2(2147483647, 0));
+  EXPECT_TRUE(make_int3(make_float3(-big, 2.7f, -2.7f)) == make_int3(-2147483647 - 1, 2, -2));
+  EXPECT_TRUE(make_uint2(make_float2(minus_one, big)) == make_uint2(0, 3000000000u));
+  EXPECT_TRUE(make_uint4(make_float4(-big, 5e9f, nan, 1.5f)) == make_uint4(0, 0xFFFFFFFFu, 0, 1));
+}
+
+TEST(MathTest, OptixScalarNames) {
+  const optix::uint u = 3;
+  const optix::ushort s = 4;
+  EXPECT_EQ(u + s, 7u);
+  EXPECT_EQ(optix::float_as_int(1.0f), 0x3f800000);
+  EXPECT_EQ(optix::int_as_float(0x3f800000), 1.0f);
 }
 
 // The SDK's triangle test: distance, the weights of p1 and p2, and the unnormalized normal.

@@ -132,6 +132,13 @@ TEST(MatrixTest, ArithmeticAndComparison) {
   EXPECT_FALSE(a < a);
 }
 
+TEST(MatrixTest, DivisionByScalar) {
+  Matrix2x2 m = Matrix2x2::identity() * 4.0f;
+  EXPECT_EQ((m / 2.0f)[0], 2.0f);
+  m /= 4.0f;
+  EXPECT_TRUE(m == Matrix2x2::identity());
+}
+
 TEST(MatrixTest, NonSquareProductShapes) {
   const float a_data[6] = {1, 2, 3, 4, 5, 6};
   const float b_data[6] = {7, 8, 9, 10, 11, 12};

@@ -1,6 +1,8 @@
 #include "module_store.h"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -60,6 +62,34 @@ bool ReadWholeFile(const std::string& path, std::string* out) {
   return ok;
 }
 
+// Fallback directories are named tessera-modules-<pid>-XXXXXX. A process killed by a signal (a
+// worker whose host crashed dies of SIGKILL) runs no exit handler, so its directory and the
+// modules in it would stay for good: the next process that falls back removes those of
+// processes that are gone.
+constexpr char kTemporaryPrefix[] = "tessera-modules-";
+
+void RemoveStaleTemporaryCaches(const fs::path& root) {
+  DIR* dir = opendir(root.c_str());
+  if (dir == nullptr) return;
+  while (dirent* entry = readdir(dir)) {
+    const std::string name = entry->d_name;
+    if (name.rfind(kTemporaryPrefix, 0) != 0) continue;
+    const std::string rest = name.substr(sizeof(kTemporaryPrefix) - 1);
+    const size_t dash = rest.find('-');
+    if (dash == std::string::npos || dash == 0) continue;  // an older name: no owner to check
+    long pid = 0;
+    if (std::sscanf(rest.substr(0, dash).c_str(), "%ld", &pid) != 1 || pid <= 0) continue;
+    const fs::path path = root / name;
+    struct stat st {};
+    if (lstat(path.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != geteuid()) continue;
+    if (kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  }
+  closedir(dir);
+}
+
 }  // namespace
 
 std::string DefaultModuleCacheDir() {
@@ -84,7 +114,9 @@ std::string PrepareModuleCacheDir(const std::string& dir) {
   }
   fs::path temp_root = fs::temp_directory_path(ec);
   if (ec) temp_root = "/tmp";
-  std::string temp = (temp_root / "tessera-modules-XXXXXX").string();
+  RemoveStaleTemporaryCaches(temp_root);
+  std::string temp =
+      (temp_root / absl::StrCat(kTemporaryPrefix, static_cast<long>(getpid()), "-XXXXXX")).string();
   if (mkdtemp(temp.data()) == nullptr) {
     std::fprintf(stderr, "tessera: module cache %s is not usable (%s), nor is a temporary one\n",
                  dir.c_str(), why.c_str());

@@ -160,7 +160,6 @@ class SceneCache {
     auto it = entries_.find(id);
     return it == entries_.end() ? nullptr : it->second.get();
   }
-  void Forget(uint64_t id) { entries_.erase(id); }
 
  private:
   absl::StatusOr<const SceneEntry*> Node(LaunchPlan& plan, NodeRef ref, int depth);

@@ -10,6 +10,8 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "plan.h"
+#include "replica.h"
 #include "tessera/rt.h"
 #include "tessera/worker/inproc_device.h"
 #include "testdata/replica_fuzz_scene.h"
@@ -217,6 +219,41 @@ TEST_F(ReplicaFuzz, KeptSceneWhoseGeometryLostItsIntersectionProgramFailsTheLaun
   LaunchOutcome out = RunLaunch(*device, ValidRequest(1, 2));
   EXPECT_EQ(out.status.code(), absl::StatusCode::kFailedPrecondition) << out.status;
   EXPECT_NE(out.status.message().find("geometry #9"), std::string::npos) << out.status;
+}
+
+// Scenes of destroyed nodes stayed in the scene cache for the device's life (ids are never
+// reused): a host that replaced its GeometryGroup every launch grew by its BVH every launch.
+TEST_F(ReplicaFuzz, ScenesOfRemovedNodesLeaveTheCache) {
+  worker::Replica replica;
+  ASSERT_TRUE(replica.Apply(scene_).ok());
+  RTCDevice embree = rtcNewDevice(nullptr);
+  {
+    worker::SceneCache scenes(embree);
+    auto plan = worker::MakePlan(replica, scenes);
+    ASSERT_TRUE(plan.ok()) << plan.status();
+    ASSERT_NE(scenes.Find(kTriangleGroup), nullptr);
+    plan->reset();
+    // The group drops the triangles' GeometryGroup, and the delta removes it.
+    v1::StateDelta d;
+    d.set_session_id(scene_.session_id());
+    d.set_sequence(2);
+    *d.mutable_context() = scene_.context();
+    for (const v1::Object& o : scene_.objects()) {
+      if (o.has_group() && o.group().id() == kGroup) {
+        v1::Group* g = d.add_objects()->mutable_group();
+        *g = o.group();
+        g->set_version(2);
+        g->mutable_children()->RemoveLast();
+      }
+    }
+    for (uint64_t id : {kTriangleGroup, kTriangleInstance, kTriangleAccel}) d.add_removed(id);
+    ASSERT_TRUE(replica.Apply(d).ok());
+    plan = worker::MakePlan(replica, scenes);
+    ASSERT_TRUE(plan.ok()) << plan.status();
+    EXPECT_EQ(scenes.Find(kTriangleGroup), nullptr);
+    EXPECT_NE(scenes.Find(kGeometryGroup), nullptr);
+  }
+  rtcReleaseDevice(embree);
 }
 
 // The plan gave every material a hit group per ray type of the context: 2^31 ray types threw

@@ -196,6 +196,18 @@ absl::Status SceneCache::Update(LaunchPlan& plan, const std::vector<uint64_t>& r
     const std::atomic<bool>*& cancel;
     ~Reset() { cancel = nullptr; }
   } reset{cancel_};
+  // Scenes of nodes the replica no longer holds (destroyed GeometryGroups and Groups): ids are
+  // never reused, so nothing can find them again, and each holds an Embree BVH and a copy of its
+  // primitives' bounds. No plan can still point into them: every plan that did was made for an
+  // earlier replica generation and is gone before a new one is made.
+  for (auto it = entries_.begin(); it != entries_.end();) {
+    const Replica& r = *plan.replica;
+    if (r.Find(r.geometry_groups, it->first) == nullptr && r.Find(r.groups, it->first) == nullptr) {
+      it = entries_.erase(it);
+    } else {
+      ++it;
+    }
+  }
   for (uint64_t id : roots) {
     uint32_t type = plan.NodeType(id);
     if (type == 0) continue;  // reported when a program traces it

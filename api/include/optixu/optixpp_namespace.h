@@ -24,6 +24,14 @@
 #include "optixu/optixu_vector_types.h"
 #include "tessera/rt.h"
 
+// Buffer::map's flags, with OptiX's names and values.
+typedef enum {
+  RT_BUFFER_MAP_READ = 0x1,
+  RT_BUFFER_MAP_READ_WRITE = 0x2,
+  RT_BUFFER_MAP_WRITE = 0x4,
+  RT_BUFFER_MAP_WRITE_DISCARD = 0x8
+} RTbuffermapflag;
+
 namespace optix {
 
 class AccelerationObj;
@@ -117,6 +125,22 @@ struct NodeType<SelectorObj> {
   static constexpr RTobjecttype value = RT_OBJECTTYPE_SELECTOR;
 };
 
+// The name of a node kind, for messages.
+inline const char* KindName(RTobjecttype type) {
+  switch (type) {
+    case RT_OBJECTTYPE_GROUP:
+      return "group";
+    case RT_OBJECTTYPE_GEOMETRY_GROUP:
+      return "geometry group";
+    case RT_OBJECTTYPE_TRANSFORM:
+      return "transform";
+    case RT_OBJECTTYPE_SELECTOR:
+      return "selector";
+    default:
+      return "object of another kind";
+  }
+}
+
 }  // namespace optixpp_detail
 
 // ---- Handle ---------------------------------------------------------------------------------
@@ -130,12 +154,12 @@ class Handle {
 
   Handle() : ptr_(nullptr) {}
   Handle(T* ptr) : ptr_(ptr) { Retain(); }  // NOLINT: implicit, so `handle = 0;` resets it
-  template <class U, class = std::enable_if_t<std::is_convertible<U*, T*>::value>>
+  template <class U, class = typename std::enable_if<std::is_convertible<U*, T*>::value>::type>
   Handle(U* ptr) : ptr_(ptr) {  // NOLINT
     Retain();
   }
   Handle(const Handle& copy) : ptr_(copy.ptr_) { Retain(); }
-  template <class U, class = std::enable_if_t<std::is_convertible<U*, T*>::value>>
+  template <class U, class = typename std::enable_if<std::is_convertible<U*, T*>::value>::type>
   Handle(const Handle<U>& copy) : ptr_(copy.get()) {  // NOLINT
     Retain();
   }
@@ -150,7 +174,7 @@ class Handle {
     Handle(std::move(other)).swap(*this);
     return *this;
   }
-  template <class U, class = std::enable_if_t<std::is_convertible<U*, T*>::value>>
+  template <class U, class = typename std::enable_if<std::is_convertible<U*, T*>::value>::type>
   Handle& operator=(const Handle<U>& copy) {
     Handle(copy).swap(*this);
     return *this;
@@ -420,6 +444,16 @@ class VariableObj : public APIObj {
   void getMatrix4x2fv(bool transpose, float* m) const;
   void getMatrix4x3fv(bool transpose, float* m) const;
   void getMatrix4x4fv(bool transpose, float* m) const;
+  // The same getters under the names OptiXpp gives them (no "fv").
+  void getMatrix2x2(bool transpose, float* m) const { getMatrix2x2fv(transpose, m); }
+  void getMatrix2x3(bool transpose, float* m) const { getMatrix2x3fv(transpose, m); }
+  void getMatrix2x4(bool transpose, float* m) const { getMatrix2x4fv(transpose, m); }
+  void getMatrix3x2(bool transpose, float* m) const { getMatrix3x2fv(transpose, m); }
+  void getMatrix3x3(bool transpose, float* m) const { getMatrix3x3fv(transpose, m); }
+  void getMatrix3x4(bool transpose, float* m) const { getMatrix3x4fv(transpose, m); }
+  void getMatrix4x2(bool transpose, float* m) const { getMatrix4x2fv(transpose, m); }
+  void getMatrix4x3(bool transpose, float* m) const { getMatrix4x3fv(transpose, m); }
+  void getMatrix4x4(bool transpose, float* m) const { getMatrix4x4fv(transpose, m); }
 
   // Object references (rtVariableSetObject).
   void set(const Buffer& buffer);
@@ -603,8 +637,10 @@ class GroupObj : public DestroyableObj {
   unsigned int addChild(T child);
   // Removes the child at `index`, moving the last child into its place (order is not kept).
   void removeChild(unsigned int index);
+  void removeChild(int index) { removeChild(static_cast<unsigned int>(index)); }
+  // Removes `child` as above; returns the index it had.
   template <class T>
-  void removeChild(T child);
+  unsigned int removeChild(Handle<T> child);
   // The index of `child`; RT_ERROR_INVALID_VALUE if it is not a child.
   template <class T>
   unsigned int getChildIndex(T child) const;
@@ -633,7 +669,9 @@ class GeometryGroupObj : public DestroyableObj {
   unsigned int addChild(GeometryInstance geometryinstance);
   // Removes the child at `index`, moving the last child into its place (order is not kept).
   void removeChild(unsigned int index);
-  void removeChild(GeometryInstance geometryinstance);
+  void removeChild(int index) { removeChild(static_cast<unsigned int>(index)); }
+  // Removes `geometryinstance` as above; returns the index it had.
+  unsigned int removeChild(GeometryInstance geometryinstance);
   unsigned int getChildIndex(GeometryInstance geometryinstance) const;
 
  private:
@@ -687,9 +725,13 @@ class SelectorObj : public ScopedObj {
   RTobjecttype getChildType(unsigned int index) const;
   template <class T>
   unsigned int addChild(T child);
+  // Removes the child at `index`; the later children move down one place (order is kept, as
+  // OptiX's Selector does: visit programs choose children by index).
   void removeChild(unsigned int index);
+  void removeChild(int index) { removeChild(static_cast<unsigned int>(index)); }
+  // Removes `child` as above; returns the index it had.
   template <class T>
-  void removeChild(T child);
+  unsigned int removeChild(Handle<T> child);
   template <class T>
   unsigned int getChildIndex(T child) const;
 
@@ -858,8 +900,12 @@ class BufferObj : public DestroyableObj {
   void getSize(unsigned int dimensionality, RTsize* dims) const;
   unsigned int getDimensionality() const;
 
-  void* map();
-  void unmap();
+  // Maps the buffer (rtBufferMap). The OptiX 3.9+ arguments are accepted: `map_flags` is one
+  // RT_BUFFER_MAP_* value (Tessera always maps read-write, which serves each of them);
+  // mip level 0 only; a user-owned pointer is not supported.
+  void* map(unsigned int level = 0, unsigned int map_flags = RT_BUFFER_MAP_READ_WRITE,
+            void* user_owned = nullptr);
+  void unmap(unsigned int level = 0);
   int getId() const;
   void markDirty();
 
@@ -1687,13 +1733,16 @@ struct ChildFns {
 };
 
 template <class T, class Api>
-T GetTypedChild(const APIObj& owner, const ChildFns<Api>& fns, Api node, unsigned int index) {
+T GetTypedChild(const APIObj& owner, const ChildFns<Api>& fns, Api node, unsigned int index,
+                const char* owner_kind) {
   RTobject child = nullptr;
   owner.checkError(fns.get_child(node, index, &child));
   RTobjecttype type = RT_OBJECTTYPE_UNKNOWN;
   owner.checkError(fns.get_type(node, index, &type));
-  if (child != nullptr && type != NodeType<typename T::element_type>::value) {
-    throw Exception("getChild: child " + std::to_string(index) + " is of another type",
+  const RTobjecttype wanted = NodeType<typename T::element_type>::value;
+  if (child != nullptr && type != wanted) {
+    throw Exception(std::string("getChild: child ") + std::to_string(index) + " of the " +
+                        owner_kind + " is a " + KindName(type) + ", not a " + KindName(wanted),
                     RT_ERROR_TYPE_MISMATCH);
   }
   return T::take(child);
@@ -1714,7 +1763,8 @@ unsigned int AddChild(const APIObj& owner, const ChildFns<Api>& fns, Api node, R
 }
 
 template <class Api>
-void RemoveChild(const APIObj& owner, const ChildFns<Api>& fns, Api node, unsigned int index) {
+void RemoveChild(const APIObj& owner, const ChildFns<Api>& fns, Api node, unsigned int index,
+                 bool keep_order = false) {
   unsigned int count = 0;
   owner.checkError(fns.get_count(node, &count));
   if (index >= count) {
@@ -1722,7 +1772,13 @@ void RemoveChild(const APIObj& owner, const ChildFns<Api>& fns, Api node, unsign
                         std::to_string(count) + " children)",
                     RT_ERROR_INVALID_VALUE);
   }
-  if (index != count - 1) {
+  if (keep_order) {
+    for (unsigned int i = index + 1; i < count; ++i) {
+      RTobject next = nullptr;
+      owner.checkError(fns.get_child(node, i, &next));
+      owner.checkError(fns.set_child(node, i - 1, next));
+    }
+  } else if (index != count - 1) {
     RTobject last = nullptr;
     owner.checkError(fns.get_child(node, count - 1, &last));
     owner.checkError(fns.set_child(node, index, last));
@@ -1732,6 +1788,9 @@ void RemoveChild(const APIObj& owner, const ChildFns<Api>& fns, Api node, unsign
 
 template <class Api>
 unsigned int ChildIndex(const APIObj& owner, const ChildFns<Api>& fns, Api node, RTobject child) {
+  if (child == nullptr) {
+    throw Exception("getChildIndex: null child handle", RT_ERROR_INVALID_VALUE);
+  }
   unsigned int count = 0;
   owner.checkError(fns.get_count(node, &count));
   for (unsigned int i = 0; i < count; ++i) {
@@ -1784,7 +1843,8 @@ void GroupObj::setChild(unsigned int index, T child) {
 }
 template <class T>
 T GroupObj::getChild(unsigned int index) const {
-  return optixpp_detail::GetTypedChild<T>(*this, optixpp_detail::GroupFns(), group_, index);
+  return optixpp_detail::GetTypedChild<T>(*this, optixpp_detail::GroupFns(), group_, index,
+                                          "group");
 }
 inline RTobjecttype GroupObj::getChildType(unsigned int index) const {
   RTobjecttype type = RT_OBJECTTYPE_UNKNOWN;
@@ -1800,8 +1860,10 @@ inline void GroupObj::removeChild(unsigned int index) {
   optixpp_detail::RemoveChild(*this, optixpp_detail::GroupFns(), group_, index);
 }
 template <class T>
-void GroupObj::removeChild(T child) {
-  removeChild(getChildIndex(child));
+unsigned int GroupObj::removeChild(Handle<T> child) {
+  const unsigned int index = getChildIndex(child);
+  removeChild(index);
+  return index;
 }
 template <class T>
 unsigned int GroupObj::getChildIndex(T child) const {
@@ -1861,10 +1923,15 @@ inline void GeometryGroupObj::removeChild(unsigned int index) {
   if (index != count - 1) setChild(index, getChild(count - 1));
   setChildCount(count - 1);
 }
-inline void GeometryGroupObj::removeChild(GeometryInstance geometryinstance) {
-  removeChild(getChildIndex(geometryinstance));
+inline unsigned int GeometryGroupObj::removeChild(GeometryInstance geometryinstance) {
+  const unsigned int index = getChildIndex(geometryinstance);
+  removeChild(index);
+  return index;
 }
 inline unsigned int GeometryGroupObj::getChildIndex(GeometryInstance geometryinstance) const {
+  if (!geometryinstance) {
+    throw Exception("getChildIndex: null geometry instance handle", RT_ERROR_INVALID_VALUE);
+  }
   const unsigned int count = getChildCount();
   for (unsigned int i = 0; i < count; ++i) {
     RTgeometryinstance gi = nullptr;
@@ -1889,9 +1956,13 @@ template <class T>
 T TransformObj::getChild() const {
   RTobject child = nullptr;
   checkError(rtTransformGetChild(transform_, &child));
-  if (child != nullptr &&
-      getChildType() != optixpp_detail::NodeType<typename T::element_type>::value) {
-    throw Exception("getChild: the transform's child is of another type", RT_ERROR_TYPE_MISMATCH);
+  const RTobjecttype wanted = optixpp_detail::NodeType<typename T::element_type>::value;
+  const RTobjecttype type = child != nullptr ? getChildType() : wanted;
+  if (type != wanted) {
+    throw Exception(std::string("getChild: the transform's child is a ") +
+                        optixpp_detail::KindName(type) + ", not a " +
+                        optixpp_detail::KindName(wanted),
+                    RT_ERROR_TYPE_MISMATCH);
   }
   return T::take(child);
 }
@@ -1936,7 +2007,8 @@ void SelectorObj::setChild(unsigned int index, T child) {
 }
 template <class T>
 T SelectorObj::getChild(unsigned int index) const {
-  return optixpp_detail::GetTypedChild<T>(*this, optixpp_detail::SelectorFns(), selector_, index);
+  return optixpp_detail::GetTypedChild<T>(*this, optixpp_detail::SelectorFns(), selector_, index,
+                                          "selector");
 }
 inline RTobjecttype SelectorObj::getChildType(unsigned int index) const {
   RTobjecttype type = RT_OBJECTTYPE_UNKNOWN;
@@ -1949,11 +2021,14 @@ unsigned int SelectorObj::addChild(T child) {
                                   optixpp_detail::Raw(child));
 }
 inline void SelectorObj::removeChild(unsigned int index) {
-  optixpp_detail::RemoveChild(*this, optixpp_detail::SelectorFns(), selector_, index);
+  optixpp_detail::RemoveChild(*this, optixpp_detail::SelectorFns(), selector_, index,
+                              /*keep_order=*/true);
 }
 template <class T>
-void SelectorObj::removeChild(T child) {
-  removeChild(getChildIndex(child));
+unsigned int SelectorObj::removeChild(Handle<T> child) {
+  const unsigned int index = getChildIndex(child);
+  removeChild(index);
+  return index;
 }
 template <class T>
 unsigned int SelectorObj::getChildIndex(T child) const {
@@ -2250,12 +2325,33 @@ inline unsigned int BufferObj::getDimensionality() const {
   checkError(rtBufferGetDimensionality(buffer_, &dimensionality));
   return dimensionality;
 }
-inline void* BufferObj::map() {
+inline void* BufferObj::map(unsigned int level, unsigned int map_flags, void* user_owned) {
+  if (map_flags != RT_BUFFER_MAP_READ && map_flags != RT_BUFFER_MAP_READ_WRITE &&
+      map_flags != RT_BUFFER_MAP_WRITE && map_flags != RT_BUFFER_MAP_WRITE_DISCARD) {
+    throw Exception("Buffer::map: map flags " + std::to_string(map_flags) +
+                        " are not one RT_BUFFER_MAP_* value",
+                    RT_ERROR_INVALID_VALUE);
+  }
+  if (level != 0) {
+    throw Exception(
+        "Buffer::map: mip level " + std::to_string(level) + " (Tessera buffers have no mip levels)",
+        RT_ERROR_INVALID_VALUE);
+  }
+  if (user_owned != nullptr) {
+    throw Exception("Buffer::map: user-owned memory is not supported", RT_ERROR_NOT_SUPPORTED);
+  }
   void* p = nullptr;
   checkError(rtBufferMap(buffer_, &p));
   return p;
 }
-inline void BufferObj::unmap() { checkError(rtBufferUnmap(buffer_)); }
+inline void BufferObj::unmap(unsigned int level) {
+  if (level != 0) {
+    throw Exception("Buffer::unmap: mip level " + std::to_string(level) +
+                        " (Tessera buffers have no mip levels)",
+                    RT_ERROR_INVALID_VALUE);
+  }
+  checkError(rtBufferUnmap(buffer_));
+}
 inline int BufferObj::getId() const {
   int id = 0;
   checkError(rtBufferGetId(buffer_, &id));

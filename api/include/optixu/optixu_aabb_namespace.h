@@ -87,11 +87,13 @@ class Aabb {
     const float3 d = extent();
     return d.x * d.y + d.y * d.z + d.z * d.x;
   }
-  // The axis (0, 1, 2 for x, y, z) of the largest extent; the first one on ties.
+  // The axis (0, 1, 2 for x, y, z) of the largest extent. Ties go as in OptiX: x only when it
+  // is strictly longer than y and z, else y only when strictly longer than z, else z (a cube
+  // gives 2).
   int longestAxis() const {
     const float3 d = extent();
-    if (d.x >= d.y && d.x >= d.z) return 0;
-    return d.y >= d.z ? 1 : 2;
+    if (d.x > d.y) return d.x > d.z ? 0 : 2;
+    return d.y > d.z ? 1 : 2;
   }
   float maxExtent() const { return extent(longestAxis()); }
 

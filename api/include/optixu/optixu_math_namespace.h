@@ -15,6 +15,7 @@
 #define OPTIXU_OPTIXU_MATH_NAMESPACE_H_
 
 #include <math.h>
+#include <sys/types.h>
 
 #include <cmath>
 
@@ -46,6 +47,13 @@ namespace optixu_detail {
 // the library's as calls, since minss and maxss treat a NaN differently.
 inline float Fminf(float a, float b) { return (a < b || b != b) ? a : b; }
 inline float Fmaxf(float a, float b) { return (a > b || b != b) ? a : b; }
+// Float to integer, truncating toward zero as a C cast does, but saturating like the GPU's
+// cvt.rzi: NaN gives 0, values beyond the range give its nearest end (a C cast is undefined
+// there, and x86 returns 0x80000000 or wraps).
+template <typename S>
+inline S FloatToInt(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<S>(std::trunc(x));
+}
 }  // namespace optixu_detail
 
 inline float clamp(float f, float a, float b) {
@@ -55,8 +63,12 @@ inline int clamp(int f, int a, int b) { return ::max(a, ::min(f, b)); }
 inline unsigned int clamp(unsigned int f, unsigned int a, unsigned int b) {
   return ::max(a, ::min(f, b));
 }
-// Linear interpolation: a at t == 0, b at t == 1.
+// Linear interpolation: a at t == 0, b at t == 1. In C++20 libstdc++'s <math.h> already puts
+// std::lerp(float, float, float) into the global namespace (a second definition would not
+// compile); that one is exact at t == 0 and t == 1 as well, so it serves instead.
+#if !(defined(__GLIBCXX__) && __cplusplus > 201703L)
 inline float lerp(float a, float b, float t) { return a + t * (b - a); }
+#endif
 // Bilinear interpolation of a cell's corners x<u><v>: lerp along u, then along v.
 inline float bilerp(float x00, float x10, float x01, float x11, float u, float v) {
   return lerp(lerp(x00, x10, u), lerp(x01, x11, u), v);
@@ -230,8 +242,9 @@ inline float3 cross(const float3& a, const float3& b) {
 // Refraction of the incident direction i (pointing toward the surface) at a surface with unit
 // normal n, where ior is the index of refraction inside (the side n points away from) over
 // outside. i may arrive from either side: if it travels along n it is leaving the medium, so n
-// is flipped and the ratio inverted. Writes the transmitted direction to r (unit length when
-// i is) and returns true, or, on total internal reflection, writes zero and returns false.
+// is flipped and the ratio inverted. Writes the transmitted direction to r, normalized as in
+// OptiX (unit length whatever the length of i), and returns true, or, on total internal
+// reflection, writes zero and returns false.
 inline bool refract(float3& r, const float3& i, const float3& n, const float ior) {
   float3 nn = n;
   float cos_i = -dot(i, n);  // Cosine of the incidence angle, against the facing normal.
@@ -246,7 +259,7 @@ inline bool refract(float3& r, const float3& i, const float3& n, const float ior
     r = make_float3(0.0f, 0.0f, 0.0f);
     return false;
   }
-  r = eta * i + (eta * cos_i - std::sqrt(k)) * nn;
+  r = normalize(eta * i + (eta * cos_i - std::sqrt(k)) * nn);  // Unit length, as in OptiX.
   return true;
 }
 
@@ -262,7 +275,7 @@ inline float fresnel_schlick(float cos_theta, float exponent = 5.0f, float minim
                              float maximum = 1.0f) {
   float f =
       minimum + (maximum - minimum) * powf(optixu_detail::Fmaxf(0.0f, 1.0f - cos_theta), exponent);
-  return optixu_detail::Fminf(optixu_detail::Fmaxf(f, minimum), maximum);
+  return ::clamp(f, minimum, maximum);  // max(minimum, min(f, maximum)), as OptiX clamps.
 }
 inline float3 fresnel_schlick(float cos_theta, float exponent, const float3& minimum,
                               const float3& maximum) {
@@ -328,7 +341,8 @@ OPTIXU_BY_INDEX_(uint4, unsigned int)
 // ---- Conversions --------------------------------------------------------------------------------
 // From one scalar (all components), from a smaller vector plus components (a missing last component
 // is 0), from a larger vector (dropping the tail), and between float, int and unsigned vectors of
-// one size (float to integer truncates toward zero, like a C cast).
+// one size (float to integer truncates toward zero, like a C cast, and saturates like the GPU:
+// NaN gives 0, a value out of range the nearest representable one).
 inline float2 make_float2(float s) { return make_float2(s, s); }
 inline float2 make_float2(const float3& a) { return make_float2(a.x, a.y); }
 inline float2 make_float2(const float4& a) { return make_float2(a.x, a.y); }
@@ -377,36 +391,45 @@ inline float4 make_float4(const uint4& a) {
 }
 
 // int and unsigned vectors share one shape: V is the family, S its scalar, Other the other family.
-#define OPTIXU_INTEGER_CONVERSIONS_(V, S, Other)                                         \
-  inline V##2 make_##V##2(S s) { return make_##V##2(s, s); }                             \
-  inline V##2 make_##V##2(const V##3 & a) { return make_##V##2(a.x, a.y); }              \
-  inline V##2 make_##V##2(const V##4 & a) { return make_##V##2(a.x, a.y); }              \
-  inline V##2 make_##V##2(const float2& a) {                                             \
-    return make_##V##2(static_cast<S>(a.x), static_cast<S>(a.y));                        \
-  }                                                                                      \
-  inline V##2 make_##V##2(const Other##2 & a) {                                          \
-    return make_##V##2(static_cast<S>(a.x), static_cast<S>(a.y));                        \
-  }                                                                                      \
-  inline V##3 make_##V##3(S s) { return make_##V##3(s, s, s); }                          \
-  inline V##3 make_##V##3(const V##2 & a) { return make_##V##3(a.x, a.y, 0); }           \
-  inline V##3 make_##V##3(const V##2 & a, S z) { return make_##V##3(a.x, a.y, z); }      \
-  inline V##3 make_##V##3(const V##4 & a) { return make_##V##3(a.x, a.y, a.z); }         \
-  inline V##3 make_##V##3(const float3& a) {                                             \
-    return make_##V##3(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z));   \
-  }                                                                                      \
-  inline V##3 make_##V##3(const Other##3 & a) {                                          \
-    return make_##V##3(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z));   \
-  }                                                                                      \
-  inline V##4 make_##V##4(S s) { return make_##V##4(s, s, s, s); }                       \
-  inline V##4 make_##V##4(const V##3 & a) { return make_##V##4(a.x, a.y, a.z, 0); }      \
-  inline V##4 make_##V##4(const V##3 & a, S w) { return make_##V##4(a.x, a.y, a.z, w); } \
-  inline V##4 make_##V##4(const float4& a) {                                             \
-    return make_##V##4(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z),    \
-                       static_cast<S>(a.w));                                             \
-  }                                                                                      \
-  inline V##4 make_##V##4(const Other##4 & a) {                                          \
-    return make_##V##4(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z),    \
-                       static_cast<S>(a.w));                                             \
+#define OPTIXU_INTEGER_CONVERSIONS_(V, S, Other)                                                 \
+  inline V##2 make_##V##2(S s) { return make_##V##2(s, s); }                                     \
+  inline V##2 make_##V##2(const V##3 & a) { return make_##V##2(a.x, a.y); }                      \
+  inline V##2 make_##V##2(const V##4 & a) { return make_##V##2(a.x, a.y); }                      \
+  inline V##2 make_##V##2(const float2& a) {                                                     \
+    return make_##V##2(optixu_detail::FloatToInt<S>(a.x), optixu_detail::FloatToInt<S>(a.y));    \
+  }                                                                                              \
+  inline V##2 make_##V##2(const Other##2 & a) {                                                  \
+    return make_##V##2(static_cast<S>(a.x), static_cast<S>(a.y));                                \
+  }                                                                                              \
+  inline V##3 make_##V##3(S s) { return make_##V##3(s, s, s); }                                  \
+  inline V##3 make_##V##3(const V##2 & a) { return make_##V##3(a.x, a.y, 0); }                   \
+  inline V##3 make_##V##3(const V##2 & a, S z) { return make_##V##3(a.x, a.y, z); }              \
+  inline V##3 make_##V##3(const V##4 & a) { return make_##V##3(a.x, a.y, a.z); }                 \
+  inline V##3 make_##V##3(const float3& a) {                                                     \
+    return make_##V##3(optixu_detail::FloatToInt<S>(a.x), optixu_detail::FloatToInt<S>(a.y),     \
+                       optixu_detail::FloatToInt<S>(a.z));                                       \
+  }                                                                                              \
+  inline V##3 make_##V##3(const Other##3 & a) {                                                  \
+    return make_##V##3(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z));           \
+  }                                                                                              \
+  inline V##4 make_##V##4(S s) { return make_##V##4(s, s, s, s); }                               \
+  inline V##4 make_##V##4(const V##3 & a) { return make_##V##4(a.x, a.y, a.z, 0); }              \
+  inline V##4 make_##V##4(const V##3 & a, S w) { return make_##V##4(a.x, a.y, a.z, w); }         \
+  inline V##3 make_##V##3(S x, const V##2 & yz) { return make_##V##3(x, yz.x, yz.y); }           \
+  inline V##4 make_##V##4(S x, const V##3 & yzw) { return make_##V##4(x, yzw.x, yzw.y, yzw.z); } \
+  inline V##4 make_##V##4(const V##2 & xy, const V##2 & zw) {                                    \
+    return make_##V##4(xy.x, xy.y, zw.x, zw.y);                                                  \
+  }                                                                                              \
+  inline V##4 make_##V##4(const V##2 & xy, S z, S w) { return make_##V##4(xy.x, xy.y, z, w); }   \
+  inline V##4 make_##V##4(S x, S y, const V##2 & zw) { return make_##V##4(x, y, zw.x, zw.y); }   \
+  inline V##4 make_##V##4(S x, const V##2 & yz, S w) { return make_##V##4(x, yz.x, yz.y, w); }   \
+  inline V##4 make_##V##4(const float4& a) {                                                     \
+    return make_##V##4(optixu_detail::FloatToInt<S>(a.x), optixu_detail::FloatToInt<S>(a.y),     \
+                       optixu_detail::FloatToInt<S>(a.z), optixu_detail::FloatToInt<S>(a.w));    \
+  }                                                                                              \
+  inline V##4 make_##V##4(const Other##4 & a) {                                                  \
+    return make_##V##4(static_cast<S>(a.x), static_cast<S>(a.y), static_cast<S>(a.z),            \
+                       static_cast<S>(a.w));                                                     \
   }
 OPTIXU_INTEGER_CONVERSIONS_(int, int, uint)
 OPTIXU_INTEGER_CONVERSIONS_(uint, unsigned int, int)
@@ -415,6 +438,12 @@ OPTIXU_INTEGER_CONVERSIONS_(uint, unsigned int, int)
 // ---- Re-export into namespace optix -------------------------------------------------------------
 // A using-declaration brings in the overloads declared before it, so this block stays last.
 namespace optix {
+// The <sys/types.h> names OptiX programs use for unsigned scalars (rtBuffer<uint>, ...).
+using ::uint;
+using ::ushort;
+// Bit-preserving casts under OptiX's names (CUDA spells them __float_as_int, __int_as_float).
+inline int float_as_int(float f) { return ::__float_as_int(f); }
+inline float int_as_float(int i) { return ::__int_as_float(i); }
 using ::operator+;
 using ::operator-;
 using ::operator*;

@@ -327,6 +327,15 @@ template <unsigned int M, unsigned int N>
 Matrix<M, N>& operator*=(Matrix<M, N>& a, float s) {
   return a = a * s;
 }
+// Division by a scalar multiplies by its reciprocal, as OptiX does.
+template <unsigned int M, unsigned int N>
+Matrix<M, N> operator/(const Matrix<M, N>& a, float s) {
+  return a * (1.0f / s);
+}
+template <unsigned int M, unsigned int N>
+Matrix<M, N>& operator/=(Matrix<M, N>& a, float s) {
+  return a = a / s;
+}
 
 template <unsigned int M, unsigned int N, unsigned int R>
 Matrix<M, R> operator*(const Matrix<M, N>& a, const Matrix<N, R>& b) {

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "internal/optix_datatypes.h"
-#include "optixu/optixu_math_namespace.h"
+#include "optixu/optixu_vector_functions.h"
 #include "optixu/optixu_vector_types.h"
 #include "tessera/cuda_compat.h"
 #include "tessera/detail/module_abi.h"
