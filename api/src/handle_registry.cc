@@ -10,19 +10,19 @@ HandleRegistry& HandleRegistry::Get() {
 
 void HandleRegistry::Add(Object* object) {
   std::lock_guard<std::mutex> lock(mu_);
-  dead_.erase(object);
-  live_[object] = HandleInfo{object->kind(), object->context(), object->id()};
+  live_[object->handle()] = HandleInfo{object->kind(), object->context(), object->id(), object};
 }
 
 void HandleRegistry::Remove(Object* object) {
   std::lock_guard<std::mutex> lock(mu_);
-  auto it = live_.find(object);
+  auto it = live_.find(object->handle());
   if (it == live_.end()) return;
   HandleInfo info = it->second;
   live_.erase(it);
+  info.object = nullptr;
   if (info.kind == Kind::kContext) info.context = nullptr;
-  dead_[object] = info;
-  if (info.context != nullptr) dead_by_context_[info.context].insert(object);
+  dead_[object->handle()] = info;
+  if (info.context != nullptr) dead_by_context_[info.context].insert(object->handle());
 }
 
 void HandleRegistry::ForgetContext(Context* context) {
@@ -43,7 +43,7 @@ HandleRegistry::Lookup HandleRegistry::Find(const void* handle) const {
   if (auto it = live_.find(handle); it != live_.end()) {
     result.state = State::kLive;
     result.info = it->second;
-    result.object = static_cast<Object*>(const_cast<void*>(handle));
+    result.object = it->second.object;
   } else if (auto dead = dead_.find(handle); dead != dead_.end()) {
     result.state = State::kDestroyed;
     result.info = dead->second;

@@ -1,7 +1,8 @@
 // The process-wide table of live handles. A handle is checked here before it is dereferenced, so
 // a null, foreign, wrong-typed or destroyed handle is reported instead of touching freed memory.
-// Destroyed handles are remembered (kind, id, context) until their context goes away or the
-// address is reused, so messages can name them and land on the right context.
+// Destroyed handles are remembered (kind, id, context) until their context goes away, so messages
+// can name them and land on the right context. Handles are tokens that are never reused
+// (Object::handle), so an old handle cannot reach a later object.
 #ifndef TESSERA_API_SRC_HANDLE_REGISTRY_H_
 #define TESSERA_API_SRC_HANDLE_REGISTRY_H_
 
@@ -19,6 +20,7 @@ struct HandleInfo {
   Kind kind = Kind::kContext;
   Context* context = nullptr;  // null once the context is gone
   uint64_t id = 0;
+  Object* object = nullptr;  // live handles only
 };
 
 class HandleRegistry {
@@ -35,7 +37,7 @@ class HandleRegistry {
   void Add(Object* object);
   // `object` was destroyed: it moves to the graveyard.
   void Remove(Object* object);
-  // `context` was destroyed: forget its graveyard entries (their addresses may be reused).
+  // `context` was destroyed: forget its graveyard entries (they name it).
   void ForgetContext(Context* context);
 
   Lookup Find(const void* handle) const;

@@ -1,5 +1,8 @@
 #include "object.h"
 
+#include <atomic>
+#include <cstdint>
+
 #include "absl/strings/str_cat.h"
 #include "context.h"
 #include "handle_registry.h"
@@ -71,8 +74,19 @@ std::string EdgeRole::Format() const {
   return out;
 }
 
+namespace {
+
+// Handles count up from 16 in steps of 16 (aligned like pointers, so C code that stores them
+// with pointer tags keeps working); 2^60 of them before they would wrap.
+const void* NextHandle() {
+  static std::atomic<uintptr_t> next{1};
+  return reinterpret_cast<const void*>(next.fetch_add(1, std::memory_order_relaxed) << 4);
+}
+
+}  // namespace
+
 Object::Object(Kind kind, Context* context, uint64_t id)
-    : kind_(kind), context_(context), id_(id) {}
+    : kind_(kind), context_(context), id_(id), handle_(NextHandle()) {}
 
 Object::~Object() = default;
 

@@ -58,6 +58,10 @@ class Object {
   Kind kind() const { return kind_; }
   Context* context() const { return context_; }
   uint64_t id() const { return id_; }
+  // What the application holds as its RTcontext, RTbuffer …: a token unique for the process's
+  // life, not the object's address, so that a destroyed object's handle can never come to name a
+  // later object that happens to get the same memory.
+  const void* handle() const { return handle_; }
   uint64_t version() const { return version_; }
   bool alive() const { return alive_; }
 
@@ -100,6 +104,7 @@ class Object {
   const Kind kind_;
   Context* context_;
   const uint64_t id_;
+  const void* const handle_;
   uint64_t version_ = 0;
   bool alive_ = true;
   std::atomic<int> refs_{1};  // the creator's reference
@@ -128,7 +133,7 @@ class Links {
 
 template <typename H>
 H ToHandle(const Object* object) {
-  return reinterpret_cast<H>(const_cast<Object*>(object));
+  return object != nullptr ? reinterpret_cast<H>(const_cast<void*>(object->handle())) : nullptr;
 }
 
 }  // namespace tessera::api

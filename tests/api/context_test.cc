@@ -28,6 +28,42 @@ class HostContextTest : public ::testing::Test {
   RTcontext ctx = nullptr;
 };
 
+// Handles are never reused: after a context and its objects are destroyed, new ones made the
+// same way (which may get the same memory) are not reachable through the old handles.
+TEST(HandleTest, OldHandlesNeverReachLaterObjects) {
+  for (int round = 0; round < 8; ++round) {
+    RTcontext old_context = nullptr;
+    ASSERT_EQ(rtContextCreate(&old_context), RT_SUCCESS);
+    RTvariable old_variable = nullptr;
+    ASSERT_EQ(rtContextDeclareVariable(old_context, "scale", &old_variable), RT_SUCCESS);
+    RTgroup old_group = nullptr;
+    ASSERT_EQ(rtGroupCreate(old_context, &old_group), RT_SUCCESS);
+    ASSERT_EQ(rtContextDestroy(old_context), RT_SUCCESS);
+
+    RTcontext context = nullptr;
+    ASSERT_EQ(rtContextCreate(&context), RT_SUCCESS);
+    RTvariable variable = nullptr;
+    ASSERT_EQ(rtContextDeclareVariable(context, "scale", &variable), RT_SUCCESS);
+    ASSERT_EQ(rtVariableSet1f(variable, 1.f), RT_SUCCESS);
+    RTgroup group = nullptr;
+    ASSERT_EQ(rtGroupCreate(context, &group), RT_SUCCESS);
+
+    EXPECT_NE(old_context, context);
+    EXPECT_EQ(rtContextSetRayTypeCount(old_context, 3), RT_ERROR_INVALID_CONTEXT);
+    EXPECT_NE(rtVariableSet1f(old_variable, 99.f), RT_SUCCESS);
+    EXPECT_NE(rtGroupSetChildCount(old_group, 5), RT_SUCCESS);
+    unsigned ray_types = 0, children = 0;
+    float value = 0.f;
+    ASSERT_EQ(rtContextGetRayTypeCount(context, &ray_types), RT_SUCCESS);
+    ASSERT_EQ(rtVariableGet1f(variable, &value), RT_SUCCESS);
+    ASSERT_EQ(rtGroupGetChildCount(group, &children), RT_SUCCESS);
+    EXPECT_NE(ray_types, 3u);
+    EXPECT_EQ(value, 1.f);
+    EXPECT_EQ(children, 0u);
+    ASSERT_EQ(rtContextDestroy(context), RT_SUCCESS);
+  }
+}
+
 TEST_F(HostContextTest, EntryPointsAndRayTypesResizeTheirProgramArrays) {
   unsigned n = 99;
   ASSERT_EQ(rtContextGetEntryPointCount(ctx, &n), RT_SUCCESS);
