@@ -51,10 +51,8 @@ void LaunchGather::ReportExceptions() {
   }
 }
 
-LaunchGather::LaunchGather(Context& context, std::vector<DeviceSlot*> slots)
-    : context_(context),
-      slots_(std::move(slots)),
-      check_races_(context.race_check() && slots_.size() > 1) {
+LaunchGather::LaunchGather(Context& context)
+    : context_(context), check_races_(context.race_check() && context.device_slots().size() > 1) {
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() != Kind::kBuffer) continue;
     auto* b = static_cast<Buffer*>(object);
@@ -65,6 +63,14 @@ LaunchGather::LaunchGather(Context& context, std::vector<DeviceSlot*> slots)
     RaceState& state = race_state_[id];
     state.before.assign(reinterpret_cast<const char*>(b->bytes()), b->byte_size());
     state.owner.assign(b->byte_size() / b->element_size(), -1);
+  }
+}
+
+void LaunchGather::SetDevices(std::vector<DeviceSlot*> slots) {
+  slots_ = std::move(slots);
+  if (slots_.size() <= 1) {
+    check_races_ = false;
+    race_state_.clear();
   }
 }
 

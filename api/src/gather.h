@@ -24,8 +24,13 @@ class Context;
 
 class LaunchGather {
  public:
-  // `slots` are the devices of the launch, in the order batches index them.
-  LaunchGather(Context& context, std::vector<DeviceSlot*> slots);
+  // Records the layouts and host write epochs of the buffers results may land in. Made before
+  // state ships to devices: the timeout callback, which runs meanwhile, may resize, destroy or
+  // write buffers, and what devices then hold is what was shipped, not what the host has.
+  explicit LaunchGather(Context& context);
+  // `slots` are the devices of the launch, in the order batches index them (known once state has
+  // shipped). Before the first Apply.
+  void SetDevices(std::vector<DeviceSlot*> slots);
 
   // Launching thread only (device threads never touch host objects, and the timeout callback,
   // which runs on that thread too, cannot race with this).
@@ -80,7 +85,7 @@ class LaunchGather {
 
   Context& context_;
   std::vector<DeviceSlot*> slots_;
-  const bool check_races_;
+  bool check_races_;
   absl::flat_hash_map<uint64_t, RaceState> race_state_;
   absl::flat_hash_map<uint64_t, Layout> layouts_;  // of every buffer results may land in
   // Buffer::host_write_epoch() of those buffers when the launch began: a host write since (the

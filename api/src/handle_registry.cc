@@ -23,6 +23,25 @@ void HandleRegistry::Remove(Object* object) {
   if (info.kind == Kind::kContext) info.context = nullptr;
   dead_[object->handle()] = info;
   if (info.context != nullptr) dead_by_context_[info.context].insert(object->handle());
+  dead_order_.push_back(object->handle());
+  Trim();
+}
+
+void HandleRegistry::Trim() {
+  while (dead_order_.size() > kMaxRemembered) {
+    const void* handle = dead_order_.front();
+    dead_order_.pop_front();
+    auto dead = dead_.find(handle);
+    if (dead == dead_.end()) continue;  // its context went first
+    if (dead->second.context != nullptr) {
+      auto by = dead_by_context_.find(dead->second.context);
+      if (by != dead_by_context_.end()) {
+        by->second.erase(handle);
+        if (by->second.empty()) dead_by_context_.erase(by);
+      }
+    }
+    dead_.erase(dead);
+  }
 }
 
 void HandleRegistry::ForgetContext(Context* context) {

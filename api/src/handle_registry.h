@@ -1,12 +1,15 @@
 // The process-wide table of live handles. A handle is checked here before it is dereferenced, so
 // a null, foreign, wrong-typed or destroyed handle is reported instead of touching freed memory.
 // Destroyed handles are remembered (kind, id, context) until their context goes away, so messages
-// can name them and land on the right context. Handles are tokens that are never reused
-// (Object::handle), so an old handle cannot reach a later object.
+// can name them and land on the right context: the latest kMaxRemembered of them, so that an
+// application that creates and destroys objects in a long-lived context does not grow the table.
+// Handles are tokens that are never reused (Object::handle), so an old handle cannot reach a
+// later object.
 #ifndef TESSERA_API_SRC_HANDLE_REGISTRY_H_
 #define TESSERA_API_SRC_HANDLE_REGISTRY_H_
 
 #include <cstdint>
+#include <deque>
 #include <mutex>
 
 #include "absl/base/thread_annotations.h"
@@ -42,12 +45,19 @@ class HandleRegistry {
 
   Lookup Find(const void* handle) const;
 
+  // Destroyed handles remembered at most; older ones read as unknown handles.
+  static constexpr size_t kMaxRemembered = 1 << 16;
+
  private:
+  // Forgets the oldest graveyard entries past kMaxRemembered.
+  void Trim() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+
   mutable std::mutex mu_;
   absl::flat_hash_map<const void*, HandleInfo> live_ ABSL_GUARDED_BY(mu_);
   absl::flat_hash_map<const void*, HandleInfo> dead_ ABSL_GUARDED_BY(mu_);
   absl::flat_hash_map<Context*, absl::flat_hash_set<const void*>> dead_by_context_
       ABSL_GUARDED_BY(mu_);
+  std::deque<const void*> dead_order_ ABSL_GUARDED_BY(mu_);  // oldest first
 };
 
 }  // namespace tessera::api

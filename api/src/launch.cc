@@ -5,8 +5,11 @@
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <mutex>
+#include <new>
+#include <system_error>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
@@ -226,13 +229,28 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& po
     size_t finished = 0;
     std::vector<std::thread> threads;
     threads.reserve(jobs.size());
-    for (Job& job : jobs) {
-      threads.emplace_back([&job, &mu, &cv, &finished] {
+    // On a thread of its own, an exception would end the process (std::terminate): it becomes
+    // the job's status, as the C boundary made of it when devices took deltas on this thread.
+    auto apply = [&mu, &cv, &finished](Job& job) {
+      try {
         job.status = job.slot->device->Apply(job.prepared.delta);
-        std::lock_guard<std::mutex> lock(mu);
-        ++finished;
-        cv.notify_all();
-      });
+      } catch (const std::bad_alloc&) {
+        job.status = RtError(RT_ERROR_MEMORY_ALLOCATION_FAILED, "out of memory");
+      } catch (const std::exception& e) {
+        job.status = absl::InternalError(absl::StrCat("threw: ", e.what()));
+      } catch (...) {
+        job.status = absl::InternalError("threw a non-standard exception");
+      }
+      std::lock_guard<std::mutex> lock(mu);
+      ++finished;
+      cv.notify_all();
+    };
+    for (Job& job : jobs) {
+      try {
+        threads.emplace_back(apply, std::ref(job));
+      } catch (const std::system_error&) {
+        apply(job);  // no thread to be had: this device takes its delta here
+      }
     }
     {
       std::unique_lock<std::mutex> lock(mu);
@@ -386,6 +404,9 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   LaunchTiming timing;
   TimeoutPoller poller(*this);
   StartProgress(0);  // while state ships: no tiles yet (not the last launch's figures)
+  // What devices will hold is what ships now: buffer layouts and host writes are taken before the
+  // timeout callback can change them.
+  LaunchGather gather(*this);
   TS_RETURN_IF_ERROR(ApplyDeltas(*this, launch_id, poller));
   timing.Mark("deltas");
   if (poller.cancelled()) {
@@ -425,7 +446,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   std::vector<v1::Tile> tiles = scheduler::MakeTiles(dims, *tile_size);
   StartProgress(tiles.size());
 
-  LaunchGather gather(*this, slots);
+  gather.SetDevices(slots);
   scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles), stable,
                                    progress_counter());
 

@@ -1,6 +1,7 @@
 // Context state through the C API: entry points and ray types, settings, exceptions,
 // attributes, devices, and destruction with live objects.
 #include <cstring>
+#include <string>
 #include <thread>
 
 #include "api_test_util.h"
@@ -62,6 +63,30 @@ TEST(HandleTest, OldHandlesNeverReachLaterObjects) {
     EXPECT_EQ(children, 0u);
     ASSERT_EQ(rtContextDestroy(context), RT_SUCCESS);
   }
+}
+
+// Destroyed handles are remembered for messages, but only the newest 65,536 of them: a
+// long-lived context that makes and destroys objects does not grow without bound.
+TEST(HandleTest, OnlyTheNewestDestroyedHandlesAreRemembered) {
+  RTcontext context = nullptr;
+  ASSERT_EQ(rtContextCreate(&context), RT_SUCCESS);
+  constexpr int kDestroyed = (1 << 16) + 10;
+  RTbuffer first = nullptr, last = nullptr;
+  for (int i = 0; i < kDestroyed; ++i) {
+    RTbuffer b = nullptr;
+    ASSERT_EQ(rtBufferCreate(context, RT_BUFFER_INPUT, &b), RT_SUCCESS);
+    ASSERT_EQ(rtBufferDestroy(b), RT_SUCCESS);
+    if (i == 0) first = b;
+    last = b;
+  }
+  RTformat format = RT_FORMAT_UNKNOWN;
+  EXPECT_EQ(rtBufferGetFormat(first, &format), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(rtBufferGetFormat(last, &format), RT_ERROR_INVALID_VALUE);
+  const char* message = nullptr;
+  rtContextGetErrorString(context, RT_ERROR_INVALID_VALUE, &message);
+  ASSERT_NE(message, nullptr);
+  EXPECT_NE(std::string(message).find("destroyed"), std::string::npos) << message;
+  ASSERT_EQ(rtContextDestroy(context), RT_SUCCESS);
 }
 
 TEST_F(HostContextTest, EntryPointsAndRayTypesResizeTheirProgramArrays) {

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@ class FakeDevice : public Device {
     std::vector<v1::StateDelta> deltas;
     std::vector<v1::LaunchRequest> launches;
     absl::Status apply_status;  // returned by Apply (deltas are recorded either way)
+    bool apply_throws = false;  // Apply throws std::bad_alloc instead
     Answer answer;
     bool destroyed = false;
   };
@@ -43,6 +45,7 @@ class FakeDevice : public Device {
   absl::Status Apply(const v1::StateDelta& delta) override {
     std::lock_guard<std::mutex> lock(record_->mu);
     record_->deltas.push_back(delta);
+    if (record_->apply_throws) throw std::bad_alloc();
     return record_->apply_status;
   }
 

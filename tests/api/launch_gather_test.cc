@@ -147,6 +147,16 @@ TEST_F(LaunchTest, RejectedDeltaIsResentWhole) {
   EXPECT_EQ(LastDelta().chunks_size(), 1);
 }
 
+// Devices take their deltas on threads of their own: what one throws becomes the launch's
+// error, not std::terminate.
+TEST_F(LaunchTest, ADeviceThatThrowsTakingItsDeltaFailsTheLaunch) {
+  records[0]->apply_throws = true;
+  EXPECT_EQ(Launch(), RT_ERROR_MEMORY_ALLOCATION_FAILED);
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_MEMORY_ALLOCATION_FAILED).find("fake0"), std::string::npos);
+  records[0]->apply_throws = false;
+  EXPECT_EQ(Launch(), RT_SUCCESS);
+}
+
 int g_timeout_calls = 0;
 int g_running_during_callback = -1;
 RTcontext g_callback_context = nullptr;
