@@ -15,6 +15,7 @@
 #include "absl/container/flat_hash_map.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "hash.h"
@@ -155,9 +156,11 @@ std::vector<std::string> ParseDepFile(const std::string& path, const std::string
   return files;
 }
 
+// Of fixed width: the temporary source's name ends up in the module (its STT_FILE symbol), and a
+// name of varying length made modules of the same source differ in size from compile to compile.
 std::string TempSuffix() {
   std::random_device rd;
-  return absl::StrCat(getpid(), "-", rd());
+  return absl::StrFormat("%010d-%08x", static_cast<int>(getpid()), rd());
 }
 
 // ModuleCacheDir(), created; where it cannot be created or written and the application did not
