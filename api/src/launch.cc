@@ -451,7 +451,6 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
                                    progress_counter());
 
   // The launching thread applies results as they arrive and polls the timeout callback.
-  bool cancelled = false;
   std::vector<scheduler::FinishedBatch> batches;
   while (true) {
     const bool done = dispatcher.Wait(poller.deadline(), &batches);
@@ -463,20 +462,19 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     }
     batches.clear();
     if (done) break;
-    if (!cancelled && poller.Poll()) {
-      cancelled = true;
-      dispatcher.Cancel();
-    }
+    if (!poller.cancelled() && poller.Poll()) dispatcher.Cancel();
   }
 
   for (const scheduler::LostDevice& lost : dispatcher.lost()) {
     WarnLost(*this, *slots[lost.device], launch_id, lost.reason,
-             !cancelled && dispatcher.status().ok());
+             !poller.cancelled() && dispatcher.status().ok());
   }
   timing.Mark("devices");
   absl::Status tile_status = gather.Finish();
   // Batches that did not finish left their writes in the devices' copies only.
-  if (cancelled || !dispatcher.status().ok() || !tile_status.ok()) gather.ForgetDeviceCopies();
+  if (poller.cancelled() || !dispatcher.status().ok() || !tile_status.ok()) {
+    gather.ForgetDeviceCopies();
+  }
   timing.Mark("finish");
   timing.Report(launch_id);
   for (const scheduler::LostDevice& lost : dispatcher.lost()) LoseDevice(*slots[lost.device]);
@@ -488,7 +486,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   }
 
   absl::Status status = dispatcher.status();
-  if (cancelled) {
+  if (poller.cancelled()) {
     return RtError(RT_TIMEOUT_CALLBACK, "launch cancelled by the timeout callback");
   }
   if (status.code() == absl::StatusCode::kUnavailable) {

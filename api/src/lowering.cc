@@ -287,9 +287,8 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
       auto& b = static_cast<Buffer&>(*o);
       if (!b.ships_content()) continue;
       // A buffer object travels again only after the host reallocated it (rtBufferSetSize,
-      // SetFormat, SetElementSize), and a device that takes a new format, element size or
-      // dimensions zeroes its copy, even at the same byte size: chunk hashes it held before say
-      // nothing about it then, so every chunk travels.
+      // SetFormat, SetElementSize), and a device zeroes its copy whenever it takes a buffer
+      // object: chunk hashes it held before say nothing about it then, so every chunk travels.
       auto it = sync.buffers.find(b.id());
       const BufferSyncState* state = relowered || it == sync.buffers.end() ? nullptr : &it->second;
       out.buffers.emplace_back(b.id(), LowerChunks(b, state, sync.ordinal, &delta));

@@ -107,13 +107,16 @@ uint64_t LookupKey(uint64_t key, const std::string& source_path) {
 
 constexpr char kModuleHashLine[] = "sha256 ";
 
-// The SHA-256 of a file, "" when it cannot be read: a cache hit must be the bytes that were
-// compiled, not whatever a disk error or another program left under the module's name.
-std::string FileModuleHash(const std::string& path) {
+// A file's bytes and their SHA-256 (hash "" when it cannot be read): a cache hit must be the
+// bytes that were compiled, not whatever a disk error or another program left under the name.
+CompiledModule ReadModule(const std::string& path) {
+  CompiledModule m;
+  m.path = path;
   std::ifstream in(path, std::ios::binary);
-  if (!in) return "";
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return in.bad() ? "" : ModuleHash(bytes);
+  if (!in) return m;
+  m.bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (!in.bad()) m.hash = ModuleHash(m.bytes);
+  return m;
 }
 
 std::vector<std::string> ReadLines(const std::string& path, bool* found) {
@@ -219,8 +222,8 @@ std::vector<std::string> ProgramIncludeDirs() {
   return absl::StrSplit(dirs, ':', absl::SkipEmpty());
 }
 
-absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
-                                                 const std::string& source_path) {
+absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
+                                                    const std::string& source_path) {
   std::vector<std::string> command = CompileFlags();
   uint64_t key = HashString(source);
   key = HashString(absl::StrJoin(command, "\x1f"), key);
@@ -242,10 +245,13 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   if (cached_key != 0) {
     const std::string cached = absl::StrCat(cache_dir, "/", HexHash(cached_key), ".so");
     // Anything else under the module's name (cut short, changed, or not a file) is compiled over.
-    if (fs::is_regular_file(cached, ec) && FileModuleHash(cached) == compiled_hash) {
-      scheduler::TouchCacheFile(cached);  // recently used: trimmed last
-      scheduler::TouchCacheFile(deps_path);
-      return cached;
+    if (fs::is_regular_file(cached, ec)) {
+      CompiledModule hit = ReadModule(cached);
+      if (hit.hash == compiled_hash) {
+        scheduler::TouchCacheFile(cached);  // recently used: trimmed last
+        scheduler::TouchCacheFile(deps_path);
+        return hit;
+      }
     }
   }
   const std::string suffix = TempSuffix();
@@ -311,10 +317,12 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   // again at the next lookup, differs, and compiles again.
   const uint64_t module_key = DependencyKey(key, compiled_deps);
   const std::string module_path = absl::StrCat(cache_dir, "/", HexHash(module_key), ".so");
+  CompiledModule compiled = ReadModule(temp_module);
+  compiled.path = module_path;
   {
     const std::string temp_list = absl::StrCat(deps_path, ".", suffix, ".tmp");
     std::ofstream out(temp_list);
-    out << kModuleHashLine << FileModuleHash(temp_module) << "\n";
+    out << kModuleHashLine << compiled.hash << "\n";
     for (const std::string& file : compiled_deps) out << file << "\n";
     out.close();
     if (out) fs::rename(temp_list, deps_path, ec);
@@ -327,7 +335,7 @@ absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
   }
   // Every edit of a source is a new module: keep the directory within its bound.
   scheduler::TrimModuleCache(cache_dir, scheduler::ModuleCacheLimitBytes(), HexHash(module_key));
-  return module_path;
+  return compiled;
 }
 
 }  // namespace tessera::api

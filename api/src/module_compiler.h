@@ -20,11 +20,19 @@ std::string ModuleCacheDir();
 // $TESSERA_INCLUDE_DIR (colon-separated) if set, else the api/include directory of this build.
 std::vector<std::string> ProgramIncludeDirs();
 
+// A module in the compile cache: its path, its bytes and their SHA-256 (ModuleHash), read once
+// to check a cached module is the one compiled and handed on so nobody reads them again.
+struct CompiledModule {
+  std::string path;
+  std::string bytes;
+  std::string hash;
+};
+
 // Compiles `source` (the contents of `source_path`, or text to be written to a temporary file
-// when `source_path` is empty) and returns the cached module's path. Compiler errors are
+// when `source_path` is empty) into the cache, or finds it there. Compiler errors are
 // RT_ERROR_INVALID_SOURCE with the compiler's first lines.
-absl::StatusOr<std::string> CompileProgramModule(absl::string_view source,
-                                                 const std::string& source_path);
+absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
+                                                    const std::string& source_path);
 
 }  // namespace tessera::api
 

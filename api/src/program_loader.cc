@@ -90,9 +90,12 @@ std::shared_ptr<const std::string> SharedBytes(const std::string& hash, std::str
   return shared;
 }
 
-// `source`: the C++ file the module was compiled from, which names the program in messages.
+// `bytes`: the module's contents when already read (null: read from `path`), `hash` their
+// ModuleHash when already known. `source`: the C++ file the module was compiled from, which names
+// the program in messages.
 absl::StatusOr<ModuleRef> FromModule(const std::string& path, std::string* bytes,
-                                     const std::string& function, const std::string& source = "") {
+                                     const std::string& function, const std::string& source = "",
+                                     std::string hash = "") {
   std::error_code ec;
   fs::path absolute = fs::absolute(path, ec);
   ModuleRef ref;
@@ -110,7 +113,7 @@ absl::StatusOr<ModuleRef> FromModule(const std::string& path, std::string* bytes
     ref.path = shown;  // device messages name the source the application gave
   }
   TS_RETURN_IF_ERROR(CheckModule(path, *bytes, name, function));
-  ref.hash = ModuleHash(*bytes);
+  ref.hash = hash.empty() ? ModuleHash(*bytes) : std::move(hash);
   ref.bytes = SharedBytes(ref.hash, std::move(*bytes));
   return ref;
 }
@@ -142,16 +145,16 @@ absl::StatusOr<ModuleRef> LoadProgramFile(const std::string& path, const std::st
                                 "' is neither a program module (.so) nor C++ source "
                                 "(.cu, .cpp, .cc, .cxx)"));
   }
-  TS_ASSIGN_OR_RETURN(std::string module, CompileProgramModule(bytes, path));
-  return FromModule(module, nullptr, function, path);
+  TS_ASSIGN_OR_RETURN(CompiledModule module, CompileProgramModule(bytes, path));
+  return FromModule(module.path, &module.bytes, function, path, std::move(module.hash));
 }
 
 absl::StatusOr<ModuleRef> LoadProgramSource(absl::string_view source, const std::string& function) {
   if (LooksLikePtx(source)) {
     return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("the source string is PTX. ", kNoPtx));
   }
-  TS_ASSIGN_OR_RETURN(std::string module, CompileProgramModule(source, ""));
-  return FromModule(module, nullptr, function);
+  TS_ASSIGN_OR_RETURN(CompiledModule module, CompileProgramModule(source, ""));
+  return FromModule(module.path, &module.bytes, function, "", std::move(module.hash));
 }
 
 }  // namespace tessera::api
