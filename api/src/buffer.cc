@@ -162,14 +162,14 @@ absl::Status Buffer::Unmap() {
   // them (docs/devices.md).
   if (ships_content() && !data_.empty() && views_.size() == 1) {
     std::memcpy(views_.begin()->second.data(), data_.data(), data_.size());
-    views_dirty_ = true;
+    ++views_dirty_;
   }
   return absl::OkStatus();
 }
 
 void Buffer::MarkDirty() {
   HostWrote(0, data_.size());
-  views_dirty_ = true;
+  ++views_dirty_;
 }
 
 absl::StatusOr<void*> Buffer::GetDevicePointer(int ordinal) {
@@ -179,7 +179,7 @@ absl::StatusOr<void*> Buffer::GetDevicePointer(int ordinal) {
   }
   auto [it, inserted] = views_.try_emplace(ordinal);
   if (inserted) it->second.owned = data_;
-  views_dirty_ = true;
+  ++views_dirty_;
   static unsigned char empty_buffer_storage[16];
   return data_.empty() ? static_cast<void*>(empty_buffer_storage)
                        : static_cast<void*>(it->second.data());
@@ -193,11 +193,14 @@ absl::Status Buffer::SetDevicePointer(int ordinal, void* pointer) {
   View& view = views_[ordinal];
   view.owned.clear();
   view.application = pointer;
-  views_dirty_ = true;
+  ++views_dirty_;
   return absl::OkStatus();
 }
 
 absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordinals) {
+  // Still dirty until devices took the launch's state (DevicePointersShipped): a launch that
+  // fails before that (another buffer's pointers, a device rejecting its update) copies again.
+  views_pending_ = views_dirty_;
   if (views_.empty()) {
     if (for_cuda_ && !data_.empty()) {
       return RtError(RT_ERROR_INVALID_VALUE,
@@ -222,7 +225,7 @@ absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordi
   }
   if (!ships_content()) return absl::OkStatus();
   // A device with a pointer runs on its own view (PerDeviceBytes), as a GPU on its own memory.
-  if (k == 1 && ((desc_ & RT_BUFFER_COPY_ON_DIRTY) == 0 || views_dirty_)) {
+  if (k == 1 && ((desc_ & RT_BUFFER_COPY_ON_DIRTY) == 0 || views_dirty_ != views_shipped_)) {
     // One device's view reaches every device through the host contents. Devices' GPU_LOCAL
     // copies diverge from the host's as programs write them, so those get the view again even
     // when the host contents already equal it.
@@ -231,9 +234,10 @@ absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordi
     if (differs) std::memcpy(data_.data(), source, data_.size());
     if (!data_.empty() && (differs || gpu_local())) HostWrote(0, data_.size());
   }
-  views_dirty_ = false;
   return absl::OkStatus();
 }
+
+void Buffer::DevicePointersShipped() { views_shipped_ = views_pending_; }
 
 const unsigned char* Buffer::PerDeviceBytes(int ordinal) const {
   if (!ships_content()) return nullptr;

@@ -33,10 +33,12 @@ class Buffer : public Object {
   bool is_input() const { return (desc_ & RT_BUFFER_INPUT) != 0; }
   bool is_output() const { return (desc_ & RT_BUFFER_OUTPUT) != 0; }
   bool gpu_local() const { return (desc_ & RT_BUFFER_GPU_LOCAL) != 0; }
-  // Whether host contents go to devices: INPUT and INPUT_OUTPUT buffers, and OUTPUT buffers that
+  // Whether host contents go to devices: INPUT and INPUT_OUTPUT buffers, OUTPUT buffers that
   // built-in triangles take vertices, indices or material indices from (an animated mesh a launch
-  // computed): each device builds its acceleration from the merged contents, not its own writes.
-  bool ships_content() const { return is_input() || FeedsTriangles(); }
+  // computed): each device builds its acceleration from the merged contents, not its own writes;
+  // and OUTPUT buffers with a device pointer, whose contents are the device's copy (what the
+  // application wrote there before the launch is what programs see and what they leave alone).
+  bool ships_content() const { return is_input() || !views_.empty() || FeedsTriangles(); }
   bool FeedsTriangles() const;
   // Whether devices send contents back: OUTPUT and INPUT_OUTPUT buffers, unless GPU_LOCAL.
   bool gathers_content() const { return is_output() && !gpu_local(); }
@@ -91,6 +93,9 @@ class Buffer : public Object {
   // view is also copied into the host contents, which reach the other devices: every launch, or
   // with COPY_ON_DIRTY only after the pointer was taken or set and after rtBufferMarkDirty.
   absl::Status SyncDevicePointersBeforeLaunch(const std::vector<int>& ordinals);
+  // After devices took the launch's state: what SyncDevicePointersBeforeLaunch copied counts as
+  // copied (COPY_ON_DIRTY pointers are clean again unless marked dirty since).
+  void DevicePointersShipped();
   // The bytes device `ordinal` gets when it has a view of an INPUT buffer; null otherwise.
   const unsigned char* PerDeviceBytes(int ordinal) const;
   // After a launch: views of OUTPUT buffers show the merged contents. (Views of INPUT_OUTPUT
@@ -128,7 +133,12 @@ class Buffer : public Object {
   uint64_t host_write_epoch_ = 1;
   bool for_cuda_ = false;
   std::map<int, View> views_;
-  bool views_dirty_ = false;  // a pointer taken or set, or rtBufferMarkDirty, since a launch
+  // Counts pointers taken or set, host writes through a map and rtBufferMarkDirty calls; with
+  // COPY_ON_DIRTY one pointer is copied to the other devices while it differs from the count
+  // that devices took (views_shipped_, as of the last launch whose state updates went out).
+  uint64_t views_dirty_ = 0;
+  uint64_t views_pending_ = 0;  // the count the running launch's SyncDevicePointersBeforeLaunch saw
+  uint64_t views_shipped_ = 0;
 };
 
 }  // namespace tessera::api

@@ -1,10 +1,50 @@
 // rtAcceleration*.
+#include "absl/strings/str_cat.h"
 #include "acceleration.h"
 #include "boundary.h"
 #include "scope_api.h"
 #include "validate.h"
 
 using namespace tessera::api;  // NOLINT: C entry points only
+
+namespace {
+// Whether `s` is well-formed UTF-8 (no overlong forms, surrogates or code points past U+10FFFF).
+// Property names and values travel to devices in a protobuf map<string, string>, which a
+// worker refuses to parse unless both are UTF-8.
+bool IsUtf8(const unsigned char* s) {
+  while (*s != 0) {
+    const unsigned char c = *s;
+    int n = 0;
+    unsigned lo = 0x80, hi = 0xBF;  // the allowed range of the first continuation byte
+    if (c < 0x80) {
+      ++s;
+      continue;
+    } else if (c >= 0xC2 && c <= 0xDF) {
+      n = 1;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      n = 2;
+      if (c == 0xE0) lo = 0xA0;
+      if (c == 0xED) hi = 0x9F;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      n = 3;
+      if (c == 0xF0) lo = 0x90;
+      if (c == 0xF4) hi = 0x8F;
+    } else {
+      return false;
+    }
+    ++s;
+    for (int i = 0; i < n; ++i, ++s) {
+      if (*s < (i == 0 ? lo : 0x80) || *s > (i == 0 ? hi : 0xBF)) return false;
+    }
+  }
+  return true;
+}
+
+absl::Status CheckUtf8(const char* text, const char* what) {
+  if (IsUtf8(reinterpret_cast<const unsigned char*>(text))) return absl::OkStatus();
+  return RtError(RT_ERROR_INVALID_VALUE, absl::StrCat(what, " is not valid UTF-8"));
+}
+}  // namespace
 
 extern "C" {
 
@@ -58,6 +98,8 @@ RTresult rtAccelerationSetProperty(RTacceleration acceleration, const char* name
   return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
     TS_RETURN_IF_ERROR(NotNull(name, "property name"));
     TS_RETURN_IF_ERROR(NotNull(value, "property value"));
+    TS_RETURN_IF_ERROR(CheckUtf8(name, "property name"));
+    TS_RETURN_IF_ERROR(CheckUtf8(value, "property value"));
     a.SetProperty(name, value);
     return absl::OkStatus();
   });

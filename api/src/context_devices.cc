@@ -43,6 +43,10 @@ absl::Status Context::SetDevices(const std::vector<int>& ordinals) {
     }
     TS_RETURN_IF_ERROR(CheckInstantiable(device_list_[ordinal]));
   }
+  // The set the context already runs on: its devices, their GPU_LOCAL copies and what the host
+  // knows they hold stay as they are (re-creating them would restart every worker and silently
+  // reset per-device accumulation).
+  if (ordinals == selected_ && !injected_devices_) return absl::OkStatus();
   selected_ = ordinals;
   ResetDeviceSlots();
   return absl::OkStatus();

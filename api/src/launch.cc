@@ -65,10 +65,17 @@ std::string PerDeviceDataBuffers(Context& context) {
   return names;
 }
 
-// `others_took_over`: whether other devices ran (or will run) its tiles; false when the launch
-// fails for want of any. Only local:N workers are started again; the host reconnects to others.
+// What became of a lost device's tiles.
+enum class LostTiles {
+  kRanElsewhere,  // other devices ran (or will run) them
+  kNoDeviceLeft,  // the launch fails for want of any device
+  kLaunchEnded,   // the launch failed for another reason (a crash) or was cancelled
+};
+
+// Only local:N workers are started again; the host reconnects to others.
 void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
-              const absl::Status& reason, bool others_took_over) {
+              const absl::Status& reason, LostTiles tiles) {
+  const bool others_took_over = tiles == LostTiles::kRanElsewhere;
   const bool spawned = slot.desc.type == DeviceSpecEntry::Type::kLocal;
   const std::string per_device = others_took_over ? PerDeviceDataBuffers(context) : "";
   const std::string moved =
@@ -82,8 +89,9 @@ void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
                "GPU_LOCAL buffers are gone.%s %s\n",
                slot.desc.name.c_str(), slot.desc.address.c_str(),
                static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str(),
-               others_took_over ? "Its tiles ran on the other devices"
-                                : "No other device was left to run its tiles",
+               others_took_over                    ? "Its tiles ran on the other devices"
+               : tiles == LostTiles::kNoDeviceLeft ? "No other device was left to run its tiles"
+                                                   : "The launch ended without its tiles",
                moved.c_str(),
                spawned ? "It is started again for the next launch."
                        : "The next launch connects to it again.");
@@ -289,7 +297,9 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& po
     ++alive;
   }
   if (!rejected.ok()) return rejected;
-  for (const auto& [slot, status] : warn) WarnLost(context, *slot, launch_id, status, alive > 0);
+  for (const auto& [slot, status] : warn)
+    WarnLost(context, *slot, launch_id, status,
+             alive > 0 ? LostTiles::kRanElsewhere : LostTiles::kNoDeviceLeft);
   if (alive == 0) {
     return RtError(RT_ERROR_CONNECTION_FAILED, absl::StrCat("every device was lost (", lost, ")"));
   }
@@ -408,6 +418,9 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   // timeout callback can change them.
   LaunchGather gather(*this);
   TS_RETURN_IF_ERROR(ApplyDeltas(*this, launch_id, poller));
+  for (const auto& [id, object] : objects()) {
+    if (object->kind() == Kind::kBuffer) static_cast<Buffer*>(object)->DevicePointersShipped();
+  }
   timing.Mark("deltas");
   if (poller.cancelled()) {
     return RtError(RT_TIMEOUT_CALLBACK, "launch cancelled by the timeout callback");
@@ -465,10 +478,18 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     if (!poller.cancelled() && poller.Poll()) dispatcher.Cancel();
   }
 
-  for (const scheduler::LostDevice& lost : dispatcher.lost()) {
-    WarnLost(*this, *slots[lost.device], launch_id, lost.reason,
-             !poller.cancelled() && dispatcher.status().ok());
+  {
+    const absl::Status outcome = dispatcher.status();
+    const LostTiles tiles = poller.cancelled() ? LostTiles::kLaunchEnded
+                            : outcome.ok()     ? LostTiles::kRanElsewhere
+                            : outcome.code() == absl::StatusCode::kUnavailable
+                                ? LostTiles::kNoDeviceLeft
+                                : LostTiles::kLaunchEnded;
+    for (const scheduler::LostDevice& lost : dispatcher.lost()) {
+      WarnLost(*this, *slots[lost.device], launch_id, lost.reason, tiles);
+    }
   }
+
   timing.Mark("devices");
   absl::Status tile_status = gather.Finish();
   // Batches that did not finish left their writes in the devices' copies only.

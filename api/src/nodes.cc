@@ -1,5 +1,8 @@
 #include "nodes.h"
 
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
 #include "acceleration.h"
 #include "dirty.h"
 #include "program.h"
@@ -86,7 +89,38 @@ Transform::Transform(Context* context, uint64_t id)
   Touch();
 }
 
+namespace {
+// What devices can trace: finite entries and an affine bottom row (0, 0, 0, 1). Devices move
+// rays with the top three rows only, so a projective bottom row would place the geometry
+// differently for traversal, for bounds and for rtTransformPoint. Entries of the bottom row may
+// differ from it by rounding (an inverse the application computed): relative to the column.
+absl::Status CheckAffine(const Matrix4& m, const char* what) {
+  for (float v : m) {
+    if (!std::isfinite(v)) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat(what, " has an entry that is not finite"));
+    }
+  }
+  bool affine = std::fabs(m[15] - 1.0f) <= 1e-5f;
+  for (int c = 0; c < 3; ++c) {
+    const float column =
+        std::fmax(std::fabs(m[c]), std::fmax(std::fabs(m[4 + c]), std::fabs(m[8 + c])));
+    affine = affine && std::fabs(m[12 + c]) <= 1e-5f * column;
+  }
+  if (!affine) {
+    return RtError(
+        RT_ERROR_INVALID_VALUE,
+        absl::StrCat(what, "'s bottom row is (", m[12], ", ", m[13], ", ", m[14], ", ", m[15],
+                     "); transforms must be affine, with a bottom row of "
+                     "(0, 0, 0, 1) (a column-major matrix needs transpose = 1)"));
+  }
+  return absl::OkStatus();
+}
+}  // namespace
+
 absl::Status Transform::SetMatrix(const Matrix4& matrix, const Matrix4* inverse) {
+  TS_RETURN_IF_ERROR(CheckAffine(matrix, "matrix"));
+  if (inverse != nullptr) TS_RETURN_IF_ERROR(CheckAffine(*inverse, "inverse matrix"));
   Matrix4 computed;
   if (inverse == nullptr) {
     if (!Invert(matrix, &computed)) {

@@ -27,7 +27,9 @@ absl::StatusOr<std::unique_ptr<Device>> MakeWorkerDevice(const DeviceDesc& devic
     if (!connected.ok()) return connected.status();
     return std::unique_ptr<Device>(*std::move(connected));
   }
-  auto connected = transport::GrpcDevice::Connect(device.address);
+  // A running worker that does not answer within the silence deadline is hung or gone: every
+  // launch tries it again, so it must not cost each of them more than a lost worker does.
+  auto connected = transport::GrpcDevice::Connect(device.address, transport::SilenceDeadline());
   if (!connected.ok()) return connected.status();
   return std::unique_ptr<Device>(*std::move(connected));
 }

@@ -38,6 +38,7 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   lost_.assign(n, false);
   held_.resize(n);
   next_sequence_.assign(n, 1);
+  in_flight_.assign(n, {});
   std::vector<size_t> live;
   for (size_t d = 0; d < n; ++d) {
     if (devices_[d].device == nullptr) {
@@ -138,7 +139,28 @@ void Dispatcher::Requeue(size_t d, std::vector<v1::Tile> batch) {
       absl::StrAppend(&reasons, reasons.empty() ? "" : "; ", devices_[l.device].name, ": ",
                       l.reason.message());
     }
-    Fail(d, absl::UnavailableError(absl::StrCat("every device was lost (", reasons, ")")));
+    // Still a connection failure (nothing is left to run on), but a tile that took a second
+    // device down with it points at a program that kills workers without a crash report
+    // (remote workers, whose stderr the host cannot read).
+    // The tile may be in this call's batch or in the device's other call (the device died
+    // running it before this call's end reached the host).
+    std::string hint;
+    auto moved_here = [&](const std::vector<v1::Tile>& tiles) {
+      for (const v1::Tile& t : tiles) {
+        if (tile_losses_[t.index()] >= 1) {
+          hint = absl::StrCat(": tile ", t.index(),
+                              " was running on two of them, a program may be crashing them");
+          return true;
+        }
+      }
+      return false;
+    };
+    if (!moved_here(batch)) {
+      for (const std::vector<v1::Tile>* other : in_flight_[d]) {
+        if (moved_here(*other)) break;
+      }
+    }
+    Fail(d, absl::UnavailableError(absl::StrCat("every device was lost (", reasons, ")", hint)));
     return;
   }
   for (const v1::Tile& t : batch) {
@@ -176,6 +198,7 @@ void Dispatcher::Run(size_t d) {
     if (stop_ || remaining_ == 0 || lost_[d]) break;
     std::vector<v1::Tile> batch = Take(d);
     if (batch.empty() && !build_only_) continue;
+    in_flight_[d].push_back(&batch);
     lock.unlock();
 
     v1::LaunchRequest request = device.header;
@@ -209,6 +232,8 @@ void Dispatcher::Run(size_t d) {
       }
     }
     lock.lock();
+    std::vector<const std::vector<v1::Tile>*>& calls = in_flight_[d];
+    calls.erase(std::find(calls.begin(), calls.end(), &batch));
     if (status.ok()) {
       AddProgress(batch.size() - reported);
       remaining_ -= build_only_ ? 1 : batch.size();

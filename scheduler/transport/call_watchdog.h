@@ -26,6 +26,11 @@ class WatchedCall {
 
   // The worker sent something: the silence deadline starts again.
   void Heard() { last_heard_.store(Now(), std::memory_order_relaxed); }
+  // The worker is about to work for up to `extra` without sending anything (applying a large
+  // state update): the silence deadline starts again, `extra` later.
+  void Expect(absl::Duration extra) {
+    last_heard_.store(Now() + absl::ToInt64Nanoseconds(extra), std::memory_order_relaxed);
+  }
   // Whether the call was cancelled because the worker stayed silent.
   bool silent() const { return silent_.load(); }
 

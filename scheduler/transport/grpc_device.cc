@@ -26,6 +26,8 @@ std::chrono::system_clock::time_point DeadlineIn(absl::Duration timeout) {
   return absl::ToChronoTime(absl::Now() + timeout);
 }
 
+}  // namespace
+
 // TESSERA_WORKER_TIMEOUT (seconds, default 10): how long a worker may stay silent during a launch
 // before the host gives up on it and runs its tiles elsewhere.
 // Workers send a heartbeat twice a second, so a limit under a second would take a working worker
@@ -49,8 +51,6 @@ absl::Duration SilenceDeadline() {
   });
   return absl::Seconds(kDefault);
 }
-
-}  // namespace
 
 struct GrpcDevice::Stub {
   std::shared_ptr<grpc::Channel> channel;
@@ -104,7 +104,8 @@ absl::Status GrpcDevice::Open(absl::Duration timeout) {
   if (!health.ok()) {
     // A worker that never answers is as unreachable as one that refuses the connection.
     if (health.status().code() == absl::StatusCode::kDeadlineExceeded) {
-      return absl::UnavailableError(health.status().message());
+      return absl::UnavailableError(absl::StrCat("worker ", address_, " did not answer within ",
+                                                 absl::FormatDuration(timeout)));
     }
     return health.status();
   }
@@ -150,6 +151,8 @@ absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
       stub_->worker->Apply(&context, &reply);
   grpc::Status status;
   bool silent = false;
+  uint64_t bytes = 0;
+  for (const v1::BufferChunk& chunk : delta.chunks()) bytes += chunk.data().size();
   {
     // A worker that stops answering while it takes a delta (stopped, hung, its machine gone)
     // must not hold the launch for gRPC's keepalive (about 50 s): the same silence deadline as
@@ -164,6 +167,11 @@ absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
           return written;
         })) {
       writer->WritesDone();
+      // Every chunk is out: the worker now builds its replica from them and says nothing until
+      // it is done, which takes seconds for a delta of gigabytes. Allow for that at a slow
+      // machine's pace (kApplyBytesPerSecond) before taking its silence for a hang.
+      constexpr double kApplyBytesPerSecond = 50e6;
+      watcher.Expect(absl::Seconds(static_cast<double>(bytes) / kApplyBytesPerSecond));
     }
     status = writer->Finish();
     silent = watcher.silent();

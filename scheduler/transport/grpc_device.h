@@ -14,6 +14,9 @@
 
 namespace tessera::transport {
 
+// TESSERA_WORKER_TIMEOUT: how long a worker may stay silent (default 10 s).
+absl::Duration SilenceDeadline();
+
 // What a worker's Health call reports.
 struct WorkerHealth {
   std::string device_name;

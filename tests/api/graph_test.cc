@@ -1,5 +1,6 @@
 // The node graph through the C API: building it, child rules, transforms, accelerations, and
 // validation messages that name what is wrong.
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -287,6 +288,49 @@ TEST_F(HostGraphTest, TransformMatrices) {
   ASSERT_EQ(rtTransformGetMatrix(t, 0, m, nullptr), RT_SUCCESS);
   EXPECT_EQ(m[0], 2.0f);
   ASSERT_EQ(rtTransformSetMatrix(t, 0, flat, given), RT_SUCCESS);  // with an inverse: accepted
+}
+
+// Properties travel to workers in a protobuf map<string, string>, which must be UTF-8.
+TEST_F(HostGraphTest, AccelerationPropertiesMustBeUtf8) {
+  RTacceleration a;
+  ASSERT_EQ(rtAccelerationCreate(ctx, &a), RT_SUCCESS);
+  ExpectInvalid(rtAccelerationSetProperty(a, "refit", "\xff"), RT_ERROR_INVALID_VALUE,
+                {"rtAccelerationSetProperty(acceleration #", "property value is not valid UTF-8"});
+  ExpectInvalid(rtAccelerationSetProperty(a, "\xc3\x28", "1"), RT_ERROR_INVALID_VALUE,
+                {"property name is not valid UTF-8"});
+  ExpectInvalid(rtAccelerationSetProperty(a, "x", "\xed\xa0\x80"), RT_ERROR_INVALID_VALUE,
+                {"not valid UTF-8"});  // a surrogate
+  EXPECT_EQ(rtAccelerationSetProperty(a, "vertex_buffer_name", "v\xc3\xa9rtices"), RT_SUCCESS);
+  const char* s = nullptr;
+  ASSERT_EQ(rtAccelerationGetProperty(a, "refit", &s), RT_SUCCESS);
+  EXPECT_STREQ(s, "");
+}
+
+// Devices move rays with the top three rows only: a projective bottom row, or a matrix or given
+// inverse that is not finite, is refused instead of tracing a scene other than the one set.
+TEST_F(HostGraphTest, TransformMatricesMustBeAffineAndFinite) {
+  RTtransform t;
+  ASSERT_EQ(rtTransformCreate(ctx, &t), RT_SUCCESS);
+  const float translate[16] = {1, 0, 0, 3, 0, 1, 0, 4, 0, 0, 1, 5, 0, 0, 0, 1};
+  ASSERT_EQ(rtTransformSetMatrix(t, 0, translate, nullptr), RT_SUCCESS);
+  const float projective[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0.5f, 1};
+  ExpectInvalid(rtTransformSetMatrix(t, 0, projective, nullptr), RT_ERROR_INVALID_VALUE,
+                {"rtTransformSetMatrix(transform #", "bottom row", "affine"});
+  // A column-major matrix passed without transpose puts the translation in the bottom row.
+  ExpectInvalid(rtTransformSetMatrix(t, 1, translate, nullptr), RT_ERROR_INVALID_VALUE,
+                {"bottom row is (3, 4, 5, 1)"});
+  const float nan[16] = {1, 0, 0, NAN, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  ExpectInvalid(rtTransformSetMatrix(t, 0, nan, identity), RT_ERROR_INVALID_VALUE,
+                {"matrix has an entry that is not finite"});
+  ExpectInvalid(rtTransformSetMatrix(t, 0, identity, nan), RT_ERROR_INVALID_VALUE,
+                {"inverse matrix has an entry that is not finite"});
+  // An inverse with rounding in its bottom row is kept.
+  const float rounded[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e-9f, 0, 0, 0.99999994f};
+  EXPECT_EQ(rtTransformSetMatrix(t, 0, identity, rounded), RT_SUCCESS);
+  float m[16];
+  ASSERT_EQ(rtTransformGetMatrix(t, 0, m, nullptr), RT_SUCCESS);
+  EXPECT_EQ(m[3], 0.0f);
 }
 
 TEST_F(HostGraphTest, AccelerationSettings) {

@@ -3,6 +3,8 @@
 // accumulator, so that every buffer path of a launch crosses the process boundary.
 #include <optix_world.h>
 
+#include <cstdlib>
+
 using namespace optix;
 
 struct Payload {
@@ -90,5 +92,11 @@ RT_PROGRAM void render_crash() {
   if (launch_index.x == 5 && launch_index.y == 5) {
     *reinterpret_cast<volatile int*>(bad_address) = 1;
   }
+  image[launch_index] = make_float4(1.f);
+}
+
+// Ends the process running it at launch index (5, 5), as a program's own error path might.
+RT_PROGRAM void render_exit() {
+  if (launch_index.x == 5 && launch_index.y == 5) exit(3);
   image[launch_index] = make_float4(1.f);
 }

@@ -52,16 +52,31 @@ class FaultTest : public ::testing::Test {
     return ReadBytes(scene_.image);
   }
 
-  // Launches render_crash, which kills its worker; returns the launch's result and message.
-  RTresult LaunchCrashingProgram(std::string* message) {
+  // Launches `program` (render_crash by default), which ends its worker; returns the launch's
+  // result and message, and its stderr in `warning` when given.
+  RTresult LaunchCrashingProgram(std::string* message, const char* program = "render_crash",
+                                 std::string* warning = nullptr) {
     RTprogram crash;
-    EXPECT_EQ(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render_crash", &crash), RT_SUCCESS);
+    EXPECT_EQ(rtProgramCreateFromPTXFile(ctx_, ModulePath(), program, &crash), RT_SUCCESS);
     EXPECT_EQ(rtContextSetRayGenerationProgram(ctx_, 0, crash), RT_SUCCESS);
     testing::internal::CaptureStderr();
     RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
-    testing::internal::GetCapturedStderr();
+    const std::string said = testing::internal::GetCapturedStderr();
+    if (warning != nullptr) *warning = said;
     *message = ErrorText(ctx_, r);
     return r;
+  }
+  // After a program ended a worker: the host keeps running, and the next launch works on the
+  // respawned worker.
+  void NextLaunchWorks() {
+    RTprogram render;
+    Ok(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render", &render));
+    Ok(rtContextSetRayGenerationProgram(ctx_, 0, render));
+    testing::internal::CaptureStderr();
+    RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
+    testing::internal::GetCapturedStderr();
+    Ok(r);
+    EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), 2u);
   }
 
   // Launches entry point `entry`, returning its result, how long it took and its stderr.
@@ -312,36 +327,50 @@ TEST_F(FaultTest, ProgressMovesWhileOneDeviceRunsTheWholeLaunch) {
 
 TEST_F(FaultTest, CrashingProgramNamesDeviceAndProgram) {
   Create("local:2");
-  std::string message;
-  ASSERT_EQ(LaunchCrashingProgram(&message), RT_ERROR_LAUNCH_FAILED) << message;
+  std::string message, warning;
+  ASSERT_EQ(LaunchCrashingProgram(&message, "render_crash", &warning), RT_ERROR_LAUNCH_FAILED)
+      << message;
   EXPECT_NE(message.find("Tessera local worker"), std::string::npos) << message;
   EXPECT_NE(message.find("SIGSEGV"), std::string::npos) << message;
   EXPECT_NE(message.find("ray generation program 'render_crash'"), std::string::npos) << message;
-
-  // The host keeps running, and the next launch works on the respawned worker.
-  RTprogram render;
-  Ok(rtProgramCreateFromPTXFile(ctx_, ModulePath(), "render", &render));
-  Ok(rtContextSetRayGenerationProgram(ctx_, 0, render));
-  testing::internal::CaptureStderr();
-  RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
-  testing::internal::GetCapturedStderr();
-  Ok(r);
-  EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), 2u);
+  // The other worker is alive: the warning must not say that no device was left.
+  EXPECT_EQ(warning.find("No other device was left"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("The launch ended without its tiles"), std::string::npos) << warning;
+  NextLaunchWorks();
 }
 
-TEST_F(FaultTest, EveryDeviceLostIsConnectionFailed) {
-  // Workers this test runs itself, so that the host cannot start them again.
-  std::vector<std::unique_ptr<transport::WorkerProcess>> workers;
-  std::string spec;
-  for (int i = 0; i < 2; ++i) {
+// exit() in a program is a crash of that program, not a lost worker: before, the tile moved to
+// the other worker, ended it too, and the launch failed with "every device was lost".
+TEST_F(FaultTest, ExitInAProgramNamesDeviceAndProgram) {
+  Create("local:2");
+  std::string message;
+  ASSERT_EQ(LaunchCrashingProgram(&message, "render_exit"), RT_ERROR_LAUNCH_FAILED) << message;
+  EXPECT_NE(message.find("Tessera local worker"), std::string::npos) << message;
+  EXPECT_NE(message.find("exit() called in ray generation program 'render_exit'"),
+            std::string::npos)
+      << message;
+  NextLaunchWorks();
+}
+
+// Workers a test runs itself, so that the host cannot start them again; their addresses as a
+// device spec in `spec`.
+void SpawnOwnWorkers(int count, std::vector<std::unique_ptr<transport::WorkerProcess>>* workers,
+                     std::string* spec) {
+  for (int i = 0; i < count; ++i) {
     transport::WorkerProcess::Options options;
     options.listen = "127.0.0.1:0";
     options.index = i;
     auto worker = transport::WorkerProcess::Spawn(options);
     ASSERT_TRUE(worker.ok()) << worker.status();
-    spec += (spec.empty() ? "" : ",") + (*worker)->address();
-    workers.push_back(*std::move(worker));
+    *spec += (spec->empty() ? "" : ",") + (*worker)->address();
+    workers->push_back(*std::move(worker));
   }
+}
+
+TEST_F(FaultTest, EveryDeviceLostIsConnectionFailed) {
+  std::vector<std::unique_ptr<transport::WorkerProcess>> workers;
+  std::string spec;
+  ASSERT_NO_FATAL_FAILURE(SpawnOwnWorkers(2, &workers, &spec));
   Create(spec);
   Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
   for (auto& worker : workers) {
@@ -364,6 +393,70 @@ TEST_F(FaultTest, EveryDeviceLostIsConnectionFailed) {
         << ErrorText(ctx_, r);
     EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 30.0);
   }
+}
+
+// A program that crashes remote workers (whose crash reports stay in their own logs) takes down
+// one after the other as its tile moves: still a connection failure, but the message points at
+// the program.
+TEST_F(FaultTest, AProgramEndingEveryRemoteWorkerIsNamedTheLikelyCause) {
+  std::vector<std::unique_ptr<transport::WorkerProcess>> workers;
+  std::string spec;
+  ASSERT_NO_FATAL_FAILURE(SpawnOwnWorkers(2, &workers, &spec));
+  Create(spec);
+  std::string message;
+  ASSERT_EQ(LaunchCrashingProgram(&message), RT_ERROR_CONNECTION_FAILED) << message;
+  EXPECT_NE(message.find("every device was lost"), std::string::npos) << message;
+  EXPECT_NE(message.find("was running on two of them, a program may be crashing them"),
+            std::string::npos)
+      << message;
+}
+
+// A remote worker that hangs is tried again at every launch: each try may cost the silence
+// deadline, not gRPC's 10 s connection timeout.
+TEST_F(FaultTest, AHungRemoteWorkerCostsLaterLaunchesTheDeadlineOnly) {
+  std::vector<std::unique_ptr<transport::WorkerProcess>> workers;
+  std::string spec;
+  ASSERT_NO_FATAL_FAILURE(SpawnOwnWorkers(2, &workers, &spec));
+  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  Create(spec);
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
+  ASSERT_EQ(kill(workers[1]->pid(), SIGSTOP), 0);
+  ASSERT_TRUE(WaitUntilStopped(workers[1]->pid(), std::chrono::seconds(10)));
+  std::vector<double> seconds(3);
+  std::string warning;
+  for (double& s : seconds) {
+    RTresult r = TimedLaunch(0, &s, &warning);
+    EXPECT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
+  }
+  unsetenv("TESSERA_WORKER_TIMEOUT");
+  kill(workers[1]->pid(), SIGCONT);
+  for (double s : seconds) EXPECT_LT(s, 5.0);
+  EXPECT_NE(warning.find("did not answer within 1s"), std::string::npos) << warning;
+}
+
+// A worker says nothing while it builds its copy of a large state update: that silence is work,
+// not a hang, even with the shortest deadline.
+TEST_F(FaultTest, ALargeStateUpdateIsNotTakenForAHang) {
+  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  Create("local:2");
+  constexpr RTsize kBytes = RTsize{1024} << 20;  // seconds to take on a slow machine
+  RTbuffer ballast;
+  Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &ballast));
+  Ok(rtBufferSetFormat(ballast, RT_FORMAT_UNSIGNED_BYTE));
+  Ok(rtBufferSetSize1D(ballast, kBytes));
+  void* data = nullptr;
+  Ok(rtBufferMap(ballast, &data));
+  for (RTsize i = 0; i < kBytes; i += 4096) static_cast<unsigned char*>(data)[i] = (i >> 12) & 255;
+  Ok(rtBufferUnmap(ballast));
+  RTvariable v;
+  Ok(rtContextDeclareVariable(ctx_, "ballast", &v));
+  Ok(rtVariableSetObject(v, ballast));
+  double seconds = 0;
+  std::string warning;
+  RTresult r = TimedLaunch(0, &seconds, &warning);
+  unsetenv("TESSERA_WORKER_TIMEOUT");
+  EXPECT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
+  EXPECT_EQ(warning.find("did not take the state update"), std::string::npos) << warning;
 }
 
 }  // namespace

@@ -141,6 +141,21 @@ TEST_P(DevicePointerTest, OutputPointerShowsTheMergedResultAfterALaunch) {
   EXPECT_EQ(std::vector<unsigned>(out, out + kCount), Values(5));
 }
 
+// An OUTPUT buffer's device pointer is that device's copy too: programs see what the application
+// put there (it used to be ignored, and the application's data overwritten with zeros).
+TEST_P(DevicePointerTest, OutputPointerContentsAreTheDevicesCopy) {
+  RayGen("output_increment");
+  RTbuffer counts = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "out_counts");
+  void* p = nullptr;
+  Ok(rtBufferGetDevicePointer(counts, 0, &p));
+  unsigned* u = static_cast<unsigned*>(p);
+  const std::vector<unsigned> start = Values(100);
+  std::copy(start.begin(), start.end(), u);
+  Launch1D(kCount);
+  EXPECT_EQ(std::vector<unsigned>(u, u + kCount), Values(101));
+  EXPECT_EQ(Contents<unsigned>(counts), Values(101));
+}
+
 TEST_P(DevicePointerTest, RaceCheckNamesTheBufferTheElementAndTheDevices) {
   RayGen("race_on_first");
   RTbuffer contested = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "contested");

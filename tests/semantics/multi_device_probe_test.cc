@@ -136,6 +136,26 @@ std::vector<pid_t> WorkersOf(pid_t parent) {
   return workers;
 }
 
+// Selecting the set the context already runs on changes nothing: it used to restart every worker
+// and silently reset per-device accumulation.
+TEST_F(DeviceSetProbeTest, SelectingTheSameDevicesKeepsGpuLocalState) {
+  UseDevices("local:2");
+  RayGen("accumulate_local");
+  constexpr RTsize kW = 16, kH = 8;
+  Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_INT, {kW, kH}, "local_acc");
+  RTbuffer copy = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_INT, {kW, kH}, "local_copy");
+  TileSize({4, 4});
+  for (int launch = 1; launch <= 3; ++launch) {
+    Launch2D(kW, kH);
+    EXPECT_EQ(Contents<int>(copy), std::vector<int>(kW * kH, launch)) << "launch " << launch;
+    unsigned count = 0;
+    Ok(rtContextGetDeviceCount(ctx_, &count));
+    std::vector<int> devices(count);
+    Ok(rtContextGetDevices(ctx_, devices.data()));
+    Ok(rtContextSetDevices(ctx_, count, devices.data()));
+  }
+}
+
 TEST_F(DeviceSetProbeTest, SurvivorsKeepTheirGpuLocalPixelsWhenAWorkerDiedBetweenLaunches) {
   UseDevices("local:3");
   RayGen("accumulate_local");

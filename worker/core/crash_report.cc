@@ -1,6 +1,7 @@
 #include "tessera/worker/crash_report.h"
 
 #include <signal.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -69,9 +70,29 @@ void OnFatalSignal(int sig) {
   raise(sig);
 }
 
+// exit() or quick_exit() called by a program (a program's own error path, say): the worker would
+// otherwise end with a plain exit status, the host would take it for a lost device and run the
+// tiles again on the others, and the program would end them all ("every device was lost").
+// Reported as a crash naming the program, and ended with SIGABRT so that the host reads it.
+void OnExitInProgram() {
+  const worker::ThreadState* ts = worker::t_state;
+  if (ts == nullptr || ts->current == nullptr) return;  // the worker's own exit
+  Line line;
+  line.Add(kCrashReportPrefix);
+  line.Add("exit() called in ");
+  line.Add(ts->current->name.c_str());
+  line.Add("\n");
+  ssize_t ignored = write(STDERR_FILENO, line.text, line.size);
+  (void)ignored;
+  signal(SIGABRT, SIG_DFL);  // this line, not a second one from OnFatalSignal
+  abort();
+}
+
 }  // namespace
 
 void InstallCrashReporter() {
+  atexit(&OnExitInProgram);
+  at_quick_exit(&OnExitInProgram);
   struct sigaction action;
   memset(&action, 0, sizeof(action));
   action.sa_handler = &OnFatalSignal;

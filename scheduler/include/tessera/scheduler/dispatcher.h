@@ -116,7 +116,10 @@ class Dispatcher {
   std::vector<bool> lost_ ABSL_GUARDED_BY(mu_);
   std::vector<LostDevice> lost_reasons_ ABSL_GUARDED_BY(mu_);
   std::vector<int> tile_losses_ ABSL_GUARDED_BY(mu_);  // by tile index: devices lost running it
-  uint64_t remaining_ ABSL_GUARDED_BY(mu_) = 0;        // tiles not yet finished
+  // Per device: the batches of its calls in flight (owned by the threads making them), to tell
+  // whether a device that died was running a tile that had taken another device down.
+  std::vector<std::vector<const std::vector<v1::Tile>*>> in_flight_ ABSL_GUARDED_BY(mu_);
+  uint64_t remaining_ ABSL_GUARDED_BY(mu_) = 0;  // tiles not yet finished
   size_t running_threads_ ABSL_GUARDED_BY(mu_) = 0;
   std::vector<FinishedBatch> finished_ ABSL_GUARDED_BY(mu_);
   // Per device: batches that ended before an earlier-run call, by sequence, and the sequence
