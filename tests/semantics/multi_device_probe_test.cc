@@ -156,6 +156,38 @@ TEST_F(DeviceSetProbeTest, SelectingTheSameDevicesKeepsGpuLocalState) {
   }
 }
 
+// A launch that fails before devices take its state (every worker died) copies nothing: a
+// COPY_ON_DIRTY pointer stays dirty, and the next launch copies what the application wrote
+// since. It used to count as copied, leaving the other devices on what the failed launch saw.
+TEST_F(DeviceSetProbeTest, CopyOnDirtyPointerStaysDirtyThroughAFailedLaunch) {
+  UseDevices("local:3");
+  RayGen("copy_from_pointer");
+  constexpr RTsize kCount = 64;
+  RTbuffer copied = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "copied");
+  RTbuffer input = Buffer(RT_BUFFER_INPUT | RT_BUFFER_COPY_ON_DIRTY, RT_FORMAT_UNSIGNED_INT,
+                          {kCount}, "from_pointer");
+  TileSize({8});
+  PinTilesToDevices();  // every device runs tiles
+  void* p = nullptr;
+  Ok(rtBufferGetDevicePointer(input, 0, &p));
+  Launch1D(kCount);
+  Ok(rtBufferMarkDirty(input));
+  SetUint("salt", 1);  // a state update for every device, which finds them gone
+  for (pid_t worker : WorkersOf(getpid())) ASSERT_EQ(kill(worker, SIGKILL), 0);
+  usleep(100 * 1000);
+  ::testing::internal::CaptureStderr();
+  RTresult r = rtContextLaunch1D(ctx_, 0, kCount);
+  ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(r, RT_ERROR_CONNECTION_FAILED) << Error(r);
+  std::vector<unsigned> values(kCount);
+  for (RTsize i = 0; i < kCount; ++i) values[i] = 1000 + static_cast<unsigned>(i);
+  std::copy(values.begin(), values.end(), static_cast<unsigned*>(p));
+  ::testing::internal::CaptureStderr();
+  Launch1D(kCount);  // on respawned workers
+  ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(Contents<unsigned>(copied), values);
+}
+
 TEST_F(DeviceSetProbeTest, SurvivorsKeepTheirGpuLocalPixelsWhenAWorkerDiedBetweenLaunches) {
   UseDevices("local:3");
   RayGen("accumulate_local");
