@@ -8,10 +8,13 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "buffer_format.h"
+#include "context.h"
 #include "dirty.h"
 #include "hash.h"
 #include "status.h"
 #include "tessera/scheduler/device.h"
+#include "variable.h"
+#include "variable_scope.h"
 
 namespace tessera::api {
 namespace {
@@ -197,6 +200,29 @@ absl::Status Buffer::SetDevicePointer(int ordinal, void* pointer) {
   return absl::OkStatus();
 }
 
+std::string Buffer::VariableName() const {
+  if (context() == nullptr) return "";
+  auto name_in = [&](Object* owner) -> std::string {
+    VariableScope* scope = owner->scope();
+    if (scope == nullptr) return "";
+    for (const Variable* v : scope->variables()) {
+      if (v->object() == this) return v->name();
+    }
+    return "";
+  };
+  std::string name = name_in(context());
+  for (const auto& [id, object] : context()->objects()) {
+    if (!name.empty()) break;
+    name = name_in(object);
+  }
+  return name;
+}
+
+std::string Buffer::DescribeNamed() const {
+  const std::string name = VariableName();
+  return name.empty() ? Describe() : absl::StrCat(Describe(), " ('", name, "')");
+}
+
 absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordinals) {
   // Still dirty until devices took the launch's state (DevicePointersShipped): a launch that
   // fails before that (another buffer's pointers, a device rejecting its update) copies again.
@@ -204,7 +230,7 @@ absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordi
   if (views_.empty()) {
     if (for_cuda_ && !data_.empty()) {
       return RtError(RT_ERROR_INVALID_VALUE,
-                     absl::StrCat(Describe(),
+                     absl::StrCat(DescribeNamed(),
                                   " was created with rtBufferCreateForCUDA and has no "
                                   "device pointer; call rtBufferSetDevicePointer"));
     }
@@ -213,15 +239,16 @@ absl::Status Buffer::SyncDevicePointersBeforeLaunch(const std::vector<int>& ordi
   for (const auto& [ordinal, view] : views_) {
     if (std::find(ordinals.begin(), ordinals.end(), ordinal) == ordinals.end()) {
       return RtError(RT_ERROR_INVALID_VALUE,
-                     absl::StrCat(Describe(), " has a device pointer for device ", ordinal,
+                     absl::StrCat(DescribeNamed(), " has a device pointer for device ", ordinal,
                                   ", which the context does not run on"));
     }
   }
   const size_t k = views_.size(), n = ordinals.size();
   if (k > 1 && k < n) {
-    return RtError(RT_ERROR_INVALID_VALUE,
-                   absl::StrCat(Describe(), " has device pointers for ", k, " of the context's ", n,
-                                " devices; give one device a pointer, or every device"));
+    return RtError(
+        RT_ERROR_INVALID_VALUE,
+        absl::StrCat(DescribeNamed(), " has device pointers for ", k, " of the context's ", n,
+                     " devices; give one device a pointer, or every device"));
   }
   if (!ships_content()) return absl::OkStatus();
   // A device with a pointer runs on its own view (PerDeviceBytes), as a GPU on its own memory.

@@ -40,6 +40,11 @@ class Buffer : public Object {
   // application wrote there before the launch is what programs see and what they leave alone).
   bool ships_content() const { return is_input() || !views_.empty() || FeedsTriangles(); }
   bool FeedsTriangles() const;
+  // The name the application knows the buffer by: the first variable bound to it (on the
+  // context first), empty when none is.
+  std::string VariableName() const;
+  // Describe() with that name, "buffer #4 ('accum')", for messages about a launch.
+  std::string DescribeNamed() const;
   // Whether devices send contents back: OUTPUT and INPUT_OUTPUT buffers, unless GPU_LOCAL.
   bool gathers_content() const { return is_output() && !gpu_local(); }
 

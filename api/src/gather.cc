@@ -212,21 +212,10 @@ void LaunchGather::ApplyRun(size_t device, Buffer& b, uint64_t offset, absl::str
 
 namespace {
 
-// The name an application knows a buffer by: the first variable bound to it.
+// The name an application knows a buffer by, or its id.
 std::string BufferName(Context& context, uint64_t id) {
-  auto name_in = [&](Object* owner) -> std::string {
-    VariableScope* scope = owner->scope();
-    if (scope == nullptr) return "";
-    for (const Variable* v : scope->variables()) {
-      if (v->object() != nullptr && v->object()->id() == id) return v->name();
-    }
-    return "";
-  };
-  std::string name = name_in(&context);
-  for (const auto& [object_id, object] : context.objects()) {
-    if (!name.empty()) break;
-    name = name_in(object);
-  }
+  const auto* b = static_cast<const Buffer*>(context.FindById(id));
+  const std::string name = b != nullptr ? b->VariableName() : "";
   return name.empty() ? absl::StrCat("#", id) : absl::StrCat("'", name, "'");
 }
 

@@ -59,7 +59,7 @@ std::string PerDeviceDataBuffers(Context& context) {
     if (object->kind() != Kind::kBuffer) continue;
     const auto& b = static_cast<const Buffer&>(*object);
     if (b.ships_content() && b.device_pointer_count() == devices) {
-      absl::StrAppend(&names, names.empty() ? "" : ", ", b.Describe());
+      absl::StrAppend(&names, names.empty() ? "" : ", ", b.DescribeNamed());
     }
   }
   return names;
@@ -288,7 +288,15 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& po
       continue;
     }
     if (!job.status.ok()) {
-      if (rejected.ok()) rejected = DeviceError(slot, "rejected the state update", job.status);
+      // A worker that crashed taking the update (a module's constructor, say) is gone: the next
+      // launch starts it again.
+      const bool crashed = job.status.code() == absl::StatusCode::kAborted;
+      if (rejected.ok()) {
+        rejected = DeviceError(
+            slot, crashed ? "crashed taking the state update" : "rejected the state update",
+            job.status);
+      }
+      if (crashed) context.LoseDevice(slot);
       continue;
     }
     context.CountSent(bytes);
@@ -352,7 +360,7 @@ void WarnIfTilesMoved(Context& context, uint64_t launch_id, const std::vector<ui
                  "of GPU_LOCAL buffers (%s)\n",
                  static_cast<unsigned long long>(launch_id), absl::StrJoin(last.tile, "x").c_str(),
                  absl::StrJoin(effective, "x").c_str(), absl::StrJoin(dims, "x").c_str(),
-                 b != nullptr ? b->Describe().c_str() : "");
+                 b != nullptr ? b->DescribeNamed().c_str() : "");
   }
   last.dims = dims;
   last.tile = effective;

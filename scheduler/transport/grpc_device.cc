@@ -182,7 +182,11 @@ absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
                      absl::FormatDuration(SilenceDeadline()),
                      " (hung or unreachable; TESSERA_WORKER_TIMEOUT sets the limit)"));
   }
-  return FromGrpcStatus(status, address_);
+  absl::Status result = FromGrpcStatus(status, address_);
+  // A connection that dropped: a spawned worker that died says how (killed between launches, or
+  // crashed loading a module); a worker that rejected the update is alive and says why itself.
+  if (result.code() == absl::StatusCode::kUnavailable) return LostOrFailed(std::move(result));
+  return result;
 }
 
 absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,

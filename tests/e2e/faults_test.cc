@@ -459,5 +459,23 @@ TEST_F(FaultTest, ALargeStateUpdateIsNotTakenForAHang) {
   EXPECT_EQ(warning.find("did not take the state update"), std::string::npos) << warning;
 }
 
+// A module whose static constructor crashes its worker: the message names the module.
+TEST_F(FaultTest, AModuleWhoseConstructorCrashesIsNamed) {
+  setenv("TESSERA_TEST_CRASH_IN_CONSTRUCTOR", "1", 1);
+  Create("local:2");
+  RTprogram loaded;
+  Ok(rtProgramCreateFromPTXFile(ctx_, TESSERA_E2E_CONSTRUCTOR_CRASH_MODULE, "render_loaded",
+                                &loaded));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, loaded));
+  testing::internal::CaptureStderr();
+  RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
+  const std::string warning = testing::internal::GetCapturedStderr();
+  unsetenv("TESSERA_TEST_CRASH_IN_CONSTRUCTOR");
+  EXPECT_NE(r, RT_SUCCESS);
+  const std::string message = ErrorText(ctx_, r) + "\n" + warning;
+  EXPECT_NE(message.find("while loading program module"), std::string::npos) << message;
+  EXPECT_NE(message.find("e2e_constructor_crash.so"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace tessera::e2e

@@ -10,6 +10,9 @@
 namespace tessera {
 namespace {
 
+// CrashContext's text: a plain pointer in initial-exec TLS, readable from a signal handler.
+__thread const char* t_crash_context __attribute__((tls_model("initial-exec"))) = nullptr;
+
 // Async-signal-safe appends into a fixed buffer.
 struct Line {
   char text[1024];
@@ -59,6 +62,9 @@ void OnFatalSignal(int sig) {
   if (ts != nullptr && ts->current != nullptr) {
     line.Add(" in ");
     line.Add(ts->current->name.c_str());
+  } else if (t_crash_context != nullptr) {
+    line.Add(" while ");
+    line.Add(t_crash_context);
   } else {
     line.Add(" outside any program");
   }
@@ -89,6 +95,12 @@ void OnExitInProgram() {
 }
 
 }  // namespace
+
+CrashContext::CrashContext(const char* what) : previous_(t_crash_context) {
+  t_crash_context = what;
+}
+
+CrashContext::~CrashContext() { t_crash_context = previous_; }
 
 void InstallCrashReporter() {
   atexit(&OnExitInProgram);

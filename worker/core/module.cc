@@ -18,6 +18,7 @@
 #include "runtime.h"
 #include "tessera/scheduler/module_file.h"
 #include "tessera/scheduler/module_symbol.h"
+#include "tessera/worker/crash_report.h"
 #include "tessera/worker/module_cache.h"
 
 namespace tessera::worker {
@@ -206,6 +207,9 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
     return absl::InvalidArgumentError(
         absl::StrCat("cannot load program module ", path, ": ", whole.message()));
   }
+  // A module's static constructors run in dlopen, its registrations in init.
+  const std::string loading = absl::StrCat("loading program module ", path);
+  CrashContext crash_context(loading.c_str());
   void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) {
     const char* err = dlerror();

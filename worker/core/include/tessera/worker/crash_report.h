@@ -14,6 +14,20 @@ namespace tessera {
 // embeds Tessera keeps its own handlers.
 void InstallCrashReporter();
 
+// What the calling thread does outside programs while it lives, for the crash line: a module
+// whose static constructor crashes reads "signal 11 (SIGSEGV) while loading program module m.cu
+// (cached as …)" instead of "outside any program". `what` must outlive the scope.
+class CrashContext {
+ public:
+  explicit CrashContext(const char* what);
+  ~CrashContext();
+  CrashContext(const CrashContext&) = delete;
+  CrashContext& operator=(const CrashContext&) = delete;
+
+ private:
+  const char* const previous_;
+};
+
 }  // namespace tessera
 
 #endif  // TESSERA_WORKER_CRASH_REPORT_H_
