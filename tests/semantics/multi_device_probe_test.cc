@@ -106,7 +106,19 @@ TEST_P(RaceProbeTest, InputOutputReadModifyWriteByOneDeviceIsNoRace) {
   EXPECT_EQ(Contents<unsigned>(io), std::vector<unsigned>(kCount, 3u));
 }
 
-using DeviceSetProbeTest = MultiDeviceFixture;
+class DeviceSetProbeTest : public MultiDeviceFixture {
+ protected:
+  // accumulate_local on `devices` over a w x h launch in 4x4 tiles: each launch adds 1 to every
+  // pixel's GPU_LOCAL count on its device, and the returned OUTPUT buffer shows the counts.
+  RTbuffer AccumulateLocally(const char* devices, RTsize w, RTsize h) {
+    UseDevices(devices);
+    RayGen("accumulate_local");
+    Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_INT, {w, h}, "local_acc");
+    RTbuffer copy = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_INT, {w, h}, "local_copy");
+    TileSize({4, 4});
+    return copy;
+  }
+};
 
 // ---- GPU_LOCAL when a worker dies between launches ---------------------------------------------
 
@@ -139,12 +151,8 @@ std::vector<pid_t> WorkersOf(pid_t parent) {
 // Selecting the set the context already runs on changes nothing: it used to restart every worker
 // and silently reset per-device accumulation.
 TEST_F(DeviceSetProbeTest, SelectingTheSameDevicesKeepsGpuLocalState) {
-  UseDevices("local:2");
-  RayGen("accumulate_local");
   constexpr RTsize kW = 16, kH = 8;
-  Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_INT, {kW, kH}, "local_acc");
-  RTbuffer copy = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_INT, {kW, kH}, "local_copy");
-  TileSize({4, 4});
+  RTbuffer copy = AccumulateLocally("local:2", kW, kH);
   for (int launch = 1; launch <= 3; ++launch) {
     Launch2D(kW, kH);
     EXPECT_EQ(Contents<int>(copy), std::vector<int>(kW * kH, launch)) << "launch " << launch;
@@ -189,12 +197,8 @@ TEST_F(DeviceSetProbeTest, CopyOnDirtyPointerStaysDirtyThroughAFailedLaunch) {
 }
 
 TEST_F(DeviceSetProbeTest, SurvivorsKeepTheirGpuLocalPixelsWhenAWorkerDiedBetweenLaunches) {
-  UseDevices("local:3");
-  RayGen("accumulate_local");
   constexpr RTsize kW = 24, kH = 8;
-  Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_INT, {kW, kH}, "local_acc");
-  RTbuffer copy = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_INT, {kW, kH}, "local_copy");
-  TileSize({4, 4});  // 6x2 tiles: tile t on device t mod 3
+  RTbuffer copy = AccumulateLocally("local:3", kW, kH);  // 6x2 tiles: tile t on device t mod 3
   Launch2D(kW, kH);
   std::vector<pid_t> workers = WorkersOf(getpid());
   ASSERT_EQ(workers.size(), 3u);
