@@ -40,8 +40,14 @@ absl::StatusOr<WorkerFacts> AskWorker(const DeviceDesc& device) {
   if (probe == nullptr) return WorkerFacts{};
   absl::StatusOr<WorkerFacts> facts = probe(device);
   if (!facts.ok()) {
-    // The transport's message names the worker's address and why it did not answer.
-    return RtError(RT_ERROR_CONNECTION_FAILED, facts.status().message());
+    // The transport's message names the worker's address and why it did not answer. A worker
+    // that answered with a refusal of the token is an authentication failure, as in a launch.
+    const absl::StatusCode code = facts.status().code();
+    return RtError(
+        code == absl::StatusCode::kUnauthenticated || code == absl::StatusCode::kPermissionDenied
+            ? RT_ERROR_AUTHENTICATION_FAILED
+            : RT_ERROR_CONNECTION_FAILED,
+        facts.status().message());
   }
   return facts;
 }

@@ -4,6 +4,10 @@
 #include <grpcpp/support/client_interceptor.h>
 #include <grpcpp/support/interceptor.h>
 #include <netinet/in.h>
+#include <openssl/bio.h>
+#include <openssl/err.h>
+#include <openssl/pem.h>
+#include <openssl/x509.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -71,6 +75,31 @@ class TokenInterceptorFactory final : public grpc::experimental::ClientIntercept
  private:
   const std::string value_;
 };
+
+// OK when the PEM `key` is the private key of the first certificate in the PEM `cert`.
+absl::Status CheckKeyMatchesCertificate(const std::string& cert, const std::string& key) {
+  BIO* cert_bio = BIO_new_mem_buf(cert.data(), static_cast<int>(cert.size()));
+  BIO* key_bio = BIO_new_mem_buf(key.data(), static_cast<int>(key.size()));
+  X509* x509 =
+      cert_bio != nullptr ? PEM_read_bio_X509(cert_bio, nullptr, nullptr, nullptr) : nullptr;
+  EVP_PKEY* pkey =
+      key_bio != nullptr ? PEM_read_bio_PrivateKey(key_bio, nullptr, nullptr, nullptr) : nullptr;
+  absl::Status status;
+  if (x509 == nullptr) {
+    status = absl::FailedPreconditionError("the certificate cannot be parsed");
+  } else if (pkey == nullptr) {
+    status = absl::FailedPreconditionError(
+        "the private key cannot be parsed (or is encrypted; give an unencrypted key)");
+  } else if (X509_check_private_key(x509, pkey) != 1) {
+    status = absl::FailedPreconditionError("the key does not belong to the certificate");
+  }
+  ERR_clear_error();
+  EVP_PKEY_free(pkey);
+  X509_free(x509);
+  BIO_free(key_bio);
+  BIO_free(cert_bio);
+  return status;
+}
 
 }  // namespace
 
@@ -194,6 +223,12 @@ absl::StatusOr<std::shared_ptr<grpc::Channel>> CreateWorkerChannel(const std::st
     if (!cert.ok()) return cert.status();
     absl::StatusOr<std::string> key = ReadPemFile(key_file, kTlsKeyEnv, "PRIVATE KEY-----");
     if (!key.ok()) return key.status();
+    // gRPC takes a key that does not belong to the certificate and then fails every connection
+    // with "empty address list": check the pair here, where the message can name the files.
+    if (absl::Status pair = CheckKeyMatchesCertificate(*cert, *key); !pair.ok()) {
+      return absl::FailedPreconditionError(absl::StrCat(
+          kTlsKeyEnv, " ", key_file, " and ", kTlsCertEnv, " ", cert_file, ": ", pair.message()));
+    }
     ssl.pem_cert_chain = *std::move(cert);
     ssl.pem_private_key = *std::move(key);
   }

@@ -367,6 +367,14 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  // The host's environment, less the token of workers someone starts themselves: a spawned
+  // worker listens in a private directory and needs none, and one that took the host's
+  // TESSERA_WORKER_TOKEN would refuse the host, which sends TESSERA_TOKEN (docs/security.md).
+  std::vector<char*> envp;
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (std::strncmp(*e, "TESSERA_WORKER_TOKEN=", 21) != 0) envp.push_back(*e);
+  }
+  envp.push_back(nullptr);
 
   // Everything the child touches is prepared here: between fork and exec only async-signal-safe
   // calls are allowed in a multithreaded process.
@@ -425,7 +433,7 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
       if (syscall(SYS_close_range, static_cast<unsigned>(first_closed), ~0u, 0u) != 0) {
         for (int fd = first_closed; fd < 4096; ++fd) close(fd);
       }
-      execv(argv[0], argv.data());
+      execve(argv[0], argv.data(), envp.data());
       static const char kMessage[] = "tessera-worker: exec failed\n";
       ssize_t ignored = write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
       (void)ignored;

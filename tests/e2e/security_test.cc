@@ -3,6 +3,7 @@
 // get (UNAUTHENTICATED and a logged reason, or a failed handshake, never a hang), and that neither
 // end uses a non-loopback address without TLS and a token.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -246,6 +247,43 @@ TEST_F(SecurityTest, UnusableHostSettingsAreReportedBeforeConnecting) {
   auto both = GrpcDevice::Connect("127.0.0.1:1", absl::Seconds(30));
   ASSERT_FALSE(both.ok());
   EXPECT_NE(both.status().message().find("set one"), std::string::npos) << both.status();
+
+  // A host key that is not its certificate's: gRPC would say "empty address list".
+  unsetenv("TESSERA_TOKEN_FILE");
+  setenv("TESSERA_TLS_CERT", Path("client.pem").c_str(), 1);
+  setenv("TESSERA_TLS_KEY", Path("other.key").c_str(), 1);
+  auto mismatched = GrpcDevice::Connect("127.0.0.1:1", absl::Seconds(30));
+  ASSERT_FALSE(mismatched.ok());
+  EXPECT_NE(mismatched.status().message().find("the key does not belong to the certificate"),
+            std::string::npos)
+      << mismatched.status();
+}
+
+// Whoever can connect to a worker's unix socket runs code as its user: the socket is the
+// owner's alone even when the worker inherits a umask that would share it.
+TEST_F(SecurityTest, AUnixSocketWorkerIsOwnerOnlyWhateverTheUmask) {
+  const mode_t old_umask = umask(0);
+  WorkerProcess::Options options;
+  options.threads = 1;
+  options.listen = "unix:" + Path("w.sock");
+  auto spawned = WorkerProcess::Spawn(options);
+  umask(old_umask);
+  ASSERT_TRUE(spawned.ok()) << spawned.status();
+  struct stat st {};
+  ASSERT_EQ(stat(Path("w.sock").c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 077, 0u) << std::oct << (st.st_mode & 0777);
+}
+
+// TESSERA_WORKER_TOKEN configures workers someone starts; a host that has it in its environment
+// still runs its own local:N workers, which need no token.
+TEST_F(SecurityTest, ATokenForOtherWorkersDoesNotLockTheHostOutOfItsOwn) {
+  setenv("TESSERA_WORKER_TOKEN", kToken, 1);
+  WorkerProcess::Options options;
+  options.threads = 1;
+  auto spawned = WorkerProcess::Spawn(options);
+  ASSERT_TRUE(spawned.ok()) << spawned.status();
+  auto device = GrpcDevice::Connect((*spawned)->address(), absl::Seconds(5));
+  EXPECT_TRUE(device.ok()) << device.status();
 }
 
 TEST_F(SecurityTest, APlainLoopbackWorkerWithATokenChecksIt) {

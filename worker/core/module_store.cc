@@ -202,7 +202,9 @@ absl::StatusOr<std::map<std::string, std::string>> AssembleModules(
                                                        c.total_size(), " bytes (1 byte to ",
                                                        kMaxModuleBytes, " bytes)"));
       }
-      bytes.reserve(c.total_size());
+      // Only what this slice brings: a size is a claim until its bytes arrive, and reserving
+      // every claimed size up front let a delta naming many modules exhaust the address space.
+      bytes.reserve(c.data().size());
     }
     if (c.total_size() != total->second) {
       return absl::InvalidArgumentError(absl::StrCat("slices of program module ", hash,

@@ -403,6 +403,15 @@ TEST(ModuleStoreTest, SlicesAreReassembledInOrderOnly) {
   rejected({Slice(h1, 0, 2, "abc")}, "does not continue");
   rejected({Slice(h1, 0, 0, "")}, "is 0 bytes");
   rejected({Slice("../x", 0, 1, "a")}, "names no module hash");
+
+  // Sizes are claims until the bytes arrive: modules claiming 1 GiB each, with a byte each, are
+  // refused for the missing bytes. (Space for every claim used to be reserved up front: enough
+  // such claims ran out of address space, and the worker answered "Unexpected error".)
+  std::vector<v1::ModuleChunk> claims;
+  for (int i = 0; i < 1000; ++i) {
+    claims.push_back(Slice(ModuleHash(std::to_string(i)), 0, uint64_t{1} << 30, "a"));
+  }
+  rejected(std::move(claims), "only 1 of 1073741824 bytes");
 }
 
 }  // namespace

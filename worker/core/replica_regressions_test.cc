@@ -358,5 +358,22 @@ TEST_F(ReplicaFuzz, StridePropertyThatIsNoNumberFailsTheLaunch) {
   EXPECT_NE(out.status.message().find("vertex_buffer_stride"), std::string::npos) << out.status;
 }
 
+// Triangles the index buffer cannot hold (a stride or a primitive count past it) were dropped
+// silently, so the image changed with the builder: now the launch fails naming the property and
+// the buffer.
+TEST_F(ReplicaFuzz, IndexStridePastTheIndexBufferFailsTheLaunch) {
+  v1::StateDelta d = scene_;
+  (*ObjectById(d, kTriangleAccel)
+        ->mutable_acceleration()
+        ->mutable_properties())["index_buffer_stride"] = "4096";
+  ObjectById(d, kTriangleGeometry)->mutable_geometry()->set_primitive_count(2);  // 1 triangle held
+  std::unique_ptr<Device> device = DeviceWith(d);
+  LaunchOutcome out = RunLaunch(*device, ValidRequest(1, 1));
+  EXPECT_EQ(out.status.code(), absl::StatusCode::kOutOfRange) << out.status;
+  EXPECT_NE(out.status.message().find("index_buffer_stride"), std::string::npos) << out.status;
+  EXPECT_NE(out.status.message().find("do not fit index buffer #"), std::string::npos)
+      << out.status;
+}
+
 }  // namespace
 }  // namespace tessera::fuzz

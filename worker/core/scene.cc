@@ -130,10 +130,11 @@ std::string Property(const AccelRec& a, const std::string& name, const std::stri
 }
 
 const BufferRec* FindBuffer(const Replica& r, const InstanceRec& gi, const GeometryRec& g,
-                            const std::string& name) {
+                            const std::string& name, uint64_t* id) {
   for (const Scope* s : {&gi.vars, &g.vars}) {
     auto it = s->find(name);
     if (it != s->end() && it->second.type == RT_OBJECTTYPE_BUFFER) {
+      *id = it->second.object_id;
       return r.Find(r.buffers, it->second.object_id);
     }
   }
@@ -143,6 +144,7 @@ const BufferRec* FindBuffer(const Replica& r, const InstanceRec& gi, const Geome
 struct TriangleSource {
   const BufferRec* vertices = nullptr;
   const BufferRec* indices = nullptr;
+  uint64_t vertex_id = 0, index_id = 0;
   size_t vertex_stride = 12, index_stride = 12;
 };
 
@@ -150,8 +152,9 @@ struct TriangleSource {
 absl::StatusOr<bool> FindTriangles(const Replica& r, uint64_t accel_id, const AccelRec& a,
                                    const InstanceRec& gi, const GeometryRec& g, TriangleSource& t) {
   if (!TriangleBuilder(a)) return false;
-  t.vertices = FindBuffer(r, gi, g, Property(a, "vertex_buffer_name", "vertex_buffer"));
-  t.indices = FindBuffer(r, gi, g, Property(a, "index_buffer_name", "index_buffer"));
+  t.vertices =
+      FindBuffer(r, gi, g, Property(a, "vertex_buffer_name", "vertex_buffer"), &t.vertex_id);
+  t.indices = FindBuffer(r, gi, g, Property(a, "index_buffer_name", "index_buffer"), &t.index_id);
   if (t.vertices == nullptr || t.indices == nullptr) return false;
   for (const auto& [name, stride] : {std::pair{"vertex_buffer_stride", &t.vertex_stride},
                                      std::pair{"index_buffer_stride", &t.index_stride}}) {
@@ -348,9 +351,18 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
       if (info->filter) rtcSetGeometryIntersectFilterFunction(geom, &FilterTriangles);
     } else if (*triangles) {
       info->triangles = true;
-      size_t nverts = tris.vertices->data.size() / tris.vertex_stride;
-      size_t ntris =
-          std::min<size_t>(g.primitive_count, tris.indices->data.size() / tris.index_stride);
+      // An element's last vertex or triangle needs its 12 bytes, not a whole stride.
+      const size_t vbytes = tris.vertices->data.size();
+      const size_t nverts = vbytes < 12 ? 0 : (vbytes - 12) / tris.vertex_stride + 1;
+      // Every primitive is a triangle of the index buffer: one it cannot hold would never be hit.
+      const size_t ntris = g.primitive_count;
+      if (!StridedFits(tris.indices->data.size(), 0, ntris, tris.index_stride, 12)) {
+        return absl::OutOfRangeError(
+            absl::StrCat("geometry instance #", gid, ": ", ntris, " triangles' indices every ",
+                         tris.index_stride, " bytes (acceleration #", gg->acceleration,
+                         ", property index_buffer_stride) do not fit index buffer #", tris.index_id,
+                         " (", tris.indices->data.size(), " bytes)"));
+      }
       geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
       auto* v = static_cast<float*>(
           rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, nverts));

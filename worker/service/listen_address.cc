@@ -77,10 +77,17 @@ absl::Status CheckUnixSocketNotInUse(absl::string_view listen) {
   const std::string path(listen.substr(5));
   sockaddr_un address{};
   struct stat st {};
-  if (path.empty() || path.size() >= sizeof(address.sun_path) || stat(path.c_str(), &st) != 0 ||
-      !S_ISSOCK(st.st_mode)) {
-    return absl::OkStatus();
+  if (path.empty() || path.size() >= sizeof(address.sun_path)) return absl::OkStatus();
+  // Something else under that name (a file, a directory, a symbolic link to nothing) is never
+  // replaced, and binding there fails: say so rather than leave it to gRPC's "No address added".
+  if (struct stat own{};
+      lstat(path.c_str(), &own) == 0 && (stat(path.c_str(), &st) != 0 || !S_ISSOCK(st.st_mode))) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("--listen ", listen, ": ", path, " exists and is not a socket",
+                     S_ISLNK(own.st_mode) ? " (a symbolic link to no socket)" : "",
+                     "; give a path where nothing is, or remove it"));
   }
+  if (stat(path.c_str(), &st) != 0 || !S_ISSOCK(st.st_mode)) return absl::OkStatus();
   const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (fd < 0) return absl::OkStatus();
   address.sun_family = AF_UNIX;

@@ -5,9 +5,11 @@
 #include <netinet/in.h>
 #include <stdlib.h>  // mkdtemp
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -69,6 +71,29 @@ TEST(ListenAddressTest, AUnixSocketSomeoneListensOnIsInUseAndAStaleOneIsNot) {
 }
 
 // What would make the server fail to bind is said with the system's reason before it starts.
+// Something that is not a socket under the name is never replaced: a file, a directory and a
+// symbolic link to nothing are refused naming the path, not left to gRPC's "No address added".
+TEST(ListenAddressTest, APathThatIsNotASocketIsRefused) {
+  char dir[] = "/tmp/tessera-listen-test-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string file = std::string(dir) + "/file", sub = std::string(dir) + "/dir",
+                    link = std::string(dir) + "/link";
+  FILE* f = std::fopen(file.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fclose(f);
+  ASSERT_EQ(mkdir(sub.c_str(), 0700), 0);
+  ASSERT_EQ(symlink((std::string(dir) + "/nowhere").c_str(), link.c_str()), 0);
+  for (const std::string& path : {file, sub, link}) {
+    absl::Status s = CheckUnixSocketNotInUse("unix:" + path);
+    EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition) << path << ": " << s;
+    EXPECT_NE(s.message().find(path + " exists and is not a socket"), std::string::npos) << s;
+  }
+  unlink(link.c_str());
+  rmdir(sub.c_str());
+  unlink(file.c_str());
+  rmdir(dir);
+}
+
 TEST(ListenAddressTest, AddressesThatCannotBeBoundAreNamedWithTheReason) {
   absl::Status s = CheckCanBind("unix:/nonexistent/dir/w.sock");
   EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition);

@@ -14,6 +14,7 @@
 #include <grpcpp/grpcpp.h>
 #include <malloc.h>
 #include <signal.h>
+#include <sys/stat.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -128,6 +129,11 @@ int Serve(const std::string& listen, int threads, tessera::transport::ResultAren
 
 int main(int argc, char** argv) {
   tessera::InstallCrashReporter();
+  // Whoever can connect to a unix socket, or write a module into the cache, runs code as this
+  // worker's user: everything the worker creates is owner-only, whatever umask it inherited (000
+  // or 002 would let other users or the group in). The umask is the only way to have bind()
+  // create the socket so, with no window.
+  umask(0077);
   // Every call builds messages of up to a few MiB of results and frees them once sent. With
   // glibc's defaults those come from fresh pages each time (mmap, or a heap trimmed back to the
   // kernel): a page fault per 4 KiB, about a fifth of a one-thread worker's time on gathering

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <deque>
 #include <mutex>
+#include <new>
 #include <thread>
 #include <utility>
 
@@ -160,6 +161,18 @@ void WorkerService::ForgetIfEmpty(uint64_t id, const std::shared_ptr<Session>& s
 grpc::Status WorkerService::Apply(grpc::ServerContext* context,
                                   grpc::ServerReader<v1::ApplyChunk>* reader,
                                   v1::ApplyReply* reply) {
+  // gRPC would answer an exception with "Unexpected error in RPC handling", naming nothing.
+  try {
+    return ApplyStream(context, reader);
+  } catch (const std::bad_alloc&) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        "the worker ran out of memory taking the state update; nothing was "
+                        "applied");
+  }
+}
+
+grpc::Status WorkerService::ApplyStream(grpc::ServerContext* context,
+                                        grpc::ServerReader<v1::ApplyChunk>* reader) {
   // No delta larger than the machine's memory can be applied: refuse it as it arrives.
   DeltaAssembler assembler(scheduler::TotalSystemMemory() > 0 ? scheduler::TotalSystemMemory()
                                                               : ~uint64_t{0});

@@ -80,6 +80,9 @@ class WorkerService final : public v1::Worker::Service {
     ~Held() { Release(); }
   };
 
+  // Apply, less the translation of an exhausted memory into a status.
+  grpc::Status ApplyStream(grpc::ServerContext* context,
+                           grpc::ServerReader<v1::ApplyChunk>* reader);
   std::shared_ptr<Session> FindSession(uint64_t id, bool create);
   bool IsCurrent(uint64_t id, const std::shared_ptr<Session>& session);
   void ForgetIfEmpty(uint64_t id, const std::shared_ptr<Session>& session);
