@@ -170,16 +170,15 @@ void Context::VisitEdges(EdgeVisitor visit) const {
 
 void Context::RecordError(RTresult code, std::string message, uint64_t sequence) {
   std::lock_guard<std::mutex> lock(error_mu_);
-  last_error_code_ = code;
-  last_error_sequence_ = sequence;
-  last_error_ = std::move(message);
+  last_errors_[code] = RecordedError{sequence, std::move(message)};
 }
 
 const char* Context::LastErrorFor(RTresult code, uint64_t* sequence) const {
   std::lock_guard<std::mutex> lock(error_mu_);
-  if (last_error_code_ != code || last_error_.empty()) return nullptr;
-  *sequence = last_error_sequence_;
-  return last_error_.c_str();
+  auto it = last_errors_.find(code);
+  if (it == last_errors_.end() || it->second.message.empty()) return nullptr;
+  *sequence = it->second.sequence;
+  return it->second.message.c_str();
 }
 
 }  // namespace tessera::api

@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -215,9 +216,14 @@ class Context : public Object {
   std::vector<v1::ExceptionReport> last_exceptions_;
 
   mutable std::mutex error_mu_;
-  RTresult last_error_code_ ABSL_GUARDED_BY(error_mu_) = RT_SUCCESS;
-  uint64_t last_error_sequence_ ABSL_GUARDED_BY(error_mu_) = 0;
-  std::string last_error_ ABSL_GUARDED_BY(error_mu_);
+  // The newest message of each code (rtContextGetErrorString asks by code): a later error of
+  // another code, say a call on a destroyed handle, must not erase a launch's message.
+  struct RecordedError {
+    uint64_t sequence = 0;
+    std::string message;
+  };
+  // Node-based: a message handed out stays where it is while other codes are recorded.
+  std::map<RTresult, RecordedError> last_errors_ ABSL_GUARDED_BY(error_mu_);
   long creator_pid_ = 0;
 };
 

@@ -144,6 +144,9 @@ absl::StatusOr<WorkerHealth> GrpcDevice::Health(absl::Duration timeout) const {
 }
 
 absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
+  if (absl::Status s = CheckDeltaHeaderSize(delta); !s.ok()) {
+    return absl::Status(s.code(), absl::StrCat("not sent to worker ", address_, ": ", s.message()));
+  }
   session_id_ = delta.session_id();
   grpc::ClientContext context;
   v1::ApplyReply reply;

@@ -22,6 +22,46 @@ v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta) {
   return header;
 }
 
+absl::Status CheckDeltaHeaderSize(const v1::StateDelta& delta) {
+  // Framing of the header message itself (tags, lengths, `following`) stays far below this.
+  constexpr size_t kSlack = 64 << 10;
+  size_t bytes = delta.context().ByteSizeLong();
+  for (const v1::Object& o : delta.objects()) bytes += o.ByteSizeLong();
+  bytes += delta.removed_size() * sizeof(uint64_t);
+  if (bytes + kSlack <= static_cast<size_t>(kMaxMessageBytes)) return absl::OkStatus();
+  std::string largest;
+  size_t largest_bytes = 0;
+  auto scan = [&](const auto& variables, const std::string& owner) {
+    for (const v1::Variable& v : variables) {
+      if (v.data().size() > largest_bytes) {
+        largest_bytes = v.data().size();
+        largest = absl::StrCat("variable '", v.name(), "' of ", owner);
+      }
+    }
+  };
+  scan(delta.context().variables(), "the context");
+  for (const v1::Object& o : delta.objects()) {
+    if (o.has_program()) scan(o.program().variables(), absl::StrCat("program #", o.program().id()));
+    if (o.has_geometry()) {
+      scan(o.geometry().variables(), absl::StrCat("geometry #", o.geometry().id()));
+    }
+    if (o.has_material())
+      scan(o.material().variables(), absl::StrCat("material #", o.material().id()));
+    if (o.has_geometry_instance()) {
+      scan(o.geometry_instance().variables(),
+           absl::StrCat("geometry instance #", o.geometry_instance().id()));
+    }
+    if (o.has_selector())
+      scan(o.selector().variables(), absl::StrCat("selector #", o.selector().id()));
+  }
+  return absl::ResourceExhaustedError(absl::StrCat(
+      "the scene description (objects and variable values, buffer contents aside) takes ", bytes,
+      " bytes, more than the ", kMaxMessageBytes - kSlack, " a worker accepts in one update",
+      largest.empty() ? std::string()
+                      : absl::StrCat("; the largest value is ", largest, " (", largest_bytes,
+                                     " bytes): put large data in a buffer")));
+}
+
 bool WriteApplyStream(const v1::StateDelta& delta,
                       absl::FunctionRef<bool(const v1::ApplyChunk&)> write) {
   if (!write(DeltaHeader(delta))) return false;

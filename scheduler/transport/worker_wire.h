@@ -26,6 +26,11 @@ inline constexpr int kMaxMessageBytes = 64 << 20;
 // The first message of an Apply stream: `delta` without its buffer chunks and module slices.
 v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta);
 
+// RESOURCE_EXHAUSTED, naming the largest variable, when the header of `delta` (its objects and
+// variables, without buffer chunks and module slices) cannot travel as one message: gRPC would
+// refuse it with only "Sent message larger than max".
+absl::Status CheckDeltaHeaderSize(const v1::StateDelta& delta);
+
 // Sends `delta` as an Apply stream through `write`: the header, then each module slice, then each
 // buffer chunk, one per message. Stops at the first write that fails (the call is over) and
 // returns false then.

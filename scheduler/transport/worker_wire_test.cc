@@ -181,6 +181,23 @@ std::string Paint(const std::vector<v1::TileResult>& pieces, size_t size) {
   return image;
 }
 
+// The objects and variable values travel as one message: one too large for it is refused before
+// sending, naming the largest value (gRPC said only "Sent message larger than max").
+TEST(WorkerWireTest, ASceneDescriptionTooLargeForOneMessageNamesItsLargestValue) {
+  v1::StateDelta delta;
+  v1::Variable* small = delta.mutable_context()->add_variables();
+  small->set_name("small");
+  small->set_data(std::string(16, 'a'));
+  EXPECT_TRUE(CheckDeltaHeaderSize(delta).ok());
+  v1::Variable* big = delta.mutable_context()->add_variables();
+  big->set_name("big");
+  big->set_data(std::string(static_cast<size_t>(kMaxMessageBytes), 'b'));
+  absl::Status s = CheckDeltaHeaderSize(delta);
+  EXPECT_EQ(s.code(), absl::StatusCode::kResourceExhausted) << s;
+  EXPECT_NE(s.message().find("variable 'big' of the context"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("put large data in a buffer"), std::string::npos) << s;
+}
+
 TEST(WorkerWireTest, LargeTileResultsAreSplitIntoBoundedMessages) {
   v1::TileResult result;
   result.set_launch_id(9);

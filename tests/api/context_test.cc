@@ -120,6 +120,21 @@ TEST_F(HostContextTest, EntryPointsAndRayTypesResizeTheirProgramArrays) {
             std::string::npos);
 }
 
+// rtContextGetErrorString gives the newest message of the code asked for: an error of another
+// code since (a call on a destroyed handle) must not erase it.
+TEST_F(HostContextTest, EachCodeKeepsItsNewestMessage) {
+  ASSERT_EQ(rtContextSetRayTypeCount(ctx, 1), RT_SUCCESS);
+  EXPECT_EQ(rtContextSetMissProgram(ctx, 5, nullptr), RT_ERROR_INVALID_VALUE);
+  ASSERT_EQ(rtContextSetEntryPointCount(ctx, 1), RT_SUCCESS);
+  const RTresult other = rtContextValidate(ctx);  // no ray generation program
+  ASSERT_NE(other, RT_SUCCESS);
+  ASSERT_NE(other, RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(ErrorString(ctx, other), "");
+  EXPECT_NE(ErrorString(ctx, RT_ERROR_INVALID_VALUE).find("rtContextSetMissProgram"),
+            std::string::npos)
+      << ErrorString(ctx, RT_ERROR_INVALID_VALUE);
+}
+
 TEST_F(HostContextTest, GlobalSettingsHaveOptixDefaults) {
   RTsize stack = 0;
   ASSERT_EQ(rtContextGetStackSize(ctx, &stack), RT_SUCCESS);

@@ -161,6 +161,26 @@ TEST_F(LaunchTest, UnchangedSecondLaunchShipsNothing) {
   EXPECT_EQ(d.context().stack_size(), 2048u);
 }
 
+// A material lists one program per ray type: after the count changes, devices get every material
+// again, lowered with the new count (they used to keep the old lists, and a closest hit for a ray
+// type added back never ran).
+TEST_F(LaunchTest, RayTypeCountChangeRelowersMaterials) {
+  ASSERT_EQ(rtContextSetRayTypeCount(ctx, 2), RT_SUCCESS);
+  ASSERT_EQ(rtMaterialSetClosestHitProgram(material, 1, MakeProgram("closest_hit")), RT_SUCCESS);
+  ASSERT_EQ(rtContextSetRayTypeCount(ctx, 1), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  ASSERT_EQ(rtContextSetRayTypeCount(ctx, 2), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  bool seen = false;
+  for (const v1::Object& o : LastDelta().objects()) {
+    if (!o.has_material()) continue;
+    seen = true;
+    ASSERT_EQ(o.material().closest_hit_size(), 2);
+    EXPECT_NE(o.material().closest_hit(1), 0u);
+  }
+  EXPECT_TRUE(seen) << "the material did not travel again";
+}
+
 // Module bytes in a delta.
 size_t ModuleBytes(const v1::StateDelta& d) {
   size_t bytes = 0;

@@ -11,11 +11,12 @@ namespace tessera {
 
 // `num_threads` <= 0 means one thread per core. The context's CPU_NUM_THREADS attribute, carried
 // in ContextState.num_threads, overrides it per launch when nonzero.
-// `results_in_rounds` (a worker process sets it): a large call on several threads sends its
-// written regions to `on_result` (as kFinalTileIndex results) in up to 8 write epochs while it
-// traces, so that they travel while later pieces trace instead of all after the last tile. The
-// host's own in-process device does not: measured on 16 cores, applying while tracing gained
-// nothing there (the host copies the results at memory speed).
+// `results_in_rounds` (worker processes and the host's in-process device set it): a large call
+// on several threads sends its written regions to `on_result` (as kFinalTileIndex results) in up
+// to 8 write epochs while it traces, so that they travel, or are applied, while later pieces trace
+// instead of all after the last tile. For the host's device the gain shows in short launches: on
+// 16 cores, 1024x1024 primary rays took 25.6 instead of 27.3 ms (the tutorial's 0.16 s launches
+// timed the same either way).
 std::unique_ptr<Device> CreateInprocDevice(int num_threads, bool results_in_rounds = false);
 
 }  // namespace tessera
