@@ -262,3 +262,20 @@ RT_PROGRAM void raygen_slow() {
   }
   result[launch_index] = make_float4(sum, 0.f, 0.f, 0.f);
 }
+
+// ---- Variables in namespaces: the host names them with their namespaces (OptiX guide 4.1) ------
+rtDeclareVariable(float, ns_probe, , ) = 1.f;
+namespace outer {
+rtDeclareVariable(float, ns_probe, , ) = 2.f;
+namespace inner {
+rtDeclareVariable(float, ns_probe, , ) = 3.f;
+}  // namespace inner
+rtBuffer<float4, 2> ns_result;
+}  // namespace outer
+namespace {
+rtDeclareVariable(float, ns_hidden, , ) = 4.f;  // anonymous namespaces are not part of the name
+}  // namespace
+RT_PROGRAM void write_namespaced() {
+  outer::ns_result[launch_index] =
+      make_float4(ns_probe, outer::ns_probe, outer::inner::ns_probe, ns_hidden);
+}

@@ -261,5 +261,21 @@ TEST_F(AnyHitTest, TerminateEndsTraversalAndRunsClosestHit) {
   EXPECT_TRUE(r[2] == 0.f || r[2] == 1.f);
 }
 
+// Variables declared inside namespaces bind by their qualified names, as the OptiX guide says
+// ("references from the host ... need to include the full namespace"); they all bound by the
+// bare name before, so 'outer::ns_probe' set on the host reached nothing.
+TEST_F(TablesTest, NamespacedVariablesBindByQualifiedName) {
+  RTbuffer out = Float4Buffer("outer::ns_result", RT_BUFFER_OUTPUT, kW, 1);
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "write_namespaced")));
+  Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
+  EXPECT_EQ(Read(out)[0], (Float4{1.f, 2.f, 3.f, 4.f}));  // the static initializers
+  Ok(rtVariableSet1f(ContextVar("ns_probe"), 10.f));
+  Ok(rtVariableSet1f(ContextVar("outer::ns_probe"), 20.f));
+  Ok(rtVariableSet1f(ContextVar("outer::inner::ns_probe"), 30.f));
+  Ok(rtVariableSet1f(ContextVar("ns_hidden"), 40.f));
+  Ok(rtContextLaunch2D(ctx_, 0, kW, 1));
+  EXPECT_EQ(Read(out)[1], (Float4{10.f, 20.f, 30.f, 40.f}));
+}
+
 }  // namespace
 }  // namespace tessera::testing

@@ -56,7 +56,8 @@ absl::Status ParseSemantic(const std::string& module, ModuleVariable& v, const c
       absl::StrCat("module ", module, ": variable '", v.name, "' has unknown semantic '", s, "'"));
 }
 
-// The unqualified name of the symbol at `object` (rtBuffer objects are named by their symbol).
+// The name of the symbol at `object` with its namespaces, as the host names it ("ns::buf"; rtBuffer
+// objects are named by their symbol). Anonymous namespaces are left out.
 std::string SymbolName(const void* object) {
   Dl_info info{};
   if (dladdr(object, &info) == 0 || info.dli_sname == nullptr || info.dli_saddr != object) {
@@ -67,8 +68,10 @@ std::string SymbolName(const void* object) {
   char* demangled = abi::__cxa_demangle(info.dli_sname, nullptr, nullptr, &status);
   if (status == 0 && demangled != nullptr) name = demangled;
   std::free(demangled);
-  size_t colon = name.rfind("::");
-  return colon == std::string::npos ? name : name.substr(colon + 2);
+  for (size_t i; (i = name.find("(anonymous namespace)::")) != std::string::npos;) {
+    name.erase(i, sizeof("(anonymous namespace)::") - 1);
+  }
+  return name;
 }
 
 thread_local std::vector<std::vector<void*>> t_slots;

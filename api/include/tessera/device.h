@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,7 @@ namespace detail {
 
 struct ModuleRegistry {
   std::vector<TesseraVariableDecl> variables;
+  std::deque<std::string> names;  // namespace-qualified variable names the declarations point at
   std::vector<TesseraBufferDecl> buffers;
   TesseraModuleInfo info;
 };
@@ -71,6 +73,24 @@ inline const TesseraBufferView* BufferTable() {
       static_cast<const char*>(__builtin_thread_pointer()) + g_buffer_table_offset);
 #endif
   return table;
+}
+
+// The name of a variable declared inside namespaces, as the host names it (OptiX guide: "ns::v").
+// `where` is __PRETTY_FUNCTION__ of a function of a struct `marker` that rtDeclareVariable
+// defines beside the variable, so it spells the enclosing namespaces ("static const char*
+// ns::inner::marker::Where()"); anonymous namespaces are left out of the name.
+inline const char* QualifiedName(const char* where, const char* marker, const char* name) {
+  std::string w = where;
+  for (const char* anonymous : {"{anonymous}::", "(anonymous namespace)::"}) {  // GCC, Clang
+    for (size_t i; (i = w.find(anonymous)) != std::string::npos;) w.erase(i, std::strlen(anonymous));
+  }
+  const size_t at = w.find(std::string(marker) + "::");
+  if (at == std::string::npos) return name;
+  size_t begin = w.find_last_of(" *&", at);
+  begin = begin == std::string::npos ? 0 : begin + 1;
+  const std::string scope = w.substr(begin, at - begin);  // "" or "ns::inner::"
+  if (scope.empty()) return name;
+  return Registry().names.emplace_back(scope + name).c_str();
 }
 
 struct VariableRegistration {
@@ -129,11 +149,18 @@ tessera_module_init(const TesseraRuntime* runtime, unsigned abi_version) {
 }
 
 // rtDeclareVariable(type, name, semantic, annotation) [= initializer];
-#define rtDeclareVariable(type, name, semantic, annotation)                          \
-  extern __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name;   \
-  static ::tessera::detail::VariableRegistration tessera_variable_##name(            \
-      #name, #semantic, #annotation, #type, sizeof(type),                            \
-      []() -> void* { return const_cast<void*>(static_cast<const void*>(&name)); }); \
+// A variable declared inside namespaces registers under its qualified name ("ns::name"), which
+// is what the host declares, as in OptiX.
+#define rtDeclareVariable(type, name, semantic, annotation)                              \
+  extern __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name;       \
+  struct tessera_scope_of_##name {                                                       \
+    static const char* Where() { return __PRETTY_FUNCTION__; }                           \
+  };                                                                                     \
+  static ::tessera::detail::VariableRegistration tessera_variable_##name(                \
+      ::tessera::detail::QualifiedName(tessera_scope_of_##name::Where(),                 \
+                                       "tessera_scope_of_" #name, #name),                \
+      #semantic, #annotation, #type, sizeof(type),                                       \
+      []() -> void* { return const_cast<void*>(static_cast<const void*>(&name)); });     \
   __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name
 
 #define rtDeclareAnnotation(variable, annotation)
