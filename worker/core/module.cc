@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <string_view>
 #include <utility>
 
 #include "absl/status/status.h"
@@ -68,8 +69,9 @@ std::string SymbolName(const void* object) {
   char* demangled = abi::__cxa_demangle(info.dli_sname, nullptr, nullptr, &status);
   if (status == 0 && demangled != nullptr) name = demangled;
   std::free(demangled);
-  for (size_t i; (i = name.find("(anonymous namespace)::")) != std::string::npos;) {
-    name.erase(i, sizeof("(anonymous namespace)::") - 1);
+  constexpr std::string_view kAnonymous = "(anonymous namespace)::";
+  for (size_t i = name.find(kAnonymous); i != std::string::npos; i = name.find(kAnonymous)) {
+    name.erase(i, kAnonymous.size());
   }
   return name;
 }

@@ -82,7 +82,9 @@ inline const TesseraBufferView* BufferTable() {
 inline const char* QualifiedName(const char* where, const char* marker, const char* name) {
   std::string w = where;
   for (const char* anonymous : {"{anonymous}::", "(anonymous namespace)::"}) {  // GCC, Clang
-    for (size_t i; (i = w.find(anonymous)) != std::string::npos;) w.erase(i, std::strlen(anonymous));
+    for (size_t i = w.find(anonymous); i != std::string::npos; i = w.find(anonymous)) {
+      w.erase(i, std::strlen(anonymous));
+    }
   }
   const size_t at = w.find(std::string(marker) + "::");
   if (at == std::string::npos) return name;
@@ -151,16 +153,16 @@ tessera_module_init(const TesseraRuntime* runtime, unsigned abi_version) {
 // rtDeclareVariable(type, name, semantic, annotation) [= initializer];
 // A variable declared inside namespaces registers under its qualified name ("ns::name"), which
 // is what the host declares, as in OptiX.
-#define rtDeclareVariable(type, name, semantic, annotation)                              \
-  extern __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name;       \
-  struct tessera_scope_of_##name {                                                       \
-    static const char* Where() { return __PRETTY_FUNCTION__; }                           \
-  };                                                                                     \
-  static ::tessera::detail::VariableRegistration tessera_variable_##name(                \
-      ::tessera::detail::QualifiedName(tessera_scope_of_##name::Where(),                 \
-                                       "tessera_scope_of_" #name, #name),                \
-      #semantic, #annotation, #type, sizeof(type),                                       \
-      []() -> void* { return const_cast<void*>(static_cast<const void*>(&name)); });     \
+#define rtDeclareVariable(type, name, semantic, annotation)                          \
+  extern __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name;   \
+  struct tessera_scope_of_##name {                                                   \
+    static const char* Where() { return __PRETTY_FUNCTION__; }                       \
+  };                                                                                 \
+  static ::tessera::detail::VariableRegistration tessera_variable_##name(            \
+      ::tessera::detail::QualifiedName(tessera_scope_of_##name::Where(),             \
+                                       "tessera_scope_of_" #name, #name),            \
+      #semantic, #annotation, #type, sizeof(type),                                   \
+      []() -> void* { return const_cast<void*>(static_cast<const void*>(&name)); }); \
   __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name
 
 #define rtDeclareAnnotation(variable, annotation)
