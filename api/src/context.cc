@@ -105,8 +105,14 @@ void Context::SetEntryPointCount(unsigned count) {
 }
 
 void Context::SetRayTypeCount(unsigned count) {
+  if (count == ray_type_count()) return;
   miss_.Resize(count);
   Touch();
+  // A material is lowered with one program per ray type of the context: a new count changes
+  // every material's lowering, so each travels again.
+  for (const auto& [id, object] : objects_) {
+    if (object->kind() == Kind::kMaterial) object->Touch();
+  }
 }
 
 void Context::SetRayGeneration(unsigned entry, Program* program) {

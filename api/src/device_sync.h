@@ -26,8 +26,7 @@ struct DeviceSync {
   uint64_t session_id = 0;
   uint64_t next_sequence = 1;
   uint64_t context_version = 0;
-  uint32_t ray_type_count = 0;  // the count the device's materials were lowered with
-  std::string last_context;     // the ContextState last applied, serialized (skips unchanged ones)
+  std::string last_context;  // the ContextState last applied, serialized (skips unchanged ones)
   absl::flat_hash_map<uint64_t, uint64_t> versions;  // object id → version the device has
   absl::flat_hash_map<uint64_t, BufferSyncState> buffers;
   // Hashes of the program modules the device has received (state.proto ModuleChunk).

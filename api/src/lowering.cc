@@ -277,11 +277,7 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
 
   for (Object* o : objects) {
     auto known = sync.versions.find(o->id());
-    // A material lists one program per ray type of the context, so a new ray type count makes
-    // every material the device holds stale even though none of them changed.
-    const bool relowered =
-        known == sync.versions.end() || known->second != o->version() ||
-        (o->kind() == Kind::kMaterial && sync.ray_type_count != context.ray_type_count());
+    const bool relowered = known == sync.versions.end() || known->second != o->version();
     if (relowered) {
       LowerObject(context, *o, delta.add_objects());
       out.versions.emplace_back(o->id(), o->version());
@@ -311,7 +307,6 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
 void CommitDelta(PreparedDelta&& prepared, DeviceSync* sync) {
   sync->next_sequence = prepared.delta.sequence() + 1;
   sync->context_version = prepared.delta.context().version();
-  sync->ray_type_count = prepared.delta.context().ray_type_count();
   for (uint64_t id : prepared.delta.removed()) {
     sync->versions.erase(id);
     sync->buffers.erase(id);
