@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <cstring>
+#include <string>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
@@ -15,6 +17,12 @@ namespace {
 std::atomic<InprocDeviceFactory> g_inproc_factory{nullptr};
 std::atomic<WorkerDeviceFactory> g_worker_factory{nullptr};
 std::atomic<WorkerProbe> g_worker_probe{nullptr};
+std::atomic<WorkerTransportCheck> g_worker_check{nullptr};
+
+absl::Status WorkerTransportUsable() {
+  WorkerTransportCheck check = g_worker_check.load();
+  return check == nullptr ? absl::OkStatus() : check();
+}
 
 absl::Status SizeError(const char* attribute, RTsize size, size_t expected) {
   return RtError(RT_ERROR_INVALID_VALUE,
@@ -89,6 +97,15 @@ std::vector<DeviceDesc> ExpandDevices(const std::vector<DeviceSpecEntry>& entrie
 
 std::string DefaultDeviceSpec() {
   if (g_worker_factory.load() == nullptr) return kDefaultDeviceSpec;
+  if (absl::Status usable = WorkerTransportUsable(); !usable.ok()) {
+    // Defaults work with no configuration: a forked child still renders, on its own cores.
+    static std::atomic<bool> said{false};
+    if (!said.exchange(true)) {
+      std::fprintf(stderr, "tessera: the default devices are '%s' here: %s\n", kDefaultDeviceSpec,
+                   std::string(usable.message()).c_str());
+    }
+    return kDefaultDeviceSpec;
+  }
   return absl::StrCat("local:", HardwareThreads());
 }
 
@@ -170,7 +187,13 @@ absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attr
 
 absl::Status CheckInstantiable(const DeviceDesc& device) {
   if (device.type == DeviceSpecEntry::Type::kInproc) return absl::OkStatus();
-  if (g_worker_factory.load() != nullptr) return absl::OkStatus();
+  if (g_worker_factory.load() != nullptr) {
+    absl::Status usable = WorkerTransportUsable();
+    if (usable.ok()) return absl::OkStatus();
+    return RtError(
+        RT_ERROR_NOT_SUPPORTED,
+        absl::StrCat("device '", device.address, "' is a worker process, and ", usable.message()));
+  }
   return RtError(RT_ERROR_NOT_SUPPORTED,
                  absl::StrCat("device '", device.address,
                               "' is a worker process, and this build of Tessera has no worker "
@@ -182,6 +205,8 @@ void SetInprocDeviceFactory(InprocDeviceFactory factory) { g_inproc_factory.stor
 void SetWorkerDeviceFactory(WorkerDeviceFactory factory) { g_worker_factory.store(factory); }
 
 void SetWorkerProbe(WorkerProbe probe) { g_worker_probe.store(probe); }
+
+void SetWorkerTransportCheck(WorkerTransportCheck check) { g_worker_check.store(check); }
 
 absl::StatusOr<std::unique_ptr<Device>> CreateDevice(const DeviceDesc& device, int num_threads) {
   TS_RETURN_IF_ERROR(CheckInstantiable(device));

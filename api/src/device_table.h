@@ -30,7 +30,7 @@ struct DeviceDesc {
 std::vector<DeviceDesc> ExpandDevices(const std::vector<DeviceSpecEntry>& entries);
 
 // With nothing configured: one local worker process per core ("local:<cores>"), or "inproc"
-// when no worker transport is installed.
+// when no worker transport is installed or this process cannot use it (said once on stderr).
 std::string DefaultDeviceSpec();
 
 // Parses TESSERA_DEVICES (or the default) and expands it.
@@ -50,7 +50,8 @@ void CopyString(const std::string& s, size_t size, char* out);
 absl::Status GetDeviceAttribute(const DeviceDesc& device, RTdeviceattribute attribute, RTsize size,
                                 void* out);
 
-// RT_ERROR_NOT_SUPPORTED for worker devices when no worker factory is installed.
+// RT_ERROR_NOT_SUPPORTED for worker devices when no worker factory is installed or this process
+// cannot use it.
 absl::Status CheckInstantiable(const DeviceDesc& device);
 
 // Creates an in-process device. libtessera installs the real one (worker/core) at load time;
@@ -62,6 +63,11 @@ void SetInprocDeviceFactory(InprocDeviceFactory factory);
 // and unix:PATH ones. libtessera installs it at load time (api/src/worker_factory.cc).
 using WorkerDeviceFactory = absl::StatusOr<std::unique_ptr<Device>> (*)(const DeviceDesc& device);
 void SetWorkerDeviceFactory(WorkerDeviceFactory factory);
+
+// Whether this process can use worker devices at all (libtessera installs it with the worker
+// transport): not in a child forked without exec from a process that had used them.
+using WorkerTransportCheck = absl::Status (*)();
+void SetWorkerTransportCheck(WorkerTransportCheck check);
 
 // What a running worker (HOST:PORT, unix:PATH) says about itself when asked.
 struct WorkerFacts {

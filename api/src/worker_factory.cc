@@ -47,6 +47,7 @@ absl::StatusOr<WorkerFacts> ProbeWorker(const DeviceDesc& device) {
 [[maybe_unused]] const bool kInstalled = [] {
   SetWorkerDeviceFactory(&MakeWorkerDevice);
   SetWorkerProbe(&ProbeWorker);
+  SetWorkerTransportCheck(&transport::GrpcUsableInThisProcess);
   return true;
 }();
 

@@ -2,7 +2,9 @@
 
 #include <grpc/grpc.h>
 #include <grpcpp/grpcpp.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,7 +28,19 @@ std::chrono::system_clock::time_point DeadlineIn(absl::Duration timeout) {
   return absl::ToChronoTime(absl::Now() + timeout);
 }
 
+// The process that started gRPC; 0 until one has.
+std::atomic<pid_t> g_grpc_pid{0};
+
 }  // namespace
+
+absl::Status GrpcUsableInThisProcess() {
+  const pid_t started = g_grpc_pid.load();
+  if (started == 0 || started == getpid()) return absl::OkStatus();
+  return absl::FailedPreconditionError(absl::StrCat(
+      "this process was forked (without exec) from process ", started,
+      ", which had started gRPC; gRPC cannot run in such a child, so it cannot reach worker "
+      "processes (exec after fork, or use the inproc device)"));
+}
 
 // TESSERA_WORKER_TIMEOUT (seconds, default 10): how long a worker may stay silent during a launch
 // before the host gives up on it and runs its tiles elsewhere.
@@ -75,10 +89,12 @@ absl::StatusOr<std::unique_ptr<GrpcDevice>> GrpcDevice::Connect(
 }
 
 absl::Status GrpcDevice::Open(absl::Duration timeout) {
+  if (absl::Status usable = GrpcUsableInThisProcess(); !usable.ok()) return usable;
   // gRPC 1.51 shuts its library down when the last channel goes, and that shutdown can block for
   // up to 10 s joining an executor thread (seen with rtContextDestroy); one reference that is
   // never released keeps the library up for the life of the host process instead.
   static const bool kKeepGrpcInitialised = [] {
+    g_grpc_pid.store(getpid());
     grpc_init();
     return true;
   }();

@@ -17,6 +17,12 @@ namespace tessera::transport {
 // TESSERA_WORKER_TIMEOUT: how long a worker may stay silent (default 10 s).
 absl::Duration SilenceDeadline();
 
+// FAILED_PRECONDITION in a process forked (without exec) from one that had started gRPC: the
+// child inherits gRPC's locks and state but not its threads, and crashed inside gRPC about once
+// in 40 forks when it reached workers of its own (gRPC's fork support, GRPC_ENABLE_FORK_SUPPORT,
+// did not prevent it). OK everywhere else.
+absl::Status GrpcUsableInThisProcess();
+
 // What a worker's Health call reports.
 struct WorkerHealth {
   std::string device_name;

@@ -402,7 +402,16 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
   pid_t pid = -1;
   int fork_errno = 0;
   ForkThread::Get().Run([&] {
-    pid = fork();
+    // vfork, not fork: fork() runs the process's atfork handlers (gRPC's stop and restart its
+    // threads when its fork support is on, see grpc_device.cc) and copies the page tables of a
+    // host that may hold gigabytes. The child borrows this thread's memory and stack until
+    // execve, so it only makes system calls, with every signal blocked until the handlers it
+    // would otherwise run (the application's, on the host's memory) are reset.
+    sigset_t all;
+    sigset_t saved;
+    sigfillset(&all);
+    pthread_sigmask(SIG_SETMASK, &all, &saved);
+    pid = vfork();
     if (pid == 0) {
       // A host that dies, however it dies, takes the worker along.
       prctl(PR_SET_PDEATHSIG, SIGKILL);
@@ -410,14 +419,23 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
       dup2(null_fd, STDIN_FILENO);
       dup2(out[1], STDOUT_FILENO);
       dup2(log_fd, STDERR_FILENO);
-      // The host's blocked or ignored signals must not keep the worker from stopping.
-      sigset_t none;
-      sigemptyset(&none);
-      sigprocmask(SIG_SETMASK, &none, nullptr);
+      // The host's caught, blocked or ignored signals must not keep the worker from stopping.
       struct sigaction dfl;
       std::memset(&dfl, 0, sizeof(dfl));
       dfl.sa_handler = SIG_DFL;
-      for (int sig : {SIGTERM, SIGINT, SIGHUP, SIGPIPE, SIGCHLD}) sigaction(sig, &dfl, nullptr);
+      for (int sig = 1; sig < NSIG; ++sig) {
+        struct sigaction current;
+        if (sig == SIGKILL || sig == SIGSTOP || sigaction(sig, nullptr, &current) != 0) continue;
+        const bool ignored_stop =
+            current.sa_handler == SIG_IGN &&
+            (sig == SIGTERM || sig == SIGINT || sig == SIGHUP || sig == SIGPIPE || sig == SIGCHLD);
+        if (current.sa_handler != SIG_DFL && (current.sa_handler != SIG_IGN || ignored_stop)) {
+          sigaction(sig, &dfl, nullptr);
+        }
+      }
+      sigset_t none;
+      sigemptyset(&none);
+      sigprocmask(SIG_SETMASK, &none, nullptr);
       // The result arena becomes descriptor 3 (dup2 clears close-on-exec; an arena that is
       // already 3 only needs it cleared). Whatever 3 held is one of the above, duplicated.
       int first_closed = 3;
@@ -440,6 +458,7 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
       _exit(127);
     }
     if (pid < 0) fork_errno = errno;
+    pthread_sigmask(SIG_SETMASK, &saved, nullptr);
   });
   close(out[1]);
   out[1] = -1;

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -81,6 +82,49 @@ TEST(WorkerProcessTest, WorkerOnAnEphemeralPortAnswersHealth) {
   auto again = (*device)->Health();
   ASSERT_TRUE(again.ok()) << again.status();
   EXPECT_EQ(again->pid, worker->pid());
+}
+
+// Spawning a worker runs none of the application's pthread_atfork handlers (gRPC's, when its
+// fork support is on, stop and restart its threads; others may be as costly), and a worker spawned
+// while the application has signals blocked or caught still starts and stops normally.
+std::atomic<int> g_atfork_calls{0};
+
+TEST(WorkerProcessTest, SpawningRunsNoAtforkHandlers) {
+  static const bool kRegistered = [] {
+    pthread_atfork([] { ++g_atfork_calls; }, nullptr, nullptr);
+    return true;
+  }();
+  (void)kRegistered;
+  struct sigaction caught;
+  std::memset(&caught, 0, sizeof(caught));
+  caught.sa_handler = [](int) {};
+  struct sigaction saved;
+  ASSERT_EQ(sigaction(SIGTERM, &caught, &saved), 0);
+  sigset_t block;
+  sigset_t old_mask;
+  sigemptyset(&block);
+  sigaddset(&block, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &block, &old_mask);
+  const int before = g_atfork_calls.load();
+  WorkerProcess::Options options;
+  options.threads = 1;
+  std::unique_ptr<WorkerProcess> worker = Spawn(options);
+  pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
+  sigaction(SIGTERM, &saved, nullptr);
+  ASSERT_NE(worker, nullptr);
+  EXPECT_EQ(g_atfork_calls.load(), before);
+  const pid_t pid = worker->pid();
+  kill(pid, SIGTERM);  // default action in the worker, whatever the host does with SIGTERM
+  // Exited and not yet reaped (the WorkerProcess reaps it): a zombie.
+  auto state = [pid] {
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string line;
+    std::getline(stat, line);
+    const size_t paren = line.rfind(')');
+    return paren == std::string::npos || paren + 2 >= line.size() ? '?' : line[paren + 2];
+  };
+  for (int i = 0; i < 500 && state() != 'Z'; ++i) usleep(10000);
+  EXPECT_EQ(state(), 'Z') << "the worker did not stop on SIGTERM";
 }
 
 TEST(WorkerProcessTest, NonLoopbackAddressWithoutTlsAndTokenIsRefused) {
