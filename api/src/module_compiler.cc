@@ -21,6 +21,7 @@
 #include "hash.h"
 #include "status.h"
 #include "subprocess.h"
+#include "tessera/scheduler/install_paths.h"
 #include "tessera/scheduler/module_cache_files.h"
 
 #ifndef TESSERA_PROGRAM_INCLUDE_DIR
@@ -218,8 +219,15 @@ std::string ModuleCacheDir() {
 
 std::vector<std::string> ProgramIncludeDirs() {
   const char* env = std::getenv("TESSERA_INCLUDE_DIR");
-  std::string dirs = env != nullptr && *env != '\0' ? env : TESSERA_PROGRAM_INCLUDE_DIR;
-  return absl::StrSplit(dirs, ':', absl::SkipEmpty());
+  if (env != nullptr && *env != '\0') return absl::StrSplit(env, ':', absl::SkipEmpty());
+  // An installed library's own headers first: a source tree that still exists may be another
+  // version.
+  const std::string installed = scheduler::InstalledIncludeDir();
+  std::error_code ec;
+  if (!installed.empty() && fs::is_regular_file(installed + "/tessera/device.h", ec)) {
+    return {installed};
+  }
+  return absl::StrSplit(TESSERA_PROGRAM_INCLUDE_DIR, ':', absl::SkipEmpty());
 }
 
 absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,

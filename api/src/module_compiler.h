@@ -17,7 +17,8 @@ namespace tessera::api {
 // $TESSERA_CACHE_DIR, else $XDG_CACHE_HOME/tessera/modules, else ~/.cache/tessera/modules.
 std::string ModuleCacheDir();
 
-// $TESSERA_INCLUDE_DIR (colon-separated) if set, else the api/include directory of this build.
+// $TESSERA_INCLUDE_DIR (colon-separated) if set, else the installed headers beside libtessera
+// (<includedir>/tessera), else the api/include directory of this build.
 std::vector<std::string> ProgramIncludeDirs();
 
 // A module in the compile cache: its path, its bytes and their SHA-256 (ModuleHash), read once

@@ -1,7 +1,6 @@
 #include "transport/worker_process.h"
 
 #include <dirent.h>
-#include <dlfcn.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -14,7 +13,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <climits>
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
@@ -33,6 +31,7 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "absl/time/clock.h"
+#include "tessera/scheduler/install_paths.h"
 #include "transport/result_arena.h"
 
 #ifndef TESSERA_WORKER_BUILD_PATH
@@ -56,23 +55,7 @@ bool IsExecutable(const std::string& path) {
          access(path.c_str(), X_OK) == 0;
 }
 
-std::string DirName(const std::string& path) {
-  size_t slash = path.rfind('/');
-  if (slash == std::string::npos) return ".";
-  return slash == 0 ? "/" : path.substr(0, slash);
-}
-
-// The file holding this code: libtessera.so when linked into it, else the executable.
-std::string ThisBinaryPath() {
-  Dl_info info;
-  if (dladdr(reinterpret_cast<void*>(&ThisBinaryPath), &info) != 0 && info.dli_fname != nullptr &&
-      std::strchr(info.dli_fname, '/') != nullptr) {
-    return info.dli_fname;
-  }
-  char buf[PATH_MAX];
-  ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
-  return n > 0 ? std::string(buf, static_cast<size_t>(n)) : std::string();
-}
+using scheduler::DirName;
 
 // PR_SET_PDEATHSIG fires when the *thread* that forked the child exits, not the process. An
 // application may create contexts (and so spawn workers) on short-lived threads; forking from one
@@ -291,15 +274,18 @@ absl::StatusOr<std::string> FindWorkerBinary() {
     if (IsExecutable(env)) return std::string(env);
     return absl::NotFoundError(absl::StrCat("TESSERA_WORKER=", env, " is not an executable file"));
   }
+  // An installed library's own worker first: a build tree that still exists may be another
+  // version. Then one beside the library, then this build's.
   std::vector<std::string> tried;
-  const std::string built = TESSERA_WORKER_BUILD_PATH;
-  if (IsExecutable(built)) return built;
-  if (!built.empty()) tried.push_back(built);
-  std::string self = ThisBinaryPath();
-  if (!self.empty()) {
-    std::string beside = absl::StrCat(DirName(self), "/", kWorkerName);
-    if (IsExecutable(beside)) return beside;
-    tried.push_back(beside);
+  const std::string self = scheduler::ThisBinaryPath();
+  const std::string candidates[] = {
+      scheduler::InstalledWorkerPath(),
+      self.empty() ? std::string() : absl::StrCat(DirName(self), "/", kWorkerName),
+      TESSERA_WORKER_BUILD_PATH};
+  for (const std::string& candidate : candidates) {
+    if (candidate.empty()) continue;
+    if (IsExecutable(candidate)) return candidate;
+    tried.push_back(candidate);
   }
   return absl::NotFoundError(absl::StrCat("cannot find the ", kWorkerName, " executable (tried ",
                                           absl::StrJoin(tried, ", "),

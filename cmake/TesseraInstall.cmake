@@ -1,0 +1,37 @@
+# `cmake --install <build> [--prefix P]`: what an application that embeds Tessera needs, in the
+# GNUInstallDirs layout (docs/install.md):
+#   <libdir>/libtessera.so.<version>       the host API (and its SONAME link, libtessera.so)
+#   <bindir>/tessera-worker                 the worker libtessera spawns for local:N devices, and
+#                                           that other machines run
+#   <includedir>/tessera/                   optix.h, optixu/, tessera/: the include root of host
+#                                           code and of program modules (kept out of
+#                                           <includedir> itself, where a real OptiX SDK's
+#                                           optix.h may be)
+#   <libdir>/cmake/Tessera/                 find_package(Tessera): Tessera::tessera and
+#                                           tessera_add_program_module()
+# libtessera finds the worker and the headers relative to itself (scheduler/src/install_paths.cc),
+# so a prefix can be moved as a whole.
+include(CMakePackageConfigHelpers)
+
+set(TESSERA_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/Tessera)
+
+set_target_properties(tessera PROPERTIES VERSION ${PROJECT_VERSION} SOVERSION
+  ${PROJECT_VERSION_MAJOR})
+target_include_directories(tessera PUBLIC
+  $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/tessera>)
+
+install(TARGETS tessera EXPORT TesseraTargets
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(TARGETS tessera-worker RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/api/include/
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tessera)
+install(EXPORT TesseraTargets NAMESPACE Tessera:: DESTINATION ${TESSERA_INSTALL_CMAKEDIR})
+
+configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/TesseraConfig.cmake.in
+  ${CMAKE_BINARY_DIR}/TesseraConfig.cmake
+  INSTALL_DESTINATION ${TESSERA_INSTALL_CMAKEDIR}
+  PATH_VARS CMAKE_INSTALL_INCLUDEDIR)
+write_basic_package_version_file(${CMAKE_BINARY_DIR}/TesseraConfigVersion.cmake
+  COMPATIBILITY SameMinorVersion)
+install(FILES ${CMAKE_BINARY_DIR}/TesseraConfig.cmake ${CMAKE_BINARY_DIR}/TesseraConfigVersion.cmake
+  DESTINATION ${TESSERA_INSTALL_CMAKEDIR})

@@ -1,0 +1,54 @@
+#include "tessera/scheduler/install_paths.h"
+
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <climits>
+#include <cstring>
+
+// Set by scheduler/CMakeLists.txt from GNUInstallDirs: the installed <bindir> and <includedir>
+// relative to <libdir>, which `cmake --install --prefix` keeps whatever the prefix.
+#ifndef TESSERA_BINDIR_FROM_LIBDIR
+#define TESSERA_BINDIR_FROM_LIBDIR "../bin"
+#endif
+#ifndef TESSERA_INCLUDEDIR_FROM_LIBDIR
+#define TESSERA_INCLUDEDIR_FROM_LIBDIR "../include"
+#endif
+
+namespace tessera::scheduler {
+namespace {
+
+std::string FromThisBinary(const char* relative) {
+  const std::string self = ThisBinaryPath();
+  if (self.empty()) return std::string();
+  return DirName(self) + "/" + relative;
+}
+
+}  // namespace
+
+std::string ThisBinaryPath() {
+  Dl_info info;
+  if (dladdr(reinterpret_cast<void*>(&ThisBinaryPath), &info) != 0 && info.dli_fname != nullptr &&
+      std::strchr(info.dli_fname, '/') != nullptr) {
+    return info.dli_fname;
+  }
+  char buf[PATH_MAX];
+  ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+  return n > 0 ? std::string(buf, static_cast<size_t>(n)) : std::string();
+}
+
+std::string DirName(const std::string& path) {
+  size_t slash = path.rfind('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+std::string InstalledWorkerPath() {
+  return FromThisBinary(TESSERA_BINDIR_FROM_LIBDIR "/tessera-worker");
+}
+
+std::string InstalledIncludeDir() {
+  return FromThisBinary(TESSERA_INCLUDEDIR_FROM_LIBDIR "/tessera");
+}
+
+}  // namespace tessera::scheduler

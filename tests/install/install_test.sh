@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs this build into a prefix, moves the prefix (an install must not depend on where it was
+# first put, nor on this build tree), builds tests/install/consumer against it with find_package,
+# and runs it on two worker processes: they must be the installed tessera-worker, and a program
+# compiled from source at run time must find the installed headers.
+#   install_test.sh <build dir> <consumer source dir>
+set -euo pipefail
+build=$1
+consumer=$2
+work=$(mktemp -d "${TMPDIR:-/tmp}/tessera-install-test.XXXXXX")
+[ -n "${KEEP_WORK:-}" ] || trap "rm -rf \"$work\"" EXIT
+
+cmake --install "$build" --prefix "$work/first" >/dev/null
+mv "$work/first" "$work/moved"
+prefix="$work/moved"
+for f in bin/tessera-worker include/tessera/optix.h include/tessera/tessera/device.h \
+         lib/cmake/Tessera/TesseraConfig.cmake; do
+  [ -e "$prefix/$f" ] || { echo "missing from the install: $f"; exit 1; }
+done
+ls "$prefix"/lib*/libtessera.so* >/dev/null
+echo "// added by install_test.sh: consumer/fill.cu needs it" \
+  >"$prefix/include/tessera/installed_marker.h"
+
+cmake -S "$consumer" -B "$work/consumer-build" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work/consumer-build" -j 2 >/dev/null
+
+unset TESSERA_WORKER TESSERA_INCLUDE_DIR
+output=$(TESSERA_DEVICES=local:2 TESSERA_CACHE_DIR="$work/cache" \
+         "$work/consumer-build/consumer")
+echo "$output"
+workers=$(grep -c '^worker ' <<<"$output" || true)
+[ "$workers" = 2 ] || { echo "expected 2 workers, saw $workers"; exit 1; }
+if grep '^worker ' <<<"$output" | grep -v "^worker $prefix/bin/tessera-worker\$"; then
+  echo "a worker above is not the installed one ($prefix/bin/tessera-worker)"
+  exit 1
+fi
+grep -q "both launches wrote what they should" <<<"$output"
+echo "install test passed"
