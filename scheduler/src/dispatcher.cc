@@ -12,11 +12,14 @@ namespace {
 
 // Calls a device runs back to back; more only queue up on the device.
 constexpr int kCallsInFlight = 2;
-// A batch's launch indices per device thread (four of the largest 2D tiles): enough that a call's
-// fixed cost (a round trip, a message each way) stays small against its work, few enough that
-// devices share the tail of a launch. Counted in launch indices, not tiles, so that the small
-// tiles of a launch over many threads do not multiply the calls.
-constexpr uint64_t kIndicesPerThread = 4 * 64 * 64;
+// The most launch indices per device thread in one batch (64 of the largest 2D tiles). Batches
+// of devices that share a queue are cut smaller by kGuidedShare, which balances the tail of a
+// launch; this bound only keeps the first ones from growing without limit. It was four tiles:
+// on the 2-core machine a 1080p launch over two one-thread workers then took 141 calls, whose
+// sending (13-17% of the launch) took the core from tracing, and ran at 0.74-0.80 of linear
+// against 0.88-0.92 with 43 calls, in alternation (bench/README.md). Counted in launch indices,
+// not tiles, so that the small tiles of a launch over many threads do not multiply the calls.
+constexpr uint64_t kIndicesPerThread = 64 * 64 * 64;
 constexpr uint64_t kMinIndicesPerThread = 64 * 64;
 // A call takes 1/(kGuidedShare * live devices) of the shared queue. An eighth made some 400 calls
 // per 1080p launch over 16 workers, whose host time (about 0.45 ms each on the 16-core machine)

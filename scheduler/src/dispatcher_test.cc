@@ -78,7 +78,7 @@ Outcome RunAll(std::vector<FakeDevice*> fakes, size_t tiles, bool stable, int th
   for (size_t i = 0; i < fakes.size(); ++i) {
     devices.push_back({fakes[i], "fake" + std::to_string(i), threads, v1::LaunchRequest()});
   }
-  // Tiles of 4096 launch indices: batches of four per device thread.
+  // Tiles of 4096 launch indices: batches of up to 64 per device thread.
   Dispatcher dispatcher(std::move(devices), MakeTiles({tiles * kTileIndices}, {kTileIndices}),
                         stable);
   Outcome out;
@@ -140,17 +140,19 @@ TEST(DispatcherTest, LostDeviceTilesRunOnTheOthers) {
   for (bool stable : {false, true}) {
     // Dynamic: lost at its first call (fast fakes may leave it no second one); stable: at its
     // second, after it finished one batch.
+    // Stable ownership gives each device 100 tiles, more than one batch holds (64 of them).
+    const size_t tiles = stable ? 300 : 60;
     FakeDevice a, b(FakeDevice::Fault::kUnavailable, /*fault_at_call=*/stable ? 1 : 0), c;
-    Outcome out = RunAll({&a, &b, &c}, 60, stable);
+    Outcome out = RunAll({&a, &b, &c}, tiles, stable);
     ASSERT_TRUE(out.status.ok()) << out.status;
-    EXPECT_EQ(out.device_of_tile.size(), 60u);
-    EXPECT_EQ(out.tile_reports, 60u);
+    EXPECT_EQ(out.device_of_tile.size(), tiles);
+    EXPECT_EQ(out.tile_reports, tiles);
     ASSERT_EQ(out.lost.size(), 1u);
     EXPECT_EQ(out.lost[0].device, 1u);
     EXPECT_NE(out.lost[0].reason.message().find("connection reset"), std::string::npos);
     if (stable) {
-      // Device 1 finished its first batch (2 tiles: 1 and 4); the rest moved by index over the
-      // survivors {0, 2}.
+      // Device 1 finished its first batch (tiles 1, 4, 7, ...); the rest moved by index over
+      // the survivors {0, 2}.
       for (const auto& [tile, device] : out.device_of_tile) {
         if (tile % 3 != 1) {
           EXPECT_EQ(device, tile % 3);
