@@ -60,15 +60,18 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   // No tiles (the all-zero launch builds accelerations only): every device gets one empty call.
   build_only_ = tiles.empty();
   remaining_ = build_only_ ? live.size() : tiles.size();
-  for (v1::Tile& t : tiles) {
-    size_t queue = 0;
-    if (stable_) {
+  for (const v1::Tile& t : tiles) tile_indices_ = std::max(tile_indices_, TileIndices(t));
+  if (stable_) {
+    for (v1::Tile& t : tiles) {
       // Tile i belongs to device i mod N; a device gone before the launch hands its tiles to the
       // others by tile index, as Requeue does for one lost during it.
-      queue = t.index() % n;
+      size_t queue = t.index() % n;
       if (lost_[queue]) queue = live[t.index() % live.size()];
+      queues_[queue].tiles.push_back(std::move(t));
     }
-    queues_[queue].tiles.push_back(std::move(t));
+  } else {
+    // Spread: every batch samples the whole launch, so batches cost about the same.
+    for (size_t i : SpreadOrder(tiles.size())) queues_[0].tiles.push_back(std::move(tiles[i]));
   }
   // Two calls in flight per device (one for the all-zero launch): the device runs them one after
   // the other, so the next batch is waiting there when one ends, instead of a round trip later.
@@ -93,7 +96,8 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
   std::deque<v1::Tile>& queue = queues_[stable_ ? d : 0].tiles;
   if (queue.empty()) return {};
   const uint64_t threads = static_cast<uint64_t>(std::max(devices_[d].threads, 1));
-  size_t batch = std::max<uint64_t>(1, kIndicesPerThread * threads / TileIndices(queue.front()));
+  // Sized by the launch's full tiles, not the queue's front, which may be a clipped edge tile.
+  size_t batch = std::max<uint64_t>(1, kIndicesPerThread * threads / tile_indices_);
   if (devices_.size() == 1) {
     // Nothing to balance with: one call takes everything, and the device's own thread pool
     // balances its tiles without a barrier between batches.
@@ -106,9 +110,9 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
     // a call costs a round trip, and one-tile calls of small tiles leave devices waiting for it.
     const size_t live =
         std::max<size_t>(1, static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false)));
-    const size_t floor = std::min<size_t>(
-        std::max<uint64_t>(1, kMinIndicesPerThread * threads / TileIndices(queue.front())),
-        queue.size() / (2 * live));
+    const size_t floor =
+        std::min<size_t>(std::max<uint64_t>(1, kMinIndicesPerThread * threads / tile_indices_),
+                         queue.size() / (2 * live));
     batch = std::clamp<size_t>(std::max(queue.size() / (kGuidedShare * live), floor), 1, batch);
   }
   batch = std::min(batch, queue.size());

@@ -107,6 +107,7 @@ class Dispatcher {
   const bool stable_;
   std::atomic<uint64_t>* const progress_;
   bool build_only_ = false;        // set in the constructor, before the threads start
+  uint64_t tile_indices_ = 1;      // launch indices of the launch's largest tile, ditto
   std::atomic<bool> stop_{false};  // cancels running calls: user cancel or launch failure
 
   mutable std::mutex mu_;
