@@ -19,6 +19,8 @@ set_target_properties(tessera PROPERTIES VERSION ${PROJECT_VERSION} SOVERSION
   ${PROJECT_VERSION_MAJOR})
 target_include_directories(tessera PUBLIC
   $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/tessera>)
+# optix.h's program-side half (tessera/device.h) is C++17.
+target_compile_features(tessera INTERFACE cxx_std_17)
 
 install(TARGETS tessera EXPORT TesseraTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <climits>
+#include <cstdlib>
 #include <cstring>
 
 // Set by scheduler/CMakeLists.txt from GNUInstallDirs: the installed <bindir> and <includedir>
@@ -26,16 +27,34 @@ std::string FromThisBinary(const char* relative) {
 
 }  // namespace
 
-std::string ThisBinaryPath() {
+namespace {
+
+// dladdr names the library as the loader found it: possibly through a symlink (whose directory
+// holds no installed layout) or relative to a working directory the application may change
+// later. Resolved once, at load time, while that directory is still the one it was found from.
+std::string ResolveThisBinary() {
   Dl_info info;
-  if (dladdr(reinterpret_cast<void*>(&ThisBinaryPath), &info) != 0 && info.dli_fname != nullptr &&
-      std::strchr(info.dli_fname, '/') != nullptr) {
+  if (dladdr(reinterpret_cast<void*>(&ResolveThisBinary), &info) != 0 &&
+      info.dli_fname != nullptr && std::strchr(info.dli_fname, '/') != nullptr) {
+    char resolved[PATH_MAX];
+    if (realpath(info.dli_fname, resolved) != nullptr) return resolved;
     return info.dli_fname;
   }
   char buf[PATH_MAX];
   ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
   return n > 0 ? std::string(buf, static_cast<size_t>(n)) : std::string();
 }
+
+const std::string& ThisBinaryPathOnce() {
+  static const std::string* path = new std::string(ResolveThisBinary());
+  return *path;
+}
+
+[[maybe_unused]] const bool kResolvedAtLoad = (ThisBinaryPathOnce(), true);
+
+}  // namespace
+
+std::string ThisBinaryPath() { return ThisBinaryPathOnce(); }
 
 std::string DirName(const std::string& path) {
   size_t slash = path.rfind('/');

@@ -36,4 +36,17 @@ if grep '^worker ' <<<"$output" | grep -v "^worker $prefix/bin/tessera-worker\$"
   exit 1
 fi
 grep -q "both launches wrote what they should" <<<"$output"
+
+# Reached through a symlink in another directory (LD_LIBRARY_PATH comes before the RUNPATH): the
+# library still finds the installed worker and headers, not the build tree's.
+mkdir "$work/linkdir"
+ln -s "$(ls "$prefix"/lib*/libtessera.so.0)" "$work/linkdir/libtessera.so.0"
+output=$(LD_LIBRARY_PATH="$work/linkdir" TESSERA_DEVICES=local:2 \
+         TESSERA_CACHE_DIR="$work/cache2" "$work/consumer-build/consumer")
+echo "$output"
+if grep '^worker ' <<<"$output" | grep -v "^worker $prefix/bin/tessera-worker\$"; then
+  echo "through a symlink, a worker above is not the installed one"
+  exit 1
+fi
+grep -q "both launches wrote what they should" <<<"$output"
 echo "install test passed"
