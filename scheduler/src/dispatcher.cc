@@ -77,11 +77,35 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   // the other, so the next batch is waiting there when one ends, instead of a round trip later.
   const int calls = build_only_ ? 1 : kCallsInFlight;
   running_threads_ = live.size() * calls;
-  threads_.reserve(live.size() * calls);
-  for (int c = 0; c < calls; ++c) {
-    for (size_t d : live) threads_.emplace_back([this, d] { Run(d); });
+  try {
+    threads_.reserve(live.size() * calls);
+    for (int c = 0; c < calls; ++c) {
+      for (size_t d : live) {
+        threads_.emplace_back([this, d] { Run(d); });
+      }
+    }
+  } catch (const std::exception& e) {
+    // Out of threads or memory (a process limit, say): the launch fails, and the threads that did
+    // start (blocked on mu_ until this returns) see stop_ and end; none of their calls began.
+    running_threads_ = threads_.size();
+    status_ = absl::ResourceExhaustedError(absl::StrCat("could not start the launch's ",
+                                                        live.size() * calls, " dispatch threads (",
+                                                        threads_.size(), " started): ", e.what()));
+    stop_ = true;
   }
 }
+
+namespace {
+
+// What an exception that escaped a dispatch thread's own work (not a device's call) means.
+absl::Status DispatchFailure(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e) != nullptr) {
+    return absl::ResourceExhaustedError("out of memory while dispatching the launch's tiles");
+  }
+  return absl::ResourceExhaustedError(absl::StrCat("dispatching the launch's tiles: ", e.what()));
+}
+
+}  // namespace
 
 Dispatcher::~Dispatcher() {
   {
@@ -195,88 +219,103 @@ void Dispatcher::Requeue(size_t d, std::vector<v1::Tile> batch) {
 }
 
 void Dispatcher::Run(size_t d) {
-  DispatchDevice& device = devices_[d];
   std::unique_lock<std::mutex> lock(mu_);
   while (true) {
-    work_cv_.wait(lock, [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
-      return stop_ || remaining_ == 0 || lost_[d] || build_only_ ||
-             !queues_[stable_ ? d : 0].tiles.empty();
-    });
-    if (stop_ || remaining_ == 0 || lost_[d]) break;
-    std::vector<v1::Tile> batch = Take(d);
-    if (batch.empty() && !build_only_) continue;
-    in_flight_[d].push_back(&batch);
-    lock.unlock();
-
-    v1::LaunchRequest request = device.header;
-    for (const v1::Tile& t : batch) *request.add_tiles() = t;
-    FinishedBatch finished;
-    finished.device = d;
-    finished.tiles = batch.size();
-    std::mutex results_mu;  // devices call back from their own threads
-    uint64_t reported = 0;  // tiles of this call the device said it finished (progress)
-    absl::Status status;
+    std::vector<v1::Tile> batch;
     try {
-      status = device.device->Launch(request, stop_, [&](v1::TileResult&& result) {
-        std::lock_guard<std::mutex> results_lock(results_mu);
-        if (result.tile_index() == kHeartbeatTileIndex) {
-          const uint64_t done = std::min<uint64_t>(result.tiles_done(), batch.size());
-          if (done > reported) AddProgress(done - reported);
-          reported = std::max(reported, done);
-          return;
-        }
-        finished.results.push_back(std::move(result));
-      });
+      if (!RunCall(d, lock, batch)) break;
     } catch (const std::exception& e) {
-      status = absl::InternalError(absl::StrCat("threw: ", e.what()));
-    } catch (...) {
-      status = absl::InternalError("threw a non-standard exception");
-    }
-
-    for (const v1::TileResult& r : finished.results) {
-      if (r.tile_index() == kFinalTileIndex && r.call_sequence() != 0) {
-        finished.sequence = r.call_sequence();
-      }
-    }
-    lock.lock();
-    std::vector<const std::vector<v1::Tile>*>& calls = in_flight_[d];
-    calls.erase(std::find(calls.begin(), calls.end(), &batch));
-    if (status.ok()) {
-      AddProgress(batch.size() - reported);
-      remaining_ -= build_only_ ? 1 : batch.size();
-      Deliver(std::move(finished));
-      if (remaining_ == 0) work_cv_.notify_all();
-      if (build_only_) break;
-      continue;
-    }
-    // The call's tiles count again where they run next.
-    if (progress_ != nullptr) progress_->fetch_sub(reported, std::memory_order_relaxed);
-    if (stop_) break;  // cancelled, or the launch already failed elsewhere
-    const absl::StatusCode code = status.code();
-    if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {
-      if (!lost_[d]) lost_reasons_.push_back({d, status});
-      lost_[d] = true;
-      Release(d);
-      if (build_only_) {
-        --remaining_;
-        if (std::count(lost_.begin(), lost_.end(), false) == 0) Requeue(d, {});
-      } else {
-        Requeue(d, std::move(batch));
-      }
+      // Memory ran out outside the device's call (taking tiles, building the request, keeping
+      // results): the launch fails instead of the exception ending the process.
+      if (!lock.owns_lock()) lock.lock();
+      std::vector<const std::vector<v1::Tile>*>& calls = in_flight_[d];
+      calls.erase(std::remove(calls.begin(), calls.end(), &batch), calls.end());
+      Fail(d, DispatchFailure(e));
       break;
     }
-    if (code == absl::StatusCode::kAborted) {
-      // The device crashed running a program: that program would crash the next device too.
-      if (!lost_[d]) lost_reasons_.push_back({d, status});
-      lost_[d] = true;
-    }
-    Fail(d, std::move(status));
-    break;
   }
   if (--running_threads_ == 0) {
     for (size_t i = 0; i < devices_.size(); ++i) Release(i);
   }
   done_cv_.notify_all();
+}
+
+bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
+                         std::vector<v1::Tile>& batch) {
+  DispatchDevice& device = devices_[d];
+  work_cv_.wait(lock, [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
+    return stop_ || remaining_ == 0 || lost_[d] || build_only_ ||
+           !queues_[stable_ ? d : 0].tiles.empty();
+  });
+  if (stop_ || remaining_ == 0 || lost_[d]) return false;
+  batch = Take(d);
+  if (batch.empty() && !build_only_) return true;
+  in_flight_[d].push_back(&batch);
+  lock.unlock();
+
+  v1::LaunchRequest request = device.header;
+  for (const v1::Tile& t : batch) *request.add_tiles() = t;
+  FinishedBatch finished;
+  finished.device = d;
+  finished.tiles = batch.size();
+  std::mutex results_mu;  // devices call back from their own threads
+  uint64_t reported = 0;  // tiles of this call the device said it finished (progress)
+  absl::Status status;
+  try {
+    status = device.device->Launch(request, stop_, [&](v1::TileResult&& result) {
+      std::lock_guard<std::mutex> results_lock(results_mu);
+      if (result.tile_index() == kHeartbeatTileIndex) {
+        const uint64_t done = std::min<uint64_t>(result.tiles_done(), batch.size());
+        if (done > reported) AddProgress(done - reported);
+        reported = std::max(reported, done);
+        return;
+      }
+      finished.results.push_back(std::move(result));
+    });
+  } catch (const std::exception& e) {
+    status = absl::InternalError(absl::StrCat("threw: ", e.what()));
+  } catch (...) {
+    status = absl::InternalError("threw a non-standard exception");
+  }
+
+  for (const v1::TileResult& r : finished.results) {
+    if (r.tile_index() == kFinalTileIndex && r.call_sequence() != 0) {
+      finished.sequence = r.call_sequence();
+    }
+  }
+  lock.lock();
+  std::vector<const std::vector<v1::Tile>*>& calls = in_flight_[d];
+  calls.erase(std::find(calls.begin(), calls.end(), &batch));
+  if (status.ok()) {
+    AddProgress(batch.size() - reported);
+    remaining_ -= build_only_ ? 1 : batch.size();
+    Deliver(std::move(finished));
+    if (remaining_ == 0) work_cv_.notify_all();
+    return !build_only_;
+  }
+  // The call's tiles count again where they run next.
+  if (progress_ != nullptr) progress_->fetch_sub(reported, std::memory_order_relaxed);
+  if (stop_) return false;  // cancelled, or the launch already failed elsewhere
+  const absl::StatusCode code = status.code();
+  if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {
+    if (!lost_[d]) lost_reasons_.push_back({d, status});
+    lost_[d] = true;
+    Release(d);
+    if (build_only_) {
+      --remaining_;
+      if (std::count(lost_.begin(), lost_.end(), false) == 0) Requeue(d, {});
+    } else {
+      Requeue(d, std::move(batch));
+    }
+    return false;
+  }
+  if (code == absl::StatusCode::kAborted) {
+    // The device crashed running a program: that program would crash the next device too.
+    if (!lost_[d]) lost_reasons_.push_back({d, status});
+    lost_[d] = true;
+  }
+  Fail(d, std::move(status));
+  return false;
 }
 
 void Dispatcher::Deliver(FinishedBatch batch) {

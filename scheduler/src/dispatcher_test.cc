@@ -1,7 +1,11 @@
 #include "tessera/scheduler/dispatcher.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <exception>
 #include <map>
 #include <thread>
 
@@ -266,6 +270,46 @@ TEST(DispatcherTest, CancelStopsRunningCallsPromptly) {
   EXPECT_LT(steady_clock::now() - start, std::chrono::seconds(2));
   EXPECT_EQ(dispatcher.status().code(), absl::StatusCode::kCancelled);
   EXPECT_TRUE(batches.empty());
+}
+
+// A process that may start no more threads (RLIMIT_NPROC, as an unprivileged user) gets a
+// failed launch saying so, not std::terminate from a half-built dispatcher.
+TEST(DispatcherTest, ThreadsThatCannotStartFailTheLaunch) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to become an unprivileged user with no threads";
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    alarm(30);
+    // nobody (65534) runs nothing here: with RLIMIT_NPROC 1 it may not create another thread.
+    const rlimit one{1, 1};
+    if (setgid(65534) != 0 || setuid(65534) != 0 || setrlimit(RLIMIT_NPROC, &one) != 0) _exit(3);
+    // Whatever escapes must end the child here, not run the rest of the suite in it.
+    int code = 2;
+    try {
+      FakeDevice a, b;
+      std::vector<DispatchDevice> devices;
+      devices.push_back({&a, "fake0", 1, v1::LaunchRequest()});
+      devices.push_back({&b, "fake1", 1, v1::LaunchRequest()});
+      Dispatcher dispatcher(std::move(devices), MakeTiles({8 * kTileIndices}, {kTileIndices}),
+                            false);
+      std::vector<FinishedBatch> batches;
+      while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
+      }
+      const absl::Status status = dispatcher.status();
+      code = status.code() == absl::StatusCode::kResourceExhausted &&
+                     status.message().find("could not start the launch's 4 dispatch threads") !=
+                         std::string::npos
+                 ? 0
+                 : 1;
+    } catch (...) {
+    }
+    _exit(code);
+  }
+  int wstatus = 0;
+  ASSERT_EQ(waitpid(child, &wstatus, 0), child);
+  ASSERT_TRUE(WIFEXITED(wstatus)) << "the child died of signal " << WTERMSIG(wstatus);
+  EXPECT_EQ(WEXITSTATUS(wstatus), 0)
+      << "1: wrong status, 2: an exception escaped, 3: could not drop privileges";
 }
 
 }  // namespace

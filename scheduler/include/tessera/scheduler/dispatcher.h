@@ -88,6 +88,11 @@ class Dispatcher {
   };
 
   void Run(size_t d);
+  // One call of device `d`'s thread: waits for tiles, takes a batch into `batch` (the caller's,
+  // so that a failure can take it out of in_flight_), runs it and delivers or requeues it. False
+  // when the thread should end. `lock` holds mu_ on entry and on return.
+  bool RunCall(size_t d, std::unique_lock<std::mutex>& lock, std::vector<v1::Tile>& batch)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   void AddProgress(uint64_t tiles) {
     if (progress_ != nullptr) progress_->fetch_add(tiles, std::memory_order_relaxed);
   }
