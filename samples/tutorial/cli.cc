@@ -19,7 +19,9 @@ namespace {
 
 // Whether `path` can be written, checked before rendering: a long render should not end in
 // "Could not open file". Names the directory or file and the system's reason.
-void CheckOutputWritable(const std::string& path) {
+void CheckOutputWritable(const std::string& out_path) {
+  // Through symlinks, to where the image will land.
+  const std::string path = OutputTarget(out_path);
   const size_t slash = path.find_last_of('/');
   const std::string dir = slash == std::string::npos ? "."
                           : slash == 0               ? "/"
@@ -70,7 +72,7 @@ int RunTutorialMain(int argc, const char* const* argv, std::ostream& out, std::o
   try {
     // Check what needs no rendering first, so mistakes fail fast.
     const StepConfig& step = GetStep(options.step);
-    FormatForPath(out_path);
+    CheckImageSize(FormatForPath(out_path), options.width, options.height);
     CheckOutputWritable(out_path);
     options.module_dir = ResolveModuleDir(modules);
     if (step.step == 5) {

@@ -88,6 +88,65 @@ TEST(TutorialCli, UnwritableOutFailsBeforeRendering) {
       << r.err;
 }
 
+// Outputs that can never be written fail before rendering: no name before the extension, a
+// symlink into a missing directory, a PNG wider than libpng allows.
+TEST(TutorialCli, HopelessOutputsFailBeforeRendering) {
+  const TempFile dangling("dangling.png");
+  std::filesystem::create_symlink("/nonexistent/x.png", dangling.path);
+  const TempFile big("big.png");
+  const struct {
+    std::vector<std::string> args;
+    std::string said;
+  } cases[] = {
+      {{"--out", ::testing::TempDir() + "/.png"}, "needs a name before '.png'"},
+      {{"--out", dangling.path}, "directory '/nonexistent': No such file or directory"},
+      {{"--out", big.path, "--width", "1000001", "--height", "1"},
+       "at most 1000000 pixels wide and high"},
+  };
+  for (const auto& c : cases) {
+    std::vector<std::string> args = {"--step", "10", "--modules", "/nonexistent/no-such-dir"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const Result r = RunCli(args);  // a render would fail on the modules: it is never reached
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find(c.said), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(big.path));
+  }
+}
+
+// A write the disk refuses (a device that is always full) fails with the reason instead of
+// printing the path; OpenImageIO's PNG writer alone reported success and left a truncated file.
+TEST(TutorialCli, AFullDiskFailsTheRun) {
+  const TempFile full("full.png");
+  std::filesystem::create_symlink("/dev/full", full.path);
+  const Result r = RunCli({"--step", "0", "--width", "16", "--height", "12", "--out", full.path});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/full")) << "the device was replaced";
+}
+
+// A new image replaces the previous one whole, through a symlink the link stays, and no
+// temporary file is left beside it.
+TEST(TutorialCli, ReplacesAnImageWholeAndKeepsSymlinks) {
+  const TempFile image("replaced.png");
+  const TempFile link("replaced_link.png");
+  std::filesystem::create_symlink(image.path, link.path);
+  ASSERT_EQ(RunCli({"--step", "0", "--width", "16", "--height", "12", "--out", link.path}).status,
+            0);
+  const uintmax_t first = std::filesystem::file_size(image.path);
+  ASSERT_EQ(RunCli({"--step", "0", "--width", "64", "--height", "48", "--out", link.path}).status,
+            0);
+  EXPECT_TRUE(std::filesystem::is_symlink(link.path));
+  EXPECT_GT(std::filesystem::file_size(image.path), first);
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(image.path);
+  ASSERT_NE(in, nullptr) << OIIO::geterror();
+  EXPECT_EQ(in->spec().width, 64);
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(image.path).parent_path())) {
+    EXPECT_EQ(entry.path().filename().string().rfind(".tessera-tutorial-", 0), std::string::npos)
+        << entry.path();
+  }
+}
+
 TEST(TutorialCli, MissingModulesNamed) {
   const TempFile file("nomodules.png");
   const Result r = RunCli({"--step", "0", "--width", "16", "--height", "12", "--out", file.path,
