@@ -50,7 +50,7 @@ RTresult tesseraDeviceGetAddress(int ordinal, RTsize size, char* address) {
 RTresult tesseraContextGetExceptionReportCount(RTcontext context, RTsize* count) {
   return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
     TS_RETURN_IF_ERROR(NotNull(count, "count pointer"));
-    *count = c.last_exceptions().size();
+    *count = c.last_exception_count();
     return absl::OkStatus();
   });
 }

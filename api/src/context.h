@@ -157,10 +157,9 @@ class Context : public Object {
   uint64_t NextLaunchId() { return ++last_launch_id_; }
   void set_running(bool running) { running_.store(running); }
   // The exception reports of the last launch.
-  const std::vector<v1::ExceptionReport>& last_exceptions() const { return last_exceptions_; }
-  void set_last_exceptions(std::vector<v1::ExceptionReport> reports) {
-    last_exceptions_ = std::move(reports);
-  }
+  // Exceptions of the last launch that reached no exception program.
+  uint64_t last_exception_count() const { return last_exception_count_; }
+  void set_last_exception_count(uint64_t count) { last_exception_count_ = count; }
 
   // ---- Errors.
   // `sequence` orders errors across contexts and threads (see ErrorSequence in boundary.h).
@@ -213,7 +212,7 @@ class Context : public Object {
   uint64_t last_race_count_ = 0;
   uint64_t bytes_received_ = 0;
   std::atomic<uint64_t> tiles_done_{0}, tiles_total_{0};
-  std::vector<v1::ExceptionReport> last_exceptions_;
+  uint64_t last_exception_count_ = 0;
 
   mutable std::mutex error_mu_;
   // The newest message of each code (rtContextGetErrorString asks by code): a later error of

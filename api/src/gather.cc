@@ -19,36 +19,97 @@
 namespace tessera::api {
 namespace {
 
-uint64_t IndexAt(const v1::PrintRecord& r, int i) {
+template <typename Record>
+uint64_t IndexAt(const Record& r, int i) {
   return i < r.launch_index_size() ? r.launch_index(i) : 0;
 }
 
+// Launch-index order (z, then y, then x), then the order of prints within one launch index.
+std::tuple<uint64_t, uint64_t, uint64_t, uint64_t> KeyOf(const v1::PrintRecord& p) {
+  return {IndexAt(p, 2), IndexAt(p, 1), IndexAt(p, 0), p.sequence()};
+}
+
+uint64_t PrintBytes(const v1::PrintRecord& p) { return p.text().size() + p.dropped_bytes(); }
+
 }  // namespace
 
-// Exceptions that reached no exception program: with printing enabled each one is printed in
-// launch-index order, as rtPrintExceptionDetails would; otherwise one line on stderr says how many
-// there were, so they are never silent.
+// Exceptions that reached no exception program: each one printing showed was printed in
+// launch-index order among the prints, as rtPrintExceptionDetails would; for the others (printing
+// off, or rtContextSetPrintLaunchIndex selecting another launch index) one line on stderr says how
+// many there were and what the first was, so they are never silent.
 void LaunchGather::ReportExceptions() {
-  if (exceptions_.empty()) return;
-  std::stable_sort(exceptions_.begin(), exceptions_.end(),
-                   [](const v1::ExceptionReport& a, const v1::ExceptionReport& b) {
-                     auto key = [](const v1::ExceptionReport& e) {
-                       auto at = [&](int i) {
-                         return i < e.launch_index_size() ? e.launch_index(i) : uint64_t{0};
-                       };
-                       return std::make_tuple(at(2), at(1), at(0));
-                     };
-                     return key(a) < key(b);
-                   });
-  // With printing enabled the reports were printed among the prints (Finish).
-  if (context_.print_enabled()) return;
+  if (exceptions_unshown_ == 0 || !first_exception_.has_value()) return;
+  const std::string& first = first_exception_->details();
   std::fprintf(stderr,
-               "tessera: %zu launch index(es) raised an exception and the entry point has no "
-               "exception program; first: %s",
-               exceptions_.size(), exceptions_.front().details().c_str());
-  if (exceptions_.front().details().empty() || exceptions_.front().details().back() != '\n') {
-    std::fputc('\n', stderr);
+               "tessera: %llu launch index(es) raised an exception that no exception program "
+               "handled%s; first: %s",
+               static_cast<unsigned long long>(exceptions_unshown_),
+               context_.print_enabled() ? " and printing did not show" : "", first.c_str());
+  if (first.empty() || first.back() != '\n') std::fputc('\n', stderr);
+}
+
+void LaunchGather::DropPrint(const v1::PrintRecord& p) {
+  prints_dropped_ += std::max<uint64_t>(p.dropped_prints(), 1);
+  print_bytes_dropped_ += PrintBytes(p);
+}
+
+void LaunchGather::AddPrint(v1::PrintRecord&& p) {
+  if (print_cut_.has_value() && KeyOf(p) >= *print_cut_) {
+    DropPrint(p);
+    return;
   }
+  print_bytes_ += PrintBytes(p);
+  const bool oversized = p.dropped_bytes() > 0;
+  prints_.push_back(std::move(p));
+  // Sorting waits until another print buffer's worth arrived, so that it costs O(log n) a print.
+  if (oversized || print_bytes_ > trim_at_bytes_) TrimPrints();
+}
+
+void LaunchGather::TrimPrints() {
+  std::stable_sort(
+      prints_.begin(), prints_.end(),
+      [](const v1::PrintRecord& a, const v1::PrintRecord& b) { return KeyOf(a) < KeyOf(b); });
+  const uint64_t limit = context_.print_buffer_size();
+  uint64_t kept = 0;
+  size_t i = 0;
+  for (; i < prints_.size(); ++i) {
+    const v1::PrintRecord& p = prints_[i];
+    if (p.dropped_bytes() > 0 || p.text().size() > limit - kept) break;
+    kept += p.text().size();
+  }
+  if (i < prints_.size()) {
+    print_cut_ = KeyOf(prints_[i]);
+    for (size_t j = i; j < prints_.size(); ++j) DropPrint(prints_[j]);
+    prints_.resize(i);
+  }
+  print_bytes_ = kept;
+  trim_at_bytes_ = limit > std::numeric_limits<uint64_t>::max() / 2 ? limit : 2 * limit;
+}
+
+void LaunchGather::AddException(v1::ExceptionReport&& e) {
+  ++exception_count_;
+  auto key = [](const v1::ExceptionReport& r) {
+    return std::make_tuple(IndexAt(r, 2), IndexAt(r, 1), IndexAt(r, 0));
+  };
+  if (!first_exception_.has_value() || key(e) < key(*first_exception_)) first_exception_ = e;
+  // With printing enabled, a report of an exception that reached no exception program is the last
+  // output of its launch index (the exception ended it): it takes its place in launch-index order
+  // among the prints and counts against the print buffer like them. Only at the launch index
+  // rtContextSetPrintLaunchIndex selects, as for rtPrintf (-1: any).
+  bool shown = context_.print_enabled();
+  const std::array<int, 3>& only = context_.print_launch_index();
+  for (int i = 0; i < 3 && shown; ++i) {
+    if (only[i] >= 0 && IndexAt(e, i) != static_cast<uint64_t>(only[i])) shown = false;
+  }
+  if (!shown) {
+    ++exceptions_unshown_;
+    return;
+  }
+  v1::PrintRecord p;
+  *p.mutable_launch_index() = e.launch_index();
+  p.set_sequence(std::numeric_limits<uint64_t>::max());
+  *p.mutable_text() = std::move(*e.mutable_details());
+  AddPrint(std::move(p));
 }
 
 LaunchGather::LaunchGather(Context& context)
@@ -114,8 +175,8 @@ void LaunchGather::Apply(scheduler::FinishedBatch& batch) {
       RecordError(RtError(code, absl::StrCat("device '", device_name, "': ", result.error())));
     }
     for (const v1::BufferRegion& region : result.regions()) ApplyRegion(batch.device, region);
-    for (auto& p : *result.mutable_prints()) prints_.push_back(std::move(p));
-    for (auto& e : *result.mutable_exceptions()) exceptions_.push_back(std::move(e));
+    for (auto& p : *result.mutable_prints()) AddPrint(std::move(p));
+    for (auto& e : *result.mutable_exceptions()) AddException(std::move(e));
   }
 }
 
@@ -273,57 +334,23 @@ absl::Status LaunchGather::Finish() {
     }
   }
 
-  // With printing enabled, a report of an exception that reached no exception program is the
-  // last output of its launch index (the exception ended it): it takes its place in launch-index
-  // order among the prints and counts against the print buffer like them. Only at the launch index
-  // rtContextSetPrintLaunchIndex selects, as for rtPrintf (-1: any).
-  if (context_.print_enabled()) {
-    const std::array<int, 3>& only = context_.print_launch_index();
-    for (const v1::ExceptionReport& e : exceptions_) {
-      bool selected = true;
-      for (int i = 0; i < 3; ++i) {
-        const uint64_t at = i < e.launch_index_size() ? e.launch_index(i) : 0;
-        if (only[i] >= 0 && at != static_cast<uint64_t>(only[i])) selected = false;
-      }
-      if (!selected) continue;
-      v1::PrintRecord& p = prints_.emplace_back();
-      *p.mutable_launch_index() = e.launch_index();
-      p.set_sequence(std::numeric_limits<uint64_t>::max());
-      p.set_text(e.details());
-    }
-  }
-  std::stable_sort(
-      prints_.begin(), prints_.end(), [](const v1::PrintRecord& a, const v1::PrintRecord& b) {
-        return std::make_tuple(IndexAt(a, 2), IndexAt(a, 1), IndexAt(a, 0), a.sequence()) <
-               std::make_tuple(IndexAt(b, 2), IndexAt(b, 1), IndexAt(b, 0), b.sequence());
-      });
   // The print buffer bounds a launch's output as in OptiX: whole prints, in launch-index order so
   // that what is kept does not depend on the device set, while they fit; the rest is dropped and
   // said so on stderr.
-  const uint64_t limit = context_.print_buffer_size();
-  uint64_t written = 0, dropped_bytes = 0;
-  size_t dropped = 0;
-  for (const v1::PrintRecord& p : prints_) {
-    if (dropped == 0 && p.text().size() <= limit - written) {
-      std::fwrite(p.text().data(), 1, p.text().size(), stdout);
-      written += p.text().size();
-    } else {
-      ++dropped;
-      dropped_bytes += p.text().size();
-    }
-  }
+  TrimPrints();
+  for (const v1::PrintRecord& p : prints_) std::fwrite(p.text().data(), 1, p.text().size(), stdout);
   std::fflush(stdout);
-  if (dropped > 0) {
+  if (prints_dropped_ > 0) {
     std::fprintf(stderr,
                  "tessera: rtPrintf output of this launch exceeds the print buffer size (%llu "
-                 "bytes, rtContextSetPrintBufferSize): %zu prints (%llu bytes) were dropped\n",
-                 static_cast<unsigned long long>(limit), dropped,
-                 static_cast<unsigned long long>(dropped_bytes));
+                 "bytes, rtContextSetPrintBufferSize): %llu prints (%llu bytes) were dropped\n",
+                 static_cast<unsigned long long>(context_.print_buffer_size()),
+                 static_cast<unsigned long long>(prints_dropped_),
+                 static_cast<unsigned long long>(print_bytes_dropped_));
   }
   prints_.clear();
   ReportExceptions();
-  context_.set_last_exceptions(std::move(exceptions_));
-  exceptions_.clear();
+  context_.set_last_exception_count(exception_count_);
   return first_error_;
 }
 

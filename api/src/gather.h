@@ -6,6 +6,8 @@
 #define TESSERA_API_SRC_GATHER_H_
 
 #include <cstdint>
+#include <optional>
+#include <tuple>
 #include <vector>
 
 #include "absl/container/flat_hash_map.h"
@@ -96,8 +98,27 @@ class LaunchGather {
   uint64_t race_count_ = 0;
   // Per buffer id, per content chunk: which device wrote into it (or none, or several).
   absl::flat_hash_map<uint64_t, std::vector<int>> chunk_writers_;
+  // Prints (and the reports of exceptions that printing shows) in launch-index order are kept
+  // only while they fit the print buffer: the host holds at most about twice its size, however
+  // much a launch prints. Once one is dropped, every one after it in that order is dropped too,
+  // so records at or past `print_cut_` are counted and let go on arrival.
+  using PrintKey = std::tuple<uint64_t, uint64_t, uint64_t, uint64_t>;  // z, y, x, sequence
+  void AddPrint(v1::PrintRecord&& p);
+  void AddException(v1::ExceptionReport&& e);
+  void TrimPrints();  // sorts the kept prints, keeps what fits, sets print_cut_
+  void DropPrint(const v1::PrintRecord& p);
+
   std::vector<v1::PrintRecord> prints_;
-  std::vector<v1::ExceptionReport> exceptions_;
+  uint64_t print_bytes_ = 0;    // text bytes in prints_
+  uint64_t trim_at_bytes_ = 0;  // TrimPrints when print_bytes_ passes this
+  std::optional<PrintKey> print_cut_;
+  uint64_t prints_dropped_ = 0;
+  uint64_t print_bytes_dropped_ = 0;
+  // Exceptions that reached no exception program: how many, the first in launch-index order,
+  // and how many printing did not show (printing off, or another launch index selected).
+  uint64_t exception_count_ = 0;
+  uint64_t exceptions_unshown_ = 0;
+  std::optional<v1::ExceptionReport> first_exception_;
   absl::Status first_error_;
 };
 

@@ -199,6 +199,23 @@ TEST_P(LaunchRulesTest, PrintsBeyondThePrintBufferSizeAreDroppedAndSaidSo) {
   EXPECT_NE(err.find("65 prints"), std::string::npos) << err;  // 70 prints, 5 kept
 }
 
+// A print longer than the print buffer is dropped where it falls, on every device set: worker
+// devices send its length only (70 MB would not fit in a message and failed the launch there).
+TEST_P(LaunchRulesTest, APrintLongerThanThePrintBufferIsDroppedOnEveryDeviceSet) {
+  RayGen("print_huge");
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  Ok(rtContextSetPrintBufferSize(ctx_, 1 << 20));
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  RTresult r = rtContextLaunch2D(ctx_, 0, 2, 1);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  ASSERT_EQ(r, RT_SUCCESS) << Error(r);
+  // Once a print is dropped, every later one in launch-index order is too, as before.
+  EXPECT_EQ(out, "") << out.substr(0, 200);
+  EXPECT_NE(err.find("3 prints (70000013 bytes) were dropped"), std::string::npos) << err;
+}
+
 // The launch indices throw_some throws at (every third, row-major) and their codes.
 std::vector<std::array<unsigned, 3>> Throwers() {
   std::vector<std::array<unsigned, 3>> t;
@@ -209,6 +226,27 @@ std::vector<std::array<unsigned, 3>> Throwers() {
     }
   }
   return t;
+}
+
+// Exceptions that printing does not show (another launch index selected) are still said on
+// stderr, as with printing off.
+TEST_P(LaunchRulesTest, ExceptionsAtUnprintedLaunchIndicesAreSaid) {
+  Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT4, {kPrintW, kPrintH}, "exception_log");
+  RayGen("throw_some");
+  Ok(rtContextSetExceptionEnabled(ctx_, RT_EXCEPTION_USER, 1));
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  Ok(rtContextSetPrintLaunchIndex(ctx_, 5000, 0, -1));
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  RTresult r = rtContextLaunch2D(ctx_, 0, kPrintW, kPrintH);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  ASSERT_EQ(r, RT_SUCCESS) << Error(r);
+  EXPECT_EQ(out, "");
+  const std::string said = std::to_string(Throwers().size()) +
+                           " launch index(es) raised an exception that no exception program "
+                           "handled and printing did not show";
+  EXPECT_NE(err.find(said), std::string::npos) << err;
 }
 
 TEST_P(LaunchRulesTest, ExceptionProgramRunsAtEveryThrowingIndexAndPrintsInOrder) {

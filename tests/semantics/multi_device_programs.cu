@@ -143,6 +143,12 @@ RT_PROGRAM void print_indices() {
   rtPrintf("[%u,%u] second\n", index2.x, index2.y);
 }
 
+// One print of 70 MB (a width formats it from a short string): more than a message may carry.
+RT_PROGRAM void print_huge() {
+  if (index2.x == 0 && index2.y == 0) rtPrintf("%70000000d\n", 7);
+  rtPrintf("[%u,%u]\n", index2.x, index2.y);
+}
+
 // Bytes that are not UTF-8 (Latin-1 text, binary): printed as they are.
 RT_PROGRAM void print_latin1() { rtPrintf("caf\xe9 \xff %u\n", index2.x); }
 

@@ -199,6 +199,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   plan->user_exceptions = ctx.user_exceptions;
   plan->print_enabled = ctx.print_enabled;
   plan->print_index = ctx.print_index;
+  plan->print_buffer_size = ctx.print_buffer_size;
 
   auto bind = [&](ProgramKind kind, uint64_t id,
                   std::vector<const Scope*> scopes) -> absl::StatusOr<const BoundProgram*> {

@@ -138,6 +138,7 @@ struct LaunchPlan {
   bool user_exceptions = false;
   bool print_enabled = false;
   std::array<int32_t, 3> print_index{-1, -1, -1};
+  uint64_t print_buffer_size = UINT64_MAX;
 
   bool ExceptionEnabled(unsigned code) const;
   // RTobjecttype of a graph node id, or 0 if none.

@@ -343,6 +343,7 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
   context_.miss = ToVector(c.miss());
   context_.stack_size = c.stack_size();
   context_.print_enabled = c.print_enabled();
+  context_.print_buffer_size = c.print_buffer_size();
   for (int i = 0; i < 3; ++i) {
     context_.print_index[i] = i < c.print_launch_index_size() ? c.print_launch_index(i) : -1;
   }

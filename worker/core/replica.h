@@ -94,6 +94,7 @@ struct ContextRec {
   uint64_t stack_size = 1024;
   bool print_enabled = false;
   std::array<int32_t, 3> print_index{-1, -1, -1};
+  uint64_t print_buffer_size = UINT64_MAX;  // bytes the host keeps of a launch's prints
   uint32_t exception_mask = 0;
   bool user_exceptions = false;
   uint32_t num_threads = 0;

@@ -183,10 +183,27 @@ void Emit(const std::string& text) {
     }
     return;
   }
+  // The host keeps a launch's prints in launch-index order while they fit the print buffer.
+  // This tile's prints come in that order, so once one does not fit beside the tile's earlier
+  // ones, the host would drop it and every later one: they are counted in one record instead of
+  // sent (a 100 MB print would not even fit in a message).
+  if (v1::PrintRecord* dropped = ts.out_dropped_prints; dropped != nullptr) {
+    dropped->set_dropped_bytes(dropped->dropped_bytes() + text.size());
+    dropped->set_dropped_prints(dropped->dropped_prints() + 1);
+    ++ts.print_sequence;
+    return;
+  }
   v1::PrintRecord* r = ts.out->add_prints();
   for (uint32_t i : ts.index) r->add_launch_index(i);
   r->set_sequence(ts.print_sequence++);
+  if (text.size() > ts.plan->print_buffer_size - ts.out_print_bytes) {
+    r->set_dropped_bytes(text.size());
+    r->set_dropped_prints(1);
+    ts.out_dropped_prints = r;
+    return;
+  }
   r->set_text(text);
+  ts.out_print_bytes += text.size();
 }
 
 int RtPrintActive() { return PrintActive() ? 1 : 0; }
@@ -365,8 +382,8 @@ __attribute__((noinline)) void HandleException(ThreadState& ts, const LaunchPlan
       for (uint32_t i : ts.index) r->add_launch_index(i);
       r->set_code(inner.code);
       ts.exception_code = inner.code;
-      ts.exception_details =
-          absl::StrCat(inner.details, " (raised in exception program ", ex->name, ")");
+      // ex->name says "exception program 'f' in m.so".
+      ts.exception_details = absl::StrCat(inner.details, " (raised in ", ex->name, ")");
       r->set_details(ExceptionText());
     }
   } else {
@@ -407,9 +424,14 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
   UsePlan(ts, plan);
   ts.dims = dims;
   ts.out = &out;
+  ts.out_print_bytes = 0;
+  ts.out_dropped_prints = nullptr;
   struct ClearOut {  // prints after the tile (say from a bounds program) have nowhere to go
     ThreadState& ts;
-    ~ClearOut() { ts.out = nullptr; }
+    ~ClearOut() {
+      ts.out = nullptr;
+      ts.out_dropped_prints = nullptr;
+    }
   } clear_out{ts};
   const Index3 end{std::min(origin[0] + size[0], dims[0]), std::min(origin[1] + size[1], dims[1]),
                    std::min(origin[2] + size[2], dims[2])};

@@ -127,6 +127,10 @@ struct ThreadState {
   std::exception_ptr pending;
   v1::TileResult* out = nullptr;
   uint64_t print_sequence = 0;
+  // Text bytes printed into `out` by this RunTile, and the record that counts its prints past the
+  // print buffer (the host could keep none of them).
+  uint64_t out_print_bytes = 0;
+  v1::PrintRecord* out_dropped_prints = nullptr;
   std::vector<unsigned char> scratch;
   uint64_t last_node_id = 0;
   const NodeInfo* last_node = nullptr;
