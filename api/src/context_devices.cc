@@ -94,7 +94,11 @@ absl::Status Context::EnsureDevices() {
     auto device = CreateDevice(slot.desc, num_threads_);
     if (!device.ok()) {
       // A device that never worked is a configuration error; one that was lost is left out.
-      if (!slot.lost) return device.status();
+      if (!slot.lost) {
+        return RtError(ToRtResult(device.status()),
+                       absl::StrCat("device '", slot.desc.name, "' (", slot.desc.address,
+                                    ") could not be started: ", device.status().message()));
+      }
       std::fprintf(stderr, "tessera: device '%s' (%s) could not be started again: %s\n",
                    slot.desc.name.c_str(), slot.desc.address.c_str(),
                    std::string(device.status().message()).c_str());

@@ -244,6 +244,10 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& po
         job.status = job.slot->device->Apply(job.prepared.delta);
       } catch (const std::bad_alloc&) {
         job.status = RtError(RT_ERROR_MEMORY_ALLOCATION_FAILED, "out of memory");
+      } catch (const std::system_error& e) {
+        // Out of threads (a process limit): the device could not start what it needed.
+        job.status = RtError(RT_ERROR_MEMORY_ALLOCATION_FAILED,
+                             absl::StrCat("could not start a thread: ", e.what()));
       } catch (const std::exception& e) {
         job.status = absl::InternalError(absl::StrCat("threw: ", e.what()));
       } catch (...) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <system_error>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
@@ -272,6 +273,10 @@ bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
       }
       finished.results.push_back(std::move(result));
     });
+  } catch (const std::bad_alloc&) {
+    status = absl::ResourceExhaustedError("out of memory running the launch's tiles");
+  } catch (const std::system_error& e) {
+    status = absl::ResourceExhaustedError(absl::StrCat("could not start a thread: ", e.what()));
   } catch (const std::exception& e) {
     status = absl::InternalError(absl::StrCat("threw: ", e.what()));
   } catch (...) {

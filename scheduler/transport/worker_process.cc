@@ -195,9 +195,17 @@ absl::StatusOr<std::string> MakeDirectory() {
   if (mkdtemp(path.data()) == nullptr) {
     return absl::UnavailableError(Errno(absl::StrCat("mkdtemp ", path).c_str()));
   }
-  if (FILE* host = std::fopen(absl::StrCat(path, "/", kHostFile).c_str(), "w")) {
-    std::fprintf(host, "%ld\n", static_cast<long>(getpid()));
-    std::fclose(host);
+  // A directory that does not name its host could never be swept after a crash: one that cannot
+  // be named (a full disk) is not used.
+  const std::string host_file = absl::StrCat(path, "/", kHostFile);
+  FILE* host = std::fopen(host_file.c_str(), "w");
+  bool named = host != nullptr && std::fprintf(host, "%ld\n", static_cast<long>(getpid())) > 0;
+  if (host != nullptr) named = std::fclose(host) == 0 && named;
+  if (!named) {
+    const std::string message = Errno(absl::StrCat("writing ", host_file).c_str());
+    unlink(host_file.c_str());
+    rmdir(path.c_str());
+    return absl::UnavailableError(message);
   }
   return path;
 }
@@ -438,9 +446,27 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
         for (int fd = first_closed; fd < 4096; ++fd) close(fd);
       }
       execve(argv[0], argv.data(), envp.data());
-      static const char kMessage[] = "tessera-worker: exec failed\n";
-      ssize_t ignored = write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
-      (void)ignored;
+      // Why, in system calls only (this is still the vfork child): the host shows this line.
+      const int err = errno;
+      const char* why = err == ENOEXEC  ? "it is not a program this machine can run"
+                        : err == ENOENT ? "it, or the interpreter it names, does not exist"
+                        : err == EACCES ? "permission denied"
+                                        : "errno ";
+      char digits[16];
+      size_t n = 0;
+      if (why[0] == 'e') {
+        for (int e = err; n == 0 || e > 0; e /= 10) digits[n++] = static_cast<char>('0' + e % 10);
+      }
+      auto say = [](const char* text, size_t size) {
+        ssize_t ignored = write(STDERR_FILENO, text, size);
+        (void)ignored;
+      };
+      say("tessera-worker: exec of ", 24);
+      say(argv[0], std::strlen(argv[0]));
+      say(" failed: ", 9);
+      say(why, std::strlen(why));
+      while (n > 0) say(&digits[--n], 1);
+      say("\n", 1);
       _exit(127);
     }
     if (pid < 0) fork_errno = errno;
