@@ -1,8 +1,6 @@
 #include "tessera/scheduler/tiling.h"
 
 #include <algorithm>
-#include <cmath>
-#include <numeric>
 
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
@@ -160,21 +158,6 @@ uint64_t TileIndices(const v1::Tile& tile) {
     n *= s;
   }
   return n;
-}
-
-std::vector<size_t> SpreadOrder(size_t n) {
-  std::vector<size_t> order(n);
-  if (n < 3) {
-    for (size_t i = 0; i < n; ++i) order[i] = i;
-    return order;
-  }
-  size_t step = static_cast<size_t>(std::llround(static_cast<double>(n) * 0.6180339887498949));
-  step = std::clamp<size_t>(step, 1, n - 1);
-  while (std::gcd(step, n) != 1) ++step;  // n - 1 is always coprime with n
-  for (size_t i = 0; i < n; ++i) {
-    order[i] = static_cast<size_t>((uint64_t{i} * step) % n);  // n <= kMaxTiles: no overflow
-  }
-  return order;
 }
 
 }  // namespace tessera::scheduler

@@ -124,26 +124,5 @@ TEST(TilingTest, ParsesOverrides) {
   }
 }
 
-// A permutation whose every run of n/8 positions touches each eighth of 0..n-1: batches taken
-// from the front of the queue sample the whole launch.
-TEST(TilingTest, SpreadOrderIsAPermutationThatSpreadsEveryRun) {
-  for (size_t n : {0u, 1u, 2u, 3u, 10u, 60u, 510u, 2040u, 8160u}) {
-    std::vector<size_t> order = SpreadOrder(n);
-    ASSERT_EQ(order.size(), n);
-    std::vector<size_t> sorted = order;
-    std::sort(sorted.begin(), sorted.end());
-    for (size_t i = 0; i < n; ++i) ASSERT_EQ(sorted[i], i) << "n " << n;
-    if (n < 64) continue;
-    const size_t run = n / 8;
-    for (size_t start = 0; start + run <= n; start += run) {
-      std::vector<bool> eighths(8, false);
-      for (size_t i = start; i < start + run; ++i)
-        eighths[std::min<size_t>(order[i] * 8 / n, 7)] = true;
-      EXPECT_EQ(std::count(eighths.begin(), eighths.end(), true), 8)
-          << "n " << n << " run at " << start;
-    }
-  }
-}
-
 }  // namespace
 }  // namespace tessera::scheduler

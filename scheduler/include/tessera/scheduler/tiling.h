@@ -46,14 +46,6 @@ std::vector<uint64_t> EffectiveTileSize(const std::vector<uint64_t>& dims,
 // How many launch indices `tile` covers (a size of 0 counts as 1), saturating at UINT64_MAX.
 uint64_t TileIndices(const v1::Tile& tile);
 
-// An order of n positions in which each run of consecutive ones spreads over all of 0..n-1: i
-// goes to (i * step) mod n, step the integer nearest n times the golden ratio's fraction that is
-// coprime with n (the identity for n < 3). Devices that share a queue take runs of it, so that a
-// batch samples the whole launch instead of one strip of it: in the tutorial a strip through its
-// glass sphere costs several times one through the sky, and such a batch, taken last, kept one
-// worker busy while the others waited at the end of the launch.
-std::vector<size_t> SpreadOrder(size_t n);
-
 }  // namespace tessera::scheduler
 
 #endif  // TESSERA_SCHEDULER_TILING_H_
