@@ -88,10 +88,6 @@ void LaunchGather::TrimPrints() {
 
 void LaunchGather::AddException(v1::ExceptionReport&& e) {
   ++exception_count_;
-  auto key = [](const v1::ExceptionReport& r) {
-    return std::make_tuple(IndexAt(r, 2), IndexAt(r, 1), IndexAt(r, 0));
-  };
-  if (!first_exception_.has_value() || key(e) < key(*first_exception_)) first_exception_ = e;
   // With printing enabled, a report of an exception that reached no exception program is the last
   // output of its launch index (the exception ended it): it takes its place in launch-index order
   // among the prints and counts against the print buffer like them. Only at the launch index
@@ -103,6 +99,12 @@ void LaunchGather::AddException(v1::ExceptionReport&& e) {
   }
   if (!shown) {
     ++exceptions_unshown_;
+    auto key = [](const v1::ExceptionReport& r) {
+      return std::make_tuple(IndexAt(r, 2), IndexAt(r, 1), IndexAt(r, 0));
+    };
+    if (!first_exception_.has_value() || key(e) < key(*first_exception_)) {
+      first_exception_ = std::move(e);
+    }
     return;
   }
   v1::PrintRecord p;

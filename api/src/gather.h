@@ -114,8 +114,9 @@ class LaunchGather {
   std::optional<PrintKey> print_cut_;
   uint64_t prints_dropped_ = 0;
   uint64_t print_bytes_dropped_ = 0;
-  // Exceptions that reached no exception program: how many, the first in launch-index order,
-  // and how many printing did not show (printing off, or another launch index selected).
+  // Exceptions that reached no exception program: how many, how many printing did not show
+  // (printing off, or another launch index selected) and the first of those in launch-index
+  // order.
   uint64_t exception_count_ = 0;
   uint64_t exceptions_unshown_ = 0;
   std::optional<v1::ExceptionReport> first_exception_;
