@@ -87,6 +87,11 @@ void LaunchGather::TrimPrints() {
 }
 
 void LaunchGather::AddException(v1::ExceptionReport&& e) {
+  if (e.not_sent() > 0) {  // reports a device counted instead of sending (worker/core/runtime.cc)
+    exception_count_ += e.not_sent();
+    exceptions_unshown_ += e.not_sent_unshown();
+    return;
+  }
   ++exception_count_;
   // With printing enabled, a report of an exception that reached no exception program is the last
   // output of its launch index (the exception ended it): it takes its place in launch-index order

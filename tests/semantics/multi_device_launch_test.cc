@@ -335,6 +335,10 @@ TEST_P(LaunchRulesTest, ExceptionReportsTakeTheirPlaceAmongPrints) {
   ::testing::internal::GetCapturedStderr();
   ASSERT_EQ(r, RT_SUCCESS) << Error(r);
   EXPECT_LE(out.size(), 16u) << out;
+  // Reports past the print buffer are counted, not sent: the count stays whole (0, 3 and 6).
+  RTsize count = 0;
+  Ok(tesseraContextGetExceptionReportCount(ctx_, &count));
+  EXPECT_EQ(count, 3u);
 }
 
 TEST_P(LaunchRulesTest, ExceptionsWithoutAProgramAreCountedAndReportedInOrder) {

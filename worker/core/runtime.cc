@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -169,6 +170,25 @@ bool PrintActive() {
   return true;
 }
 
+// Whether `bytes` of output at the current launch index (print `sequence` there) fall past this
+// tile's share of the print buffer, where the host would drop them: then they are counted in the
+// tile's record of dropped prints instead of sent.
+bool CountIfPastPrintBuffer(ThreadState& ts, uint64_t bytes, uint64_t sequence) {
+  v1::PrintRecord* dropped = ts.out_dropped_prints;
+  if (dropped == nullptr) {
+    if (bytes <= ts.plan->print_buffer_size - ts.out_print_bytes) {
+      ts.out_print_bytes += bytes;
+      return false;
+    }
+    dropped = ts.out_dropped_prints = ts.out->add_prints();
+    for (uint32_t i : ts.index) dropped->add_launch_index(i);
+    dropped->set_sequence(sequence);
+  }
+  dropped->set_dropped_bytes(dropped->dropped_bytes() + bytes);
+  dropped->set_dropped_prints(dropped->dropped_prints() + 1);
+  return true;
+}
+
 void Emit(const std::string& text) {
   ThreadState& ts = TS();
   if (ts.out == nullptr) {
@@ -187,23 +207,12 @@ void Emit(const std::string& text) {
   // This tile's prints come in that order, so once one does not fit beside the tile's earlier
   // ones, the host would drop it and every later one: they are counted in one record instead of
   // sent (a 100 MB print would not even fit in a message).
-  if (v1::PrintRecord* dropped = ts.out_dropped_prints; dropped != nullptr) {
-    dropped->set_dropped_bytes(dropped->dropped_bytes() + text.size());
-    dropped->set_dropped_prints(dropped->dropped_prints() + 1);
-    ++ts.print_sequence;
-    return;
-  }
+  const uint64_t sequence = ts.print_sequence++;
+  if (CountIfPastPrintBuffer(ts, text.size(), sequence)) return;
   v1::PrintRecord* r = ts.out->add_prints();
   for (uint32_t i : ts.index) r->add_launch_index(i);
-  r->set_sequence(ts.print_sequence++);
-  if (text.size() > ts.plan->print_buffer_size - ts.out_print_bytes) {
-    r->set_dropped_bytes(text.size());
-    r->set_dropped_prints(1);
-    ts.out_dropped_prints = r;
-    return;
-  }
+  r->set_sequence(sequence);
   r->set_text(text);
-  ts.out_print_bytes += text.size();
 }
 
 int RtPrintActive() { return PrintActive() ? 1 : 0; }
@@ -362,6 +371,32 @@ void ResetNesting(ThreadState& ts) {
   for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
 }
 
+// The report of the exception at the current launch index (ts.exception_code and _details),
+// which reached no exception program, for the host: printed there among the prints when printing
+// shows this launch index, else counted on stderr naming the launch's first. What the host would
+// not use (past the print buffer; all but a tile's first of those printing does not show) is
+// only counted, so a launch that throws at every index costs no memory per index.
+void Report(ThreadState& ts) {
+  const bool shown = PrintActive();
+  std::string text = ExceptionText();
+  // Printed after the launch index's prints (the host gives it the last sequence number).
+  const bool send =
+      shown ? !CountIfPastPrintBuffer(ts, text.size(), std::numeric_limits<uint64_t>::max())
+            : !ts.out_unshown_report_sent;
+  if (send) {
+    if (!shown) ts.out_unshown_report_sent = true;
+    v1::ExceptionReport* r = ts.out->add_exceptions();
+    for (uint32_t i : ts.index) r->add_launch_index(i);
+    r->set_code(ts.exception_code);
+    r->set_details(std::move(text));
+    return;
+  }
+  v1::ExceptionReport*& not_sent = ts.out_reports_not_sent;
+  if (not_sent == nullptr) not_sent = ts.out->add_exceptions();
+  not_sent->set_not_sent(not_sent->not_sent() + 1);
+  if (!shown) not_sent->set_not_sent_unshown(not_sent->not_sent_unshown() + 1);
+}
+
 // An exception raised at the current launch index: the entry's exception program runs, or the
 // report goes to the host.
 __attribute__((noinline)) void HandleException(ThreadState& ts, const LaunchPlan& plan,
@@ -378,19 +413,13 @@ __attribute__((noinline)) void HandleException(ThreadState& ts, const LaunchPlan
       // An exception inside the exception program ends this launch index; it reaches the host as
       // a report (printed in order, or counted on stderr) instead of vanishing.
       ResetNesting(ts);
-      v1::ExceptionReport* r = ts.out->add_exceptions();
-      for (uint32_t i : ts.index) r->add_launch_index(i);
-      r->set_code(inner.code);
       ts.exception_code = inner.code;
       // ex->name says "exception program 'f' in m.so".
       ts.exception_details = absl::StrCat(inner.details, " (raised in ", ex->name, ")");
-      r->set_details(ExceptionText());
+      Report(ts);
     }
   } else {
-    v1::ExceptionReport* r = ts.out->add_exceptions();
-    for (uint32_t i : ts.index) r->add_launch_index(i);
-    r->set_code(ts.exception_code);
-    r->set_details(ExceptionText());
+    Report(ts);
   }
 }
 
@@ -426,11 +455,14 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
   ts.out = &out;
   ts.out_print_bytes = 0;
   ts.out_dropped_prints = nullptr;
+  ts.out_unshown_report_sent = false;
+  ts.out_reports_not_sent = nullptr;
   struct ClearOut {  // prints after the tile (say from a bounds program) have nowhere to go
     ThreadState& ts;
     ~ClearOut() {
       ts.out = nullptr;
       ts.out_dropped_prints = nullptr;
+      ts.out_reports_not_sent = nullptr;
     }
   } clear_out{ts};
   const Index3 end{std::min(origin[0] + size[0], dims[0]), std::min(origin[1] + size[1], dims[1]),

@@ -131,6 +131,10 @@ struct ThreadState {
   // print buffer (the host could keep none of them).
   uint64_t out_print_bytes = 0;
   v1::PrintRecord* out_dropped_prints = nullptr;
+  // Exception reports of this RunTile: whether the first that printing does not show was sent,
+  // and the record that counts those not sent.
+  bool out_unshown_report_sent = false;
+  v1::ExceptionReport* out_reports_not_sent = nullptr;
   std::vector<unsigned char> scratch;
   uint64_t last_node_id = 0;
   const NodeInfo* last_node = nullptr;
