@@ -35,17 +35,7 @@ function(tessera_cc_test)
     PROPERTIES TIMEOUT 300 ENVIRONMENT "TESSERA_DEVICES=inproc")
 endfunction()
 
-# tessera_add_program_module(TARGET name SOURCES file.cu ...)
-# Builds an OptiX-style program module (the PTX analogue): a shared library compiled as C++
-# from .cu sources against the program-side headers. The module lands in
-# ${CMAKE_BINARY_DIR}/modules/<name>.so so hosts can find it by a stable path.
-function(tessera_add_program_module)
-  cmake_parse_arguments(A "" "TARGET" "SOURCES;INCLUDES" ${ARGN})
-  add_library(${A_TARGET} MODULE ${A_SOURCES})
-  set_source_files_properties(${A_SOURCES} PROPERTIES LANGUAGE CXX)
-  target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 -Wall -Wextra -Werror -Wno-unused-parameter
-    -Wno-sign-compare)  # rtBuffer::size() is size_t, as in OptiX; SDK loops use int
-  target_include_directories(${A_TARGET} PRIVATE ${TESSERA_PROGRAM_INCLUDE_DIRS} ${A_INCLUDES})
-  set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"
-    LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/modules)
-endfunction()
+# Program modules of Tessera's own tree warn as errors, like the rest of its code.
+set(TESSERA_PROGRAM_MODULE_OPTIONS -Wall -Wextra -Werror -Wno-unused-parameter
+  -Wno-sign-compare)  # rtBuffer::size() is size_t, as in OptiX; SDK loops use int
+include(${CMAKE_CURRENT_LIST_DIR}/TesseraProgramModule.cmake)

@@ -22,10 +22,7 @@ namespace {
 void CheckOutputWritable(const std::string& out_path) {
   // Through symlinks, to where the image will land.
   const std::string path = OutputTarget(out_path);
-  const size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "."
-                          : slash == 0               ? "/"
-                                                     : path.substr(0, slash);
+  const std::string dir = DirectoryOf(path);
   struct stat st {};
   if (stat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) throw TutorialError("cannot write '" + path + "': it is a directory");

@@ -23,12 +23,6 @@ namespace {
 
 std::string Errno() { return std::strerror(errno); }
 
-std::string DirectoryOf(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  if (slash == std::string::npos) return ".";
-  return slash == 0 ? "/" : path.substr(0, slash);
-}
-
 // The image encoded in memory: OIIO's PNG writer does not report a failed write (a full disk
 // left a truncated file and success), so the bytes reach the disk through checked calls below.
 std::vector<unsigned char> Encode(const std::string& path, const Image& image) {
@@ -69,23 +63,27 @@ class DeferStopSignals {
   sigset_t saved_;
 };
 
-// Writes all of `bytes` to `fd`; on failure runs `discard` and throws the reason.
-template <typename Discard>
-void WriteAll(const std::string& path, int fd, const std::vector<unsigned char>& bytes,
-              Discard discard) {
+// Writes all of `bytes` to `fd`; false with errno set when it could not.
+bool WriteAll(int fd, const std::vector<unsigned char>& bytes) {
   for (size_t done = 0; done < bytes.size();) {
     const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      const std::string reason = n == 0 ? "nothing was written" : Errno();
-      discard();
-      throw TutorialError("cannot write '" + path + "': " + reason);
+      if (n == 0) errno = EIO;
+      return false;
     }
     done += static_cast<size_t>(n);
   }
+  return true;
 }
 
 }  // namespace
+
+std::string DirectoryOf(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
 
 std::string OutputTarget(const std::string& path) {
   std::string target = path;
@@ -132,14 +130,18 @@ void CheckImageSize(ImageFormat format, int width, int height) {
 void WriteImage(const std::string& path, const Image& image) {
   const std::vector<unsigned char> bytes = Encode(path, image);
   const std::string target = OutputTarget(path);
+  auto fail = [&](const std::string& reason) {
+    throw TutorialError("cannot write '" + path + "': " + reason);
+  };
   struct stat st {};
   const bool exists = stat(target.c_str(), &st) == 0;
   if (exists && !S_ISREG(st.st_mode)) {
     // A device or a pipe (/dev/stdout, say) is written as it is: it cannot be replaced.
     const int fd = open(target.c_str(), O_WRONLY | O_CLOEXEC);
-    if (fd < 0) throw TutorialError("cannot write '" + path + "': " + Errno());
-    WriteAll(path, fd, bytes, [] {});
-    if (close(fd) != 0) throw TutorialError("cannot write '" + path + "': " + Errno());
+    if (fd < 0) fail(Errno());
+    const bool written = WriteAll(fd, bytes);
+    const std::string reason = Errno();
+    if (close(fd) != 0 || !written) fail(written ? Errno() : reason);
     return;
   }
   // Into a new file beside the target, renamed over it once complete: a failed or interrupted
@@ -148,40 +150,20 @@ void WriteImage(const std::string& path, const Image& image) {
   const DeferStopSignals defer;
   std::string temp = DirectoryOf(target) + "/.tessera-tutorial-XXXXXX";
   const int fd = mkstemp(temp.data());
-  if (fd < 0) throw TutorialError("cannot write '" + path + "': " + Errno());
-  auto discard = [&] {
-    close(fd);
-    unlink(temp.c_str());
-  };
+  if (fd < 0) fail(Errno());
   // The permissions a new file would get, or those of the file it replaces.
-  mode_t mode = 0;
-  if (exists) {
-    mode = st.st_mode & 07777;
-  } else {
+  mode_t mode = st.st_mode & 07777;
+  if (!exists) {
     const mode_t mask = umask(0);
     umask(mask);
     mode = 0666 & ~mask;
   }
-  if (fchmod(fd, mode) != 0) {
-    const std::string reason = Errno();
-    discard();
-    throw TutorialError("cannot write '" + path + "': " + reason);
-  }
-  WriteAll(path, fd, bytes, discard);
-  if (fsync(fd) != 0) {
-    const std::string reason = Errno();
-    discard();
-    throw TutorialError("cannot write '" + path + "': " + reason);
-  }
-  if (close(fd) != 0) {
-    const std::string reason = Errno();
+  const bool written = fchmod(fd, mode) == 0 && WriteAll(fd, bytes) && fsync(fd) == 0;
+  const std::string reason = Errno();
+  if (close(fd) != 0 || !written || rename(temp.c_str(), target.c_str()) != 0) {
+    const std::string why = written ? Errno() : reason;
     unlink(temp.c_str());
-    throw TutorialError("cannot write '" + path + "': " + reason);
-  }
-  if (rename(temp.c_str(), target.c_str()) != 0) {
-    const std::string reason = Errno();
-    unlink(temp.c_str());
-    throw TutorialError("cannot write '" + path + "': " + reason);
+    fail(why);
   }
 }
 

@@ -13,6 +13,9 @@ enum class ImageFormat { kPng, kExr };
 // The format for `path` by its extension (case-insensitive); throws TutorialError for others.
 ImageFormat FormatForPath(const std::string& path);
 
+// The directory part of `path` ("." for a bare name).
+std::string DirectoryOf(const std::string& path);
+
 // The file a write to `path` lands in: `path` with its symlinks followed, to a file that may not
 // exist yet (the link stays a link).
 std::string OutputTarget(const std::string& path);

@@ -61,20 +61,19 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   // No tiles (the all-zero launch builds accelerations only): every device gets one empty call.
   build_only_ = tiles.empty();
   remaining_ = build_only_ ? live.size() : tiles.size();
-  for (const v1::Tile& t : tiles) tile_indices_ = std::max(tile_indices_, TileIndices(t));
-  if (stable_) {
-    for (v1::Tile& t : tiles) {
+  // In launch order: neighbouring tiles share a batch, and the caches. (An order spreading every
+  // batch over the launch cut the idle time at the end of 16-worker launches from 5.1% to 3.0% but
+  // made 2-worker ones 3-5% slower: bench/README.md.)
+  for (v1::Tile& t : tiles) {
+    tile_indices_ = std::max(tile_indices_, TileIndices(t));
+    size_t queue = 0;
+    if (stable_) {
       // Tile i belongs to device i mod N; a device gone before the launch hands its tiles to the
       // others by tile index, as Requeue does for one lost during it.
-      size_t queue = t.index() % n;
+      queue = t.index() % n;
       if (lost_[queue]) queue = live[t.index() % live.size()];
-      queues_[queue].tiles.push_back(std::move(t));
     }
-  } else {
-    // In order: neighbouring tiles share a batch (and the caches). A spread order (every batch
-    // sampling the whole launch) cut the idle time at the end of 16-worker launches from 5.1% to
-    // 3.0% but made 2-worker ones 3-5% slower (bench/README.md), so it is not used.
-    for (v1::Tile& t : tiles) queues_[0].tiles.push_back(std::move(t));
+    queues_[queue].tiles.push_back(std::move(t));
   }
   // Two calls in flight per device (one for the all-zero launch): the device runs them one after
   // the other, so the next batch is waiting there when one ends, instead of a round trip later.

@@ -19,16 +19,6 @@
 namespace tessera::scheduler {
 namespace {
 
-std::string FromThisBinary(const char* relative) {
-  const std::string self = ThisBinaryPath();
-  if (self.empty()) return std::string();
-  return DirName(self) + "/" + relative;
-}
-
-}  // namespace
-
-namespace {
-
 // dladdr names the library as the loader found it: possibly through a symlink (whose directory
 // holds no installed layout) or relative to a working directory the application may change
 // later. Resolved once, at load time, while that directory is still the one it was found from.
@@ -51,6 +41,12 @@ const std::string& ThisBinaryPathOnce() {
 }
 
 [[maybe_unused]] const bool kResolvedAtLoad = (ThisBinaryPathOnce(), true);
+
+std::string FromThisBinary(const char* relative) {
+  const std::string& self = ThisBinaryPathOnce();
+  if (self.empty()) return std::string();
+  return DirName(self) + "/" + relative;
+}
 
 }  // namespace
 

@@ -1,0 +1,25 @@
+# tessera_add_program_module(TARGET name SOURCES file.cu ... [INCLUDES dir ...]
+#                            [OUTPUT_DIRECTORY dir])
+# Builds an OptiX-style program module (the PTX analogue): a shared library compiled as C++ from
+# .cu sources against the program-side headers in TESSERA_PROGRAM_INCLUDE_DIRS, which
+# rtProgramCreateFromPTXFile(context, "<dir>/name.so", "function", &program) loads. It lands in
+# ${CMAKE_BINARY_DIR}/modules/<name>.so (a stable path for hosts) unless OUTPUT_DIRECTORY says
+# otherwise. One module per .cu, as OptiX compiles one PTX file per .cu (docs/install.md).
+# TESSERA_PROGRAM_MODULE_OPTIONS adds compile options (Tessera's own tree: warnings as errors).
+# Used in Tessera's tree (TesseraHelpers.cmake) and installed with its CMake package.
+function(tessera_add_program_module)
+  cmake_parse_arguments(A "" "TARGET;OUTPUT_DIRECTORY" "SOURCES;INCLUDES" ${ARGN})
+  if(NOT A_TARGET OR NOT A_SOURCES)
+    message(FATAL_ERROR "tessera_add_program_module needs TARGET and SOURCES")
+  endif()
+  if(NOT A_OUTPUT_DIRECTORY)
+    set(A_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/modules)
+  endif()
+  add_library(${A_TARGET} MODULE ${A_SOURCES})
+  set_source_files_properties(${A_SOURCES} PROPERTIES LANGUAGE CXX)
+  target_compile_features(${A_TARGET} PRIVATE cxx_std_17)
+  target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 ${TESSERA_PROGRAM_MODULE_OPTIONS})
+  target_include_directories(${A_TARGET} PRIVATE ${TESSERA_PROGRAM_INCLUDE_DIRS} ${A_INCLUDES})
+  set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"
+    LIBRARY_OUTPUT_DIRECTORY ${A_OUTPUT_DIRECTORY})
+endfunction()
