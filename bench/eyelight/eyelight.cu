@@ -1,7 +1,8 @@
 // Programs of the eyelight benchmark: a pinhole camera, a triangle mesh (vertex_buffer /
 // index_buffer, as OptiX SDK meshes) with an intersection program (OptiX 3) or an attribute
 // program (OptiX 6 built-in triangles), and the eyelight shader of Embree's viewer:
-// color = |dot(normalize(Ng), normalize(ray.direction))|.
+// color = |dot(normalize(Ng), ray.direction)|, the direction normalized by the camera, as the
+// viewer's camera normalizes it and its shader uses it as it is.
 #include <optix.h>
 #include <optixu/optixu_math_namespace.h>
 
@@ -48,7 +49,7 @@ RT_PROGRAM void miss() {
 }
 
 RT_PROGRAM void eyelight() {
-  prd.result = fabsf(dot(normalize(geometric_normal), normalize(ray.direction)));
+  prd.result = fabsf(dot(normalize(geometric_normal), ray.direction));
   prd.hit = 1;
 }
 

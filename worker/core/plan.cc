@@ -84,6 +84,9 @@ void IndexNodes(LaunchPlan& plan) {
   }
   for (auto& [id, n] : plan.nodes) {
     if (n.transform != nullptr) n.child = plan.Node(n.transform->child.id);
+    if (n.type == RT_OBJECTTYPE_GROUP && n.scene != nullptr) {
+      for (const auto& c : n.scene->children) c->node = plan.Node(c->child.id);
+    }
   }
 }
 

@@ -79,9 +79,11 @@ struct GeometryInfo {
 };
 
 // User data of one child of a Group's scene.
+struct NodeInfo;
 struct ChildInfo {
   NodeRef child;
   std::array<float, 6> bounds{};
+  const NodeInfo* node = nullptr;  // the child in the plan that last checked the scene
 };
 
 struct SceneEntry {

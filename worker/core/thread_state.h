@@ -10,6 +10,7 @@
 #include <exception>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -208,6 +209,67 @@ inline void CopyBytes(void* dst, const void* src, size_t n) {
   }
 }
 
+// Copies n bytes 4 at a time, for values a program (or the engine) has just written field by
+// field: a wider load that spans two narrower stores still in the store buffer cannot take their
+// data (store-to-load forwarding) and waits about a dozen cycles for them to reach the cache.
+// Values of OptiX types are made of 4-byte fields; other sizes take CopyBytes. The empty asm
+// keeps the compiler from merging the words back into vector moves.
+inline void CopyWords(void* dst, const void* src, size_t n) {
+  if (__builtin_expect(n % 4 != 0, 0)) {
+    CopyBytes(dst, src, n);
+    return;
+  }
+  auto* d = static_cast<unsigned char*>(dst);
+  const auto* s = static_cast<const unsigned char*>(src);
+  for (size_t i = 0; i < n; i += 4) {
+    uint32_t w;
+    std::memcpy(&w, s + i, 4);
+    asm("" : "+r"(w));
+    std::memcpy(d + i, &w, 4);
+  }
+}
+
+// One 4-byte value read on its own (see CopyWords).
+template <typename T>
+inline T Word(const T& v) {
+  static_assert(sizeof(T) == 4);
+  T w = v;
+  if constexpr (std::is_floating_point_v<T>) {
+    asm("" : "+x"(w));  // stays in a vector register
+  } else {
+    asm("" : "+r"(w));
+  }
+  return w;
+}
+
+// Stores four words as one 16-byte vector: a program's (or Embree's) wider loads of them then
+// take the store's data, as they could not from four narrower stores.
+using Vec4f = float __attribute__((vector_size(16)));
+inline void StoreVec4(void* dst, float a, float b, float c, float d) {
+  const Vec4f v = {a, b, c, d};
+  std::memcpy(dst, &v, sizeof(v));
+}
+
+// The ray of a program's rtCurrentRay slot: read word by word (it was stored that way) and
+// stored as two vectors and a word.
+inline void WriteRaySlots(const ModuleState& ms, const std::vector<BoundProgram::SlotRef>& refs,
+                          const RayData& ray) {
+  for (const BoundProgram::SlotRef& r : refs) {
+    if (r.size != sizeof(RayData)) {
+      CopyWords(ms.slots[r.var], &ray, r.size);
+      continue;
+    }
+    auto* d = static_cast<unsigned char*>(ms.slots[r.var]);
+    float type;
+    std::memcpy(&type, &ray.ray_type, sizeof(type));
+    StoreVec4(d, Word(ray.origin[0]), Word(ray.origin[1]), Word(ray.origin[2]),
+              Word(ray.direction[0]));
+    StoreVec4(d + 16, Word(ray.direction[1]), Word(ray.direction[2]), Word(type), Word(ray.tmin));
+    const float tmax = Word(ray.tmax);
+    std::memcpy(d + 32, &tmax, sizeof(tmax));
+  }
+}
+
 inline void WriteSlots(const ModuleState& ms, const std::vector<BoundProgram::SlotRef>& refs,
                        const void* src, size_t size) {
   for (const BoundProgram::SlotRef& r : refs) {
@@ -252,7 +314,9 @@ inline void Enter(ThreadState& ts, const BoundProgram& p) {
   }
   if (ms.loaded != &p) Apply(ms, p);
   if (ms.index_written != ts.index_serial && p.kind != ProgramKind::kBoundingBox) {
-    WriteSlots<sizeof(ts.index)>(ms, p.launch_index, ts.index.data());
+    // The tile loop has just stored the index's components one by one.
+    for (const BoundProgram::SlotRef& r : p.launch_index)
+      CopyWords(ms.slots[r.var], &ts.index, r.size);
     WriteSlots<sizeof(ts.dims)>(ms, p.launch_dim, ts.dims.data());
     ms.index_written = ts.index_serial;
   }

@@ -2,6 +2,7 @@
 #include <embree3/rtcore.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
@@ -32,23 +33,21 @@ RayData ToObject(const RayData& r, const Mat& inv) {
   return o;
 }
 
-RTCRayHit ToEmbree(const RayData& r) {
-  RTCRayHit rh;
-  rh.ray.org_x = r.origin[0];
-  rh.ray.org_y = r.origin[1];
-  rh.ray.org_z = r.origin[2];
-  rh.ray.dir_x = r.direction[0];
-  rh.ray.dir_y = r.direction[1];
-  rh.ray.dir_z = r.direction[2];
-  rh.ray.tnear = r.tmin;
-  rh.ray.tfar = r.tmax;
-  rh.ray.time = 0.f;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+// Embree reads the ray's origin and tnear, and its direction and time, as 16-byte vectors: each is
+// stored whole, so that the loads take the stores' data (CopyWords says why).
+static_assert(offsetof(RTCRay, tnear) == 12 && offsetof(RTCRay, dir_x) == 16 &&
+                  offsetof(RTCRay, time) == 28 && offsetof(RTCRay, tfar) == 32 &&
+                  offsetof(RTCRay, flags) == 44,
+              "Embree 3's RTCRay layout");
+void ToEmbree(const RayData& r, RTCRayHit& rh) {
+  StoreVec4(&rh.ray.org_x, Word(r.origin[0]), Word(r.origin[1]), Word(r.origin[2]), Word(r.tmin));
+  StoreVec4(&rh.ray.dir_x, Word(r.direction[0]), Word(r.direction[1]), Word(r.direction[2]), 0.f);
+  float all_ones, zero = 0.f;
+  const unsigned mask = 0xFFFFFFFFu;
+  std::memcpy(&all_ones, &mask, sizeof(mask));
+  StoreVec4(&rh.ray.tfar, Word(r.tmax), all_ones, zero, zero);  // tfar, mask, id, flags
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  return rh;
 }
 
 RayData FromEmbree(const RTCRay& e, unsigned ray_type) {
@@ -64,17 +63,18 @@ void RethrowPending(ThreadState& ts) {
   }
 }
 
-// Always inline: one or two small copies, on every hit path.
+// Always inline: one or two small copies, on every hit path. Word by word: programs and
+// StoreAttributes store attributes a field at a time (CopyWords).
 __attribute__((always_inline)) inline void LoadAttributes(const ModuleState& ms,
                                                           const BoundProgram& p,
                                                           const unsigned char* block) {
-  for (const auto& a : p.attributes) CopyBytes(ms.slots[a.var], block + a.offset, a.size);
+  for (const auto& a : p.attributes) CopyWords(ms.slots[a.var], block + a.offset, a.size);
 }
 
 __attribute__((always_inline)) inline void StoreAttributes(const ModuleState& ms,
                                                            const BoundProgram& p,
                                                            unsigned char* block) {
-  for (const auto& a : p.attributes) CopyBytes(block + a.offset, ms.slots[a.var], a.size);
+  for (const auto& a : p.attributes) CopyWords(block + a.offset, ms.slots[a.var], a.size);
 }
 
 // Copies the payload back from the program's payload variable. With several payload variables
@@ -95,12 +95,12 @@ __attribute__((noinline)) void ChoosePayload(const ModuleState& ms, const BoundP
     if (p.payload.empty()) return;
     chosen = &p.payload.front();
   }
-  CopyBytes(dst, ms.slots[chosen->var], std::min<size_t>(size, chosen->size));
+  CopyWords(dst, ms.slots[chosen->var], std::min<size_t>(size, chosen->size));
 }
 
 inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst, size_t size) {
   if (p.payload.size() == 1 && p.payload.front().size == size) {  // the usual case
-    CopyBytes(dst, ms.slots[p.payload.front().var], size);
+    CopyWords(dst, ms.slots[p.payload.front().var], size);        // the program has just written it
   } else {
     ChoosePayload(ms, p, dst, size);
   }
@@ -110,7 +110,7 @@ inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst,
 void Shade(ThreadState& ts, const BoundProgram& p, Frame& f) {
   Enter(ts, p);
   const ModuleState& ms = *ts.current_module;
-  WriteSlots<sizeof(RayData)>(ms, p.ray, &f.ray);
+  WriteRaySlots(ms, p.ray, f.ray);
   WriteSlots(ms, p.payload, f.payload, f.payload_size);
   if (p.kind == ProgramKind::kClosestHit) {
     WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
@@ -140,7 +140,8 @@ inline void SetTriangleHit(Hit& h, const RTCHit& e, const RayData& ray) {
 void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
                     bool geometry_group) {
   Frame& f = ts.top();
-  RTCRayHit rh = ToEmbree(ray);
+  RTCRayHit rh;
+  ToEmbree(ray, rh);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   rtcIntersect1(scene.scene, &ctx, &rh);
@@ -154,7 +155,7 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   f.hit.primitive = rh.hit.primID;
   f.hit.material = 0;
   f.hit.deferred = true;
-  f.hit.object_ray = ray;
+  CopyWords(&f.hit.object_ray, &ray, sizeof(ray));  // rtTrace stored `ray` word by word
   // Only built-in triangles tell programs their barycentrics and face.
   if (info->plan->builtin_triangles) SetTriangleHit(f.hit, rh.hit, ray);
   CopyXform(f.hit.xform, f.xform);
@@ -226,7 +227,7 @@ bool RunIntersection(ThreadState& ts, const InstancePlan* instance, unsigned pri
   ts.is.candidate_ok = false;
   ts.is.committed = false;
   Enter(ts, p);
-  WriteSlots<sizeof(RayData)>(*ts.current_module, p.ray, &ray);
+  WriteRaySlots(*ts.current_module, p.ray, ray);
   WriteSlots<sizeof(float)>(*ts.current_module, p.distance, &ts.top().hit.t);
   CallProgram(ts, p, static_cast<int>(primitive));
   return ts.is.committed;
@@ -241,7 +242,7 @@ void Commit(ThreadState& ts, Frame& f, const Hit& c, bool terminate) {
   f.hit.back_face = c.back_face;
   f.hit.barycentrics[0] = c.barycentrics[0];
   f.hit.barycentrics[1] = c.barycentrics[1];
-  std::memcpy(f.hit.attributes, c.attributes, ts.plan->attribute_bytes);
+  CopyWords(f.hit.attributes, c.attributes, ts.plan->attribute_bytes);  // just stored by words
   CopyXform(f.hit.xform, f.xform);
   ts.is.committed = true;
   ts.is.ray.tmax = c.t;
@@ -277,7 +278,7 @@ bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& 
   SuspendedSlots& suspended = Suspend(ts, ts.depth);
   Enter(ts, ah);
   const ModuleState& ms = *ts.current_module;
-  WriteSlots<sizeof(RayData)>(ms, ah.ray, &object_ray);
+  WriteRaySlots(ms, ah.ray, object_ray);
   WriteSlots<sizeof(float)>(ms, ah.distance, &c.t);
   WriteSlots(ms, ah.payload, f.payload, f.payload_size);
   LoadAttributes(ms, ah, c.attributes);
@@ -314,7 +315,7 @@ void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
   if (p == nullptr) return;
   Enter(ts, *p);
   const ModuleState& ms = *ts.current_module;
-  WriteSlots<sizeof(RayData)>(ms, p->ray, &object_ray);
+  WriteRaySlots(ms, p->ray, object_ray);
   WriteSlots<sizeof(float)>(ms, p->distance, &h.t);
   LoadAttributes(ms, *p, h.attributes);
   ts.attribute_hit = &h;
@@ -398,7 +399,7 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
       "rtTrace");
   const LaunchPlan& plan = *ts.plan;
   RayData ray;
-  std::memcpy(&ray, ray_ptr, sizeof(ray));
+  CopyWords(&ray, ray_ptr, sizeof(ray));  // the program has just written it
   if (__builtin_expect(ts.depth >= plan.max_depth || !ValidRay(ray) ||
                            ray.ray_type >= plan.ray_type_count ||
                            static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit,
@@ -425,7 +426,7 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   const BoundProgram* caller = ts.current;
   SuspendedSlots& suspended = Suspend(ts, ts.depth);
   Frame& f = ts.frames[ts.depth++];
-  f.ray = ray;
+  CopyWords(&f.ray, &ray, sizeof(ray));  // `ray` has just been stored word by word
   f.payload = payload;
   f.payload_size = payload_size;
   f.hit.t = ray.tmax;
@@ -603,8 +604,7 @@ void IntersectChild(const RTCIntersectFunctionNArguments* args) {
     auto* info = static_cast<const ChildInfo*>(args->geometryUserPtr);
     auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
     float before = f.hit.t;
-    TraverseNode(ts, info->child.id, ts.plan->Node(info->child.id),
-                 FromEmbree(rh->ray, f.ray.ray_type));
+    TraverseNode(ts, info->child.id, info->node, FromEmbree(rh->ray, f.ray.ray_type));
     if (f.hit.t < before) {
       rh->ray.tfar = f.hit.t;
       rh->hit.geomID = args->geomID;
