@@ -38,7 +38,7 @@ void SavePerCall(SuspendedSlots& s) {
   s.bytes.resize(ms.module->per_call_bytes());
   unsigned char* at = s.bytes.data();
   for (unsigned var : ms.module->per_call()) {
-    CopyBytes(at, ms.slots[var], vars[var].size);
+    CopyWords(at, ms.slots[var], vars[var].size);
     at += vars[var].size;
   }
 }
@@ -48,7 +48,7 @@ void RestoreSaved(const SuspendedSlots& s) {
   const auto& vars = ms.module->variables();
   const unsigned char* at = s.bytes.data();
   for (unsigned var : ms.module->per_call()) {
-    CopyBytes(ms.slots[var], at, vars[var].size);
+    CopyWords(ms.slots[var], at, vars[var].size);
     at += vars[var].size;
   }
   if (ms.loaded != s.loaded && s.loaded != nullptr) Apply(ms, *s.loaded);

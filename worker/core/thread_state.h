@@ -212,10 +212,10 @@ inline void CopyBytes(void* dst, const void* src, size_t n) {
 // Copies n bytes 4 at a time, for values a program (or the engine) has just written field by
 // field: a wider load that spans two narrower stores still in the store buffer cannot take their
 // data (store-to-load forwarding) and waits about a dozen cycles for them to reach the cache.
-// Values of OptiX types are made of 4-byte fields; other sizes take CopyBytes. The empty asm
-// keeps the compiler from merging the words back into vector moves.
+// Values of OptiX types are made of 4-byte fields; other sizes, and large ones, take CopyBytes.
+// The empty asm keeps the compiler from merging the words back into vector moves.
 inline void CopyWords(void* dst, const void* src, size_t n) {
-  if (__builtin_expect(n % 4 != 0, 0)) {
+  if (__builtin_expect(n % 4 != 0 || n > 128, 0)) {
     CopyBytes(dst, src, n);
     return;
   }
@@ -270,10 +270,11 @@ inline void WriteRaySlots(const ModuleState& ms, const std::vector<BoundProgram:
   }
 }
 
+// Payloads: CopyWords also spares payloads of other sizes than CopyBytes's a library call.
 inline void WriteSlots(const ModuleState& ms, const std::vector<BoundProgram::SlotRef>& refs,
                        const void* src, size_t size) {
   for (const BoundProgram::SlotRef& r : refs) {
-    CopyBytes(ms.slots[r.var], src, std::min<size_t>(size, r.size));
+    CopyWords(ms.slots[r.var], src, std::min<size_t>(size, r.size));
   }
 }
 

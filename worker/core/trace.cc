@@ -23,7 +23,10 @@ Mat Mul(const Mat& a, const Mat& b) {
 }
 
 RayData ToObject(const RayData& r, const Mat& inv) {
-  RayData o = r;
+  RayData o;
+  o.ray_type = r.ray_type;
+  o.tmin = r.tmin;
+  o.tmax = r.tmax;
   for (int i = 0; i < 3; ++i) {
     o.origin[i] = inv[i * 4] * r.origin[0] + inv[i * 4 + 1] * r.origin[1] +
                   inv[i * 4 + 2] * r.origin[2] + inv[i * 4 + 3];
@@ -172,9 +175,12 @@ inline bool ValidRay(const RayData& r) {
   return ok;
 }
 
-// Intersects one node; `ray` is in the node's parent space. Hits are committed to the top frame.
-void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, RayData ray) {
+// Intersects one node; `parent_ray` is in the node's parent space. Hits are committed to the top
+// frame.
+void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, const RayData& parent_ray) {
   Frame& f = ts.top();
+  RayData ray;
+  CopyWords(&ray, &parent_ray, sizeof(ray));  // often just stored field by field (FromEmbree)
   ray.tmax = std::min(ray.tmax, f.hit.t);
   if (node == nullptr) {
     throw FatalError{absl::NotFoundError(absl::StrCat("graph node #", id, " is unknown"))};
@@ -221,7 +227,7 @@ bool RunIntersection(ThreadState& ts, const InstancePlan* instance, unsigned pri
   const BoundProgram& p = *instance->intersection;
   ts.is.instance = instance;
   ts.is.primitive = primitive;
-  ts.is.ray = ray;
+  CopyWords(&ts.is.ray, &ray, sizeof(ray));  // often just stored field by field (FromEmbree)
   ts.is.mode = mode;
   ts.is.forced_t = forced_t;
   ts.is.candidate_ok = false;
@@ -343,7 +349,7 @@ bool FilterBuiltin(ThreadState& ts, Frame& f, const InstancePlan* ip, const RTCR
   CopyXform(c.xform, f.xform);
   if (ah == nullptr) {
     c.deferred = true;
-    c.object_ray = object_ray;
+    CopyWords(&c.object_ray, &object_ray, sizeof(object_ray));
     return true;
   }
   TriangleAttributes(ts, c, object_ray);
