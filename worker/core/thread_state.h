@@ -234,11 +234,15 @@ template <typename T>
 inline T Word(const T& v) {
   static_assert(sizeof(T) == 4);
   T w = v;
+#if defined(__x86_64__) || defined(__i386__)
   if constexpr (std::is_floating_point_v<T>) {
     asm("" : "+x"(w));  // stays in a vector register
   } else {
     asm("" : "+r"(w));
   }
+#else
+  asm("" : "+r"(w));
+#endif
   return w;
 }
 
