@@ -191,6 +191,13 @@ TEST_F(HostProgramTest, UnsupportedProgramFeaturesSayWhatTheyAre) {
       {"rtDeclareVariable(rtCallableProgramId<float3(float3)>, fn, , );\n",
        "no callable program variables yet"},
       {"rtBuffer<rtBufferId<float3, 1>, 1> ids;\n", "no buffer ids yet"},
+      // The guide's pickled pointer example, callee and caller.
+      {"RT_CALLABLE_PROGRAM void plus_one(rtPickledLocalPointer pointer) {\n"
+       "  int* p = rtUnpickleLocalPointer(pointer);\n  *p += 1;\n}\n",
+       "rtPickledLocalPointer: Tessera has no callable program variables yet"},
+      {"RT_PROGRAM void some_program() {\n  int x = 42;\n"
+       "  rtPickledLocalPointer p = rtPickleLocalPointer(&x);\n}\n",
+       "rtPickledLocalPointer: Tessera has no callable program variables yet"},
   };
   for (const auto& [code, said] : cases) {
     const std::string source = std::string("#include <optix_world.h>\nusing namespace optix;\n") +

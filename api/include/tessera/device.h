@@ -333,7 +333,19 @@ struct rtCallableProgramX {
   static_assert(::tessera::detail::kNotYet<return_type>,           \
                 "rtCallableProgram " #name                         \
                 ": Tessera has no callable program variables yet " \
-                "(OptiX 3.5+; docs/COMPATIBILITY.md)")
+                "(docs/COMPATIBILITY.md)")
+// Pickled pointers exist only to pass local pointers to callable programs (OptiX 3.0, SM 1.x).
+template <typename T = void>
+struct rtPickledLocalPointerNotYet {
+  static_assert(::tessera::detail::kNotYet<T>,
+                "rtPickledLocalPointer: Tessera has no callable program variables yet "
+                "(docs/COMPATIBILITY.md)");
+};
+using rtPickledLocalPointer = rtPickledLocalPointerNotYet<>;
+template <typename T>
+rtPickledLocalPointerNotYet<T> rtPickleLocalPointer(T* pointer);
+template <typename T = int>
+T* rtUnpickleLocalPointer(rtPickledLocalPointerNotYet<T> pointer);
 
 // ---- Tracing ---------------------------------------------------------------------------------
 template <typename T>
