@@ -1,6 +1,7 @@
 // Programs of value_sizes_test.cc: payloads and attributes of sizes that are not the usual 4, 8,
-// 12 or 16 bytes (1, 3, 6, 20, 128, 130, 132 and 260), a round trip each, and a nested trace
-// whose callee shares the caller's module, so the caller's values are saved and restored.
+// 12 or 16 bytes (1, 3, 6, 20, 128, 130, 132 and 260), a round trip each; a nested trace whose
+// callee shares the caller's module, so the caller's values are saved and restored; a program
+// that traces its own payload variable; and 512 bytes of attributes in all.
 #include <optix.h>
 #include <optixu/optixu_math_namespace.h>
 
@@ -15,6 +16,11 @@ struct Twenty {
   int v[5];
 };
 
+// With the attributes around it, 512 bytes only without alignment padding before a_twenty.
+struct Big476 {
+  unsigned char b[476];
+};
+
 rtDeclareVariable(uint2, launch_index, rtLaunchIndex, );
 rtDeclareVariable(rtObject, top_object, , );
 rtDeclareVariable(optix::Ray, ray, rtCurrentRay, );
@@ -23,6 +29,7 @@ rtDeclareVariable(float, hit_t, rtIntersectionDistance, );
 rtBuffer<unsigned int, 2> failures;
 
 rtDeclareVariable(unsigned char, a_byte, attribute a_byte, );
+rtDeclareVariable(Big476, a_big, attribute a_big, );
 rtDeclareVariable(uchar3, a_uchar3, attribute a_uchar3, );
 rtDeclareVariable(float3, a_float3, attribute a_float3, );
 rtDeclareVariable(Twenty, a_twenty, attribute a_twenty, );
@@ -46,6 +53,7 @@ static __device__ bool AttributesMatch(unsigned k) {
         a_uchar3.z == static_cast<unsigned char>(k + 2);
   ok &= a_float3.x == static_cast<float>(k) && a_float3.y == 0.5f * k && a_float3.z == -1.f * k;
   for (int i = 0; i < 5; ++i) ok &= a_twenty.v[i] == static_cast<int>(k * 10 + i);
+  for (int i = 0; i < 476; ++i) ok &= a_big.b[i] == static_cast<unsigned char>(k + i);
   return ok;
 }
 
@@ -57,6 +65,7 @@ RT_PROGRAM void intersect(int) {
     a_uchar3 = make_uchar3(k, k + 1, k + 2);
     a_float3 = make_float3(k, 0.5f * k, -1.f * k);
     for (int i = 0; i < 5; ++i) a_twenty.v[i] = static_cast<int>(k * 10 + i);
+    for (int i = 0; i < 476; ++i) a_big.b[i] = static_cast<unsigned char>(k + i);
     rtReportIntersection(0);
   }
 }
@@ -123,6 +132,34 @@ RT_PROGRAM void ch_20_nested() {
   for (int i = 0; i < 20; ++i) payload_20.b[i] = Transformed(payload_20.b[i], i, ok);
 }
 
+// Traces its own payload variable (ray type 9, which misses): the nested miss program, of this
+// module, changes it, and the change must survive restoring this program's values afterwards.
+RT_PROGRAM void ch_self() {
+  payload_20.b[0] = 100;
+  const Ray r = make_Ray(ray.origin, ray.direction, 9, 0.f, 0.5f);  // the primitive is at t = 1
+  rtTrace(top_object, r, payload_20);
+  payload_20.b[2] = payload_20.b[1];
+}
+RT_PROGRAM void miss_self() {
+  payload_20.b[1] = 42;
+  payload_20.b[3] = 7;
+}
+
+// Ray type 10 traces 8 bytes, a size no payload variable has: the variable the program changed
+// (20 bytes) brings them back.
+RT_PROGRAM void ch_other_size() { Shade(payload_20); }
+
+static __device__ bool SelfPayloadKept(unsigned k) {
+  Bytes<20> p = Filled<20>(k);
+  rtTrace(top_object,
+          make_Ray(make_float3(static_cast<float>(k), 0.f, 0.f), make_float3(0.f, 0.f, 1.f), 8, 0.f,
+                   RT_DEFAULT_MAX),
+          p);
+  bool ok = p.b[0] == 100 && p.b[1] == 42 && p.b[2] == 42 && p.b[3] == 7;
+  for (int i = 4; i < 20; ++i) ok &= p.b[i] == static_cast<unsigned char>(k + 5 * i);
+  return ok;
+}
+
 RT_PROGRAM void check_sizes() {
   const unsigned k = launch_index.x + 17 * launch_index.y;
   unsigned failed = 0;
@@ -134,5 +171,7 @@ RT_PROGRAM void check_sizes() {
   failed |= TraceSize<130>(5, k) ? 0u : 32u;
   failed |= TraceSize<132>(6, k) ? 0u : 64u;
   failed |= TraceSize<260>(7, k) ? 0u : 128u;
+  failed |= SelfPayloadKept(k) ? 0u : 256u;
+  failed |= TraceSize<8>(10, k) ? 0u : 512u;
   failures[launch_index] = failed;
 }

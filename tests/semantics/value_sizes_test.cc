@@ -19,14 +19,19 @@ class ValueSizesTest : public RtFixture, public ::testing::WithParamInterface<co
 TEST_P(ValueSizesTest, PayloadsAndAttributesOfEverySizeRoundTrip) {
   Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
   Ok(rtContextSetEntryPointCount(ctx_, 1));
-  constexpr unsigned kRayTypes = 8;  // one payload size each
+  // One payload size each, then a program that traces its own payload variable (8) into a miss
+  // (9), then a payload size no variable has (10).
+  constexpr unsigned kRayTypes = 11;
   Ok(rtContextSetRayTypeCount(ctx_, kRayTypes));
   Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "check_sizes")));
-  const char* closest_hit[kRayTypes] = {"ch_1",   "ch_3",   "ch_6",   "ch_20_nested",
-                                        "ch_128", "ch_130", "ch_132", "ch_260"};
+  Ok(rtContextSetMissProgram(ctx_, 9, Program(kModule, "miss_self")));
+  const char* closest_hit[kRayTypes] = {"ch_1",    "ch_3",   "ch_6",         "ch_20_nested",
+                                        "ch_128",  "ch_130", "ch_132",       "ch_260",
+                                        "ch_self", nullptr,  "ch_other_size"};
   Instance scene =
       MakeInstance(Program(kModule, "intersect"), Program(kModule, "bounds"), 1, nullptr);
   for (unsigned t = 0; t < kRayTypes; ++t) {
+    if (closest_hit[t] == nullptr) continue;
     Ok(rtMaterialSetClosestHitProgram(scene.material, t, Program(kModule, closest_hit[t])));
   }
   Ok(rtVariableSetObject(ContextVar("top_object"), scene.group));
@@ -43,7 +48,8 @@ TEST_P(ValueSizesTest, PayloadsAndAttributesOfEverySizeRoundTrip) {
   unsigned values[kWidth * kHeight];
   std::memcpy(values, data, sizeof(values));
   Ok(rtBufferUnmap(failures));
-  // Bit b set: the payload of ray type b did not come back as its closest-hit program made it.
+  // Bit b set: the payload of ray type b did not come back as its closest-hit program made it
+  // (bit 8: the self-traced payload, bit 9: the 8-byte one).
   for (unsigned i = 0; i < kWidth * kHeight; ++i) {
     EXPECT_EQ(values[i], 0u) << "launch index (" << i % kWidth << ", " << i / kWidth << ")";
   }

@@ -140,13 +140,14 @@ absl::StatusOr<size_t> AttributeLayout::Offset(const std::string& name, size_t s
     }
     return it->second.first;
   }
-  // Each attribute at the alignment its size allows (at most 16): padding must not count against
-  // the 512 bytes a hit carries (a 500-byte struct and a float3 fit, as documented).
-  const size_t align = size == 0 ? 1 : std::min<size_t>(size & (~size + 1), 16);
-  size_t offset = (used_ + align - 1) & ~(align - 1);
+  // Packed, without alignment padding: attributes move bytewise between a hit's block and
+  // programs' variables, and padding must not count against the 512 bytes a hit carries.
+  const size_t offset = used_;
   if (offset + size > kMaxBytes) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat("attributes exceed ", kMaxBytes, " bytes at '", name, "' in ", where));
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "attributes take more than the ", kMaxBytes, " bytes a hit carries: attribute '", name,
+        "' (", size, " bytes, declared in the module of ", where, ") comes after ", used_,
+        " bytes of other attributes (all modules' attributes share one block)"));
   }
   used_ = offset + size;
   entries_[name] = {offset, size};

@@ -58,6 +58,8 @@ struct Frame {
   Hit hit;
   bool terminated = false;
   Xform xform;  // the traversal's current transform
+  // The payload before a program with several payload variables ran (ChoosePayload).
+  std::vector<unsigned char> payload_before;
 };
 
 enum class IntersectMode { kSearch, kFiltered, kDeferred };
@@ -137,6 +139,8 @@ struct ThreadState {
   bool out_unshown_report_sent = false;
   v1::ExceptionReport* out_reports_not_sent = nullptr;
   std::vector<unsigned char> scratch;
+  // A traced payload kept across restoring its caller's values (RtTrace).
+  std::vector<unsigned char> resume_payload;
   uint64_t last_node_id = 0;
   const NodeInfo* last_node = nullptr;
   // Where a program's `result` argument points when its kind passes none (CallProgram).

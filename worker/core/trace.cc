@@ -80,32 +80,52 @@ __attribute__((always_inline)) inline void StoreAttributes(const ModuleState& ms
   for (const auto& a : p.attributes) CopyWords(block + a.offset, ms.slots[a.var], a.size);
 }
 
-// Copies the payload back from the program's payload variable. With several payload variables
-// (radiance and shadow, say) the one of the traced payload's size that the program changed wins.
+// Whether the payload comes back from the program's one payload variable of the traced size
+// (the usual case), or ChoosePayload must pick among several and so needs the payload as it was
+// before the program ran.
+inline bool OnePayloadVariable(const BoundProgram& p, size_t size) {
+  return p.payload.size() == 1 && p.payload.front().size == size;
+}
+
+// Keeps the payload as the program receives it (ChoosePayload compares with it, since `dst` may be
+// one of the slots itself: a program that traces its own rtPayload variable).
+inline void KeepPayloadBefore(const BoundProgram& p, Frame& f) {
+  if (OnePayloadVariable(p, f.payload_size)) return;
+  const auto* bytes = static_cast<const unsigned char*>(f.payload);
+  f.payload_before.assign(bytes, bytes + f.payload_size);
+}
+
+// Copies the payload back from one of several payload variables (a radiance and a shadow payload,
+// say): the first of the traced payload's size that the program changed, else the first of that
+// size, else the first of another size that the program changed.
 __attribute__((noinline)) void ChoosePayload(const ModuleState& ms, const BoundProgram& p,
-                                             void* dst, size_t size) {
-  const BoundProgram::SlotRef* chosen = nullptr;
+                                             const Frame& f) {
+  const size_t size = f.payload_size;
+  const BoundProgram::SlotRef *same_size = nullptr, *changed = nullptr, *changed_other = nullptr;
   for (const BoundProgram::SlotRef& r : p.payload) {
-    if (r.size != size) continue;
-    if (chosen == nullptr) chosen = &r;
-    if (p.payload.size() == 1) break;
-    if (std::memcmp(ms.slots[r.var], dst, size) != 0) {
-      chosen = &r;
-      break;
+    const size_t n = std::min<size_t>(size, r.size);
+    const bool differs = std::memcmp(ms.slots[r.var], f.payload_before.data(), n) != 0;
+    if (r.size == size) {
+      if (same_size == nullptr) same_size = &r;
+      if (differs && changed == nullptr) changed = &r;
+    } else if (differs && changed_other == nullptr) {
+      changed_other = &r;
     }
   }
+  const BoundProgram::SlotRef* chosen = changed ? changed : same_size ? same_size : changed_other;
   if (chosen == nullptr) {
     if (p.payload.empty()) return;
     chosen = &p.payload.front();
   }
-  CopyWords(dst, ms.slots[chosen->var], std::min<size_t>(size, chosen->size));
+  CopyWords(f.payload, ms.slots[chosen->var], std::min<size_t>(size, chosen->size));
 }
 
-inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, void* dst, size_t size) {
-  if (p.payload.size() == 1 && p.payload.front().size == size) {  // the usual case
-    CopyWords(dst, ms.slots[p.payload.front().var], size);        // the program has just written it
+inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, const Frame& f) {
+  if (OnePayloadVariable(p, f.payload_size)) {
+    // The program has just written it.
+    CopyWords(f.payload, ms.slots[p.payload.front().var], f.payload_size);
   } else {
-    ChoosePayload(ms, p, dst, size);
+    ChoosePayload(ms, p, f);
   }
 }
 
@@ -114,13 +134,14 @@ void Shade(ThreadState& ts, const BoundProgram& p, Frame& f) {
   Enter(ts, p);
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, p.ray, f.ray);
+  KeepPayloadBefore(p, f);
   WriteSlots(ms, p.payload, f.payload, f.payload_size);
   if (p.kind == ProgramKind::kClosestHit) {
     WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
     LoadAttributes(ms, p, f.hit.attributes);
   }
   CallProgram(ts, p);
-  ReadPayload(*ts.current_module, p, f.payload, f.payload_size);
+  ReadPayload(*ts.current_module, p, f);
 }
 
 void CopyXform(Xform& to, const Xform& from) {
@@ -286,11 +307,12 @@ bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& 
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, ah.ray, object_ray);
   WriteSlots<sizeof(float)>(ms, ah.distance, &c.t);
+  KeepPayloadBefore(ah, f);
   WriteSlots(ms, ah.payload, f.payload, f.payload_size);
   LoadAttributes(ms, ah, c.attributes);
   ts.ah_ignore = ts.ah_terminate = false;
   RunAnyHit(ts, ah);
-  ReadPayload(ms, ah, f.payload, f.payload_size);
+  ReadPayload(ms, ah, f);
   const bool accepted = !ts.ah_ignore;
   const bool terminate = ts.ah_terminate;
   Resume(ts, suspended);
@@ -468,7 +490,16 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
     Shade(ts, *plan.miss[ray.ray_type], f);
   }
   --ts.depth;
-  Resume(ts, suspended);
+  if (__builtin_expect(suspended.saved && suspended.reads_per_call, 0)) {
+    // The caller's values come back, but the payload may be one of them (a program that traces
+    // its own rtPayload variable): it keeps what this trace made of it.
+    ts.resume_payload.assign(static_cast<unsigned char*>(payload),
+                             static_cast<unsigned char*>(payload) + payload_size);
+    Resume(ts, suspended);
+    std::memcpy(payload, ts.resume_payload.data(), payload_size);
+  } else {
+    Resume(ts, suspended);
+  }
   ReturnTo(ts, *caller, *suspended.module);
 }
 
