@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "tessera/rt.h"
@@ -137,8 +138,8 @@ void Raise(unsigned code, std::string details) {
 void CallNotAllowed(const ThreadState& ts, const char* call) {
   throw FatalError{absl::FailedPreconditionError(absl::StrCat(
       call, " called from ", ts.current ? ts.current->name : "a program", ": not allowed in ",
-      ts.kind == ProgramKind::kException || ts.kind == ProgramKind::kAnyHit ? "an " : "a ",
-      KindName(ts.kind), " program (OptiX 3 guide, \"Which OptiX calls are supported where?\")"))};
+      std::strchr("aeiou", KindName(ts.kind)[0]) != nullptr ? "an " : "a ", KindName(ts.kind),
+      " program (OptiX 3 guide, \"Which OptiX calls are supported where?\")"))};
 }
 
 namespace {
@@ -414,8 +415,10 @@ __attribute__((noinline)) void HandleException(ThreadState& ts, const LaunchPlan
       // a report (printed in order, or counted on stderr) instead of vanishing.
       ResetNesting(ts);
       ts.exception_code = inner.code;
-      // ex->name says "exception program 'f' in m.so".
-      ts.exception_details = absl::StrCat(inner.details, " (raised in ", ex->name, ")");
+      // ex->name says "exception program 'f' in m.so"; details of a failed call name it already.
+      ts.exception_details = absl::StrContains(inner.details, ex->name)
+                                 ? std::move(inner.details)
+                                 : absl::StrCat(inner.details, " (raised in ", ex->name, ")");
       Report(ts);
     }
   } else {

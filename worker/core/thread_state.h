@@ -73,6 +73,10 @@ struct IntersectState {
   float candidate_t = 0;
   bool candidate_ok = false;
   bool committed = false;
+  // Embree's hit (kDeferred, kFiltered): whether the program reported it, and how far from
+  // Embree's t the kept report's own t was.
+  bool reported = false;
+  float reported_error = 0, candidate_error = 0;
 };
 
 struct ExceptionSignal {
@@ -327,6 +331,9 @@ inline void Enter(ThreadState& ts, const BoundProgram& p) {
     for (const BoundProgram::SlotRef& r : p.launch_index)
       CopyWords(ms.slots[r.var], &ts.index, r.size);
     WriteSlots<sizeof(ts.dims)>(ms, p.launch_dim, ts.dims.data());
+    // Attributes a program leaves unwritten read zeros, not what the thread's last launch index
+    // left: output must not depend on which launch indices shared a thread.
+    for (const BoundProgram::Attribute& a : p.attributes) std::memset(ms.slots[a.var], 0, a.size);
     ms.index_written = ts.index_serial;
   }
 }

@@ -253,6 +253,7 @@ bool RunIntersection(ThreadState& ts, const InstancePlan* instance, unsigned pri
   ts.is.forced_t = forced_t;
   ts.is.candidate_ok = false;
   ts.is.committed = false;
+  ts.is.reported = false;
   Enter(ts, p);
   WriteRaySlots(*ts.current_module, p.ray, ray);
   WriteSlots<sizeof(float)>(*ts.current_module, p.distance, &ts.top().hit.t);
@@ -511,8 +512,17 @@ int RtPotentialIntersection(float t) {
     is.candidate_ok = t > is.ray.tmin && t < is.ray.tmax && !ts.top().terminated;
     is.candidate_t = t;
   } else {
-    // Embree already chose this primitive at forced_t; the program only reports attributes.
-    is.candidate_ok = true;
+    // Embree already chose this primitive at forced_t; the program only reports attributes (its
+    // own t is Embree's). A program that tests several primitives in one call, or reports twice,
+    // must not have another report replace the one for Embree's hit: after traversal the report
+    // nearest Embree's t wins, during it (any-hit programs) only the first counts.
+    const bool finite = std::isfinite(t);
+    if (is.mode == IntersectMode::kDeferred) {
+      is.candidate_error = std::fabs(t - is.forced_t);
+      is.candidate_ok = finite && (!is.reported || is.candidate_error < is.reported_error);
+    } else {
+      is.candidate_ok = finite && !is.reported && !ts.top().terminated;
+    }
     is.candidate_t = is.forced_t;
   }
   return is.candidate_ok ? 1 : 0;
@@ -533,6 +543,10 @@ int RtReportIntersection(unsigned material) {
   Frame& f = ts.top();
   const BoundProgram& isp = *ts.current;
   ModuleState& is_module = *ts.current_module;
+  if (is.mode != IntersectMode::kSearch) {
+    is.reported = true;
+    is.reported_error = is.candidate_error;
+  }
   if (is.mode == IntersectMode::kDeferred) {
     // The closest hit is known; record what the program reports for it.
     f.hit.material = material;
