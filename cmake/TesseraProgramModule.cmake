@@ -15,11 +15,18 @@ function(tessera_add_program_module)
   if(NOT A_OUTPUT_DIRECTORY)
     set(A_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/modules)
   endif()
+  get_property(_tessera_languages GLOBAL PROPERTY ENABLED_LANGUAGES)
+  if(NOT "CXX" IN_LIST _tessera_languages)
+    message(FATAL_ERROR "tessera_add_program_module(${A_TARGET}): program modules are compiled "
+      "as C++, which this project has not enabled: add CXX to its project(... LANGUAGES ...)")
+  endif()
   add_library(${A_TARGET} MODULE ${A_SOURCES})
   set_source_files_properties(${A_SOURCES} PROPERTIES LANGUAGE CXX)
   target_compile_features(${A_TARGET} PRIVATE cxx_std_17)
   target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 ${TESSERA_PROGRAM_MODULE_OPTIONS})
   target_include_directories(${A_TARGET} PRIVATE ${TESSERA_PROGRAM_INCLUDE_DIRS} ${A_INCLUDES})
+  # A generator expression keeps multi-config generators (Ninja Multi-Config) from adding a
+  # per-configuration subdirectory: the path stays the one hosts are told.
   set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"
-    LIBRARY_OUTPUT_DIRECTORY ${A_OUTPUT_DIRECTORY})
+    LIBRARY_OUTPUT_DIRECTORY "$<1:${A_OUTPUT_DIRECTORY}>")
 endfunction()

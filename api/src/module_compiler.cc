@@ -227,6 +227,14 @@ std::vector<std::string> ProgramIncludeDirs() {
   if (!installed.empty() && fs::is_regular_file(installed + "/tessera/device.h", ec)) {
     return {installed};
   }
+  if (!scheduler::RunningFromBuildTree()) {
+    static std::once_flag once;
+    std::call_once(once, [&] {
+      scheduler::WarnBuildTreeFallback("program headers",
+                                       fs::path(installed).lexically_normal().string(),
+                                       TESSERA_PROGRAM_INCLUDE_DIR);
+    });
+  }
   return absl::StrSplit(TESSERA_PROGRAM_INCLUDE_DIR, ':', absl::SkipEmpty());
 }
 
@@ -307,10 +315,21 @@ absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
   }
   if (result->exit_code != 0) {
     fs::remove(temp_module, ec);
+    // Without Tessera's headers every error is a consequence: say where they were looked for.
+    std::string headers;
+    if (absl::StrContains(result->output, "optix.h: No such file") ||
+        absl::StrContains(result->output, "optix_world.h: No such file") ||
+        absl::StrContains(result->output, "tessera/device.h: No such file")) {
+      headers =
+          absl::StrCat("Tessera's program headers are not in the include directories it passed (",
+                       absl::StrJoin(ProgramIncludeDirs(), ", "),
+                       "); set TESSERA_INCLUDE_DIR to the directory holding optix.h (an installed "
+                       "<prefix>/include/tessera)\n");
+    }
     return RtError(RT_ERROR_INVALID_SOURCE,
                    absl::StrCat("compiling '", source_path.empty() ? "<string>" : source_path,
                                 "' failed (", command.front(), " exit code ", result->exit_code,
-                                "):\n", FirstLines(result->output, kErrorLines)));
+                                "):\n", headers, FirstLines(result->output, kErrorLines)));
   }
   if (!fs::is_regular_file(temp_module, ec)) {
     // Exit status 0 and no output: not a compiler (TESSERA_CXX=/bin/true), or one that ignored -o.

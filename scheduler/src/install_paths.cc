@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -64,6 +65,24 @@ std::string InstalledWorkerPath() {
 
 std::string InstalledIncludeDir() {
   return FromThisBinary(TESSERA_INCLUDEDIR_FROM_LIBDIR "/tessera");
+}
+
+bool RunningFromBuildTree() {
+#ifdef TESSERA_BUILD_DIR
+  const std::string& self = ThisBinaryPathOnce();
+  const std::string build = std::string(TESSERA_BUILD_DIR) + "/";
+  return self.compare(0, build.size(), build) == 0;
+#else
+  return false;
+#endif
+}
+
+void WarnBuildTreeFallback(const char* what, const std::string& missing, const std::string& used) {
+  std::fprintf(stderr,
+               "tessera: no usable %s at %s (beside %s); using the build tree's, %s, which may "
+               "be another version: reinstall, or set %s\n",
+               what, missing.c_str(), ThisBinaryPathOnce().c_str(), used.c_str(),
+               std::strcmp(what, "tessera-worker") == 0 ? "TESSERA_WORKER" : "TESSERA_INCLUDE_DIR");
 }
 
 }  // namespace tessera::scheduler

@@ -292,8 +292,19 @@ absl::StatusOr<std::string> FindWorkerBinary() {
       TESSERA_WORKER_BUILD_PATH};
   for (const std::string& candidate : candidates) {
     if (candidate.empty()) continue;
-    if (IsExecutable(candidate)) return candidate;
-    tried.push_back(candidate);
+    const std::string path = std::filesystem::path(candidate).lexically_normal().string();
+    if (IsExecutable(path)) {
+      if (&candidate == &candidates[2] && !scheduler::RunningFromBuildTree()) {
+        static std::once_flag once;
+        std::call_once(once, [&] {
+          scheduler::WarnBuildTreeFallback(
+              kWorkerName, std::filesystem::path(candidates[0]).lexically_normal().string(), path);
+        });
+      }
+      return path;
+    }
+    std::error_code ec;
+    tried.push_back(std::filesystem::exists(path, ec) ? path + " (not executable)" : path);
   }
   return absl::NotFoundError(absl::StrCat("cannot find the ", kWorkerName, " executable (tried ",
                                           absl::StrJoin(tried, ", "),

@@ -49,4 +49,13 @@ if grep '^worker ' <<<"$output" | grep -v "^worker $prefix/bin/tessera-worker\$"
   exit 1
 fi
 grep -q "both launches wrote what they should" <<<"$output"
+
+# A damaged install: its worker not executable. The library falls back to the build tree's worker
+# but says so, naming both; without a build tree to fall back to, the error says why the
+# installed one was passed over.
+chmod -x "$prefix/bin/tessera-worker"
+err=$(TESSERA_DEVICES=local:2 TESSERA_CACHE_DIR="$work/cache3"       "$work/consumer-build/consumer" 2>&1 >/dev/null || true)
+grep -q "no usable tessera-worker at $prefix/bin/tessera-worker" <<<"$err" ||
+  { echo "no warning about falling back to the build tree's worker: $err"; exit 1; }
+chmod +x "$prefix/bin/tessera-worker"
 echo "install test passed"

@@ -232,7 +232,11 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
   if (info == nullptr || info->abi_version != TESSERA_MODULE_ABI_VERSION) {
     dlclose(handle);
     return absl::FailedPreconditionError(
-        absl::StrCat("program module ", path, " was built for another Tessera module ABI"));
+        absl::StrCat("program module ", path,
+                     " was built against another version of Tessera's program headers (this "
+                     "Tessera's module ABI is ",
+                     TESSERA_MODULE_ABI_VERSION,
+                     "): rebuild it against this Tessera's headers (docs/install.md)"));
   }
   auto module = std::make_unique<Module>();
   // Process-wide, not per cache: the index selects this module's per-thread slot tables.

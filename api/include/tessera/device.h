@@ -15,6 +15,11 @@
 #ifndef TESSERA_DEVICE_H_
 #define TESSERA_DEVICE_H_
 
+#if __cplusplus < 201703L
+#error \
+    "Tessera's program-side API (which optix.h includes in C++) needs C++17: compile with -std=c++17, or include <tessera/rt.h> for the host API alone"
+#endif
+
 #include <cstdarg>
 #include <cstddef>
 #include <cstdio>

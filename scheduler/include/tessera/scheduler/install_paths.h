@@ -21,6 +21,12 @@ std::string DirName(const std::string& path);
 std::string InstalledWorkerPath();
 std::string InstalledIncludeDir();
 
+// Whether ThisBinaryPath() lies in the build tree it was built in. An installed (or copied)
+// library that falls back to that tree's worker or headers says so once on stderr
+// (WarnBuildTreeFallback): they may be another version than the library.
+bool RunningFromBuildTree();
+void WarnBuildTreeFallback(const char* what, const std::string& missing, const std::string& used);
+
 }  // namespace tessera::scheduler
 
 #endif  // TESSERA_SCHEDULER_INSTALL_PATHS_H_
