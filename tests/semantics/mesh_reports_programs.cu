@@ -1,6 +1,6 @@
 // Programs of mesh_reports_test.cc: intersection programs that report more than once per call, on
 // an OptiX 3 mesh traced as native Embree triangles (builder Trbvh) and as user geometry (Bvh),
-// and one that leaves an attribute unwritten.
+// and one that leaves an attribute unwritten. The bounds program is semantics_programs.cu's.
 #include <optix.h>
 #include <optixu/optixu_math_namespace.h>
 
@@ -81,18 +81,6 @@ RT_PROGRAM void intersect_partial(int prim) {
     if (launch_index.x == 1) b_id = 1000 + launch_index.y;
     rtReportIntersection(0);
   }
-}
-
-RT_PROGRAM void bounds(int prim, float result[6]) {
-  const int3 v = index_buffer[prim];
-  const float3 p0 = vertex_buffer[v.x], p1 = vertex_buffer[v.y], p2 = vertex_buffer[v.z];
-  const float3 lo = fminf(fminf(p0, p1), p2), hi = fmaxf(fmaxf(p0, p1), p2);
-  result[0] = lo.x;
-  result[1] = lo.y;
-  result[2] = lo.z;
-  result[3] = hi.x;
-  result[4] = hi.y;
-  result[5] = hi.z;
 }
 
 RT_PROGRAM void closest_hit() {

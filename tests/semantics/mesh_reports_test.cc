@@ -46,7 +46,7 @@ class MeshReportsTest : public RtFixture, public ::testing::WithParamInterface<c
     Ok(rtGeometryCreate(ctx_, &geometry));
     Ok(rtGeometrySetPrimitiveCount(geometry, 4));
     Ok(rtGeometrySetIntersectionProgram(geometry, Program(kModule, intersection)));
-    Ok(rtGeometrySetBoundingBoxProgram(geometry, Program(kModule, "bounds")));
+    Ok(rtGeometrySetBoundingBoxProgram(geometry, Program("semantics_programs", "mesh_bounds")));
     BindBuffer(geometry, "vertex_buffer", RT_FORMAT_FLOAT3, vertices.data(), 8);
     BindBuffer(geometry, "index_buffer", RT_FORMAT_INT3, indices.data(), 4);
 
@@ -67,18 +67,9 @@ class MeshReportsTest : public RtFixture, public ::testing::WithParamInterface<c
     Ok(rtGeometryGroupSetChild(group, 0, instance));
     Ok(rtVariableSetObject(ContextVar("top_object"), group));
 
-    RTbuffer output = nullptr;
-    Ok(rtBufferCreate(ctx_, RT_BUFFER_OUTPUT, &output));
-    Ok(rtBufferSetFormat(output, RT_FORMAT_UNSIGNED_INT4));
-    Ok(rtBufferSetSize2D(output, kSide, kSide));
-    Ok(rtVariableSetObject(ContextVar("output"), output));
+    RTbuffer output = Buffer2D("output", RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT4, kSide, kSide);
     Ok(rtContextLaunch2D(ctx_, 0, kSide, kSide));
-    std::vector<Uint4> pixels(kSide * kSide);
-    void* data = nullptr;
-    Ok(rtBufferMap(output, &data));
-    std::memcpy(pixels.data(), data, pixels.size() * sizeof(Uint4));
-    Ok(rtBufferUnmap(output));
-    return pixels;
+    return ReadAs<Uint4>(output);
   }
 
   void BindBuffer(RTgeometry g, const char* name, RTformat format, const void* data, size_t n) {

@@ -47,24 +47,31 @@ class RtFixture : public ::testing::Test {
 
   // A float4 2D buffer bound to context variable `name`.
   RTbuffer Float4Buffer(const std::string& name, unsigned type, size_t w, size_t h) {
+    return Buffer2D(name, type, RT_FORMAT_FLOAT4, w, h);
+  }
+
+  // A 2D buffer of any format bound to context variable `name`, and its contents as Ts.
+  RTbuffer Buffer2D(const std::string& name, unsigned type, RTformat format, size_t w, size_t h) {
     RTbuffer b = nullptr;
     EXPECT_EQ(rtBufferCreate(ctx_, type, &b), RT_SUCCESS);
-    EXPECT_EQ(rtBufferSetFormat(b, RT_FORMAT_FLOAT4), RT_SUCCESS);
+    EXPECT_EQ(rtBufferSetFormat(b, format), RT_SUCCESS);
     EXPECT_EQ(rtBufferSetSize2D(b, w, h), RT_SUCCESS);
     EXPECT_EQ(rtVariableSetObject(ContextVar(name), b), RT_SUCCESS);
     return b;
   }
-
-  std::vector<Float4> Read(RTbuffer b) {
+  template <typename T>
+  std::vector<T> ReadAs(RTbuffer b) {
     RTsize w = 0, h = 0;
     rtBufferGetSize2D(b, &w, &h);
+    std::vector<T> out(w * h);
     void* p = nullptr;
-    std::vector<Float4> out(w * h);
     if (rtBufferMap(b, &p) != RT_SUCCESS) return out;
-    std::memcpy(out.data(), p, out.size() * sizeof(Float4));
+    std::memcpy(out.data(), p, out.size() * sizeof(T));
     rtBufferUnmap(b);
     return out;
   }
+
+  std::vector<Float4> Read(RTbuffer b) { return ReadAs<Float4>(b); }
 
   RTacceleration Accel(const char* builder = "Bvh") {
     RTacceleration a = nullptr;

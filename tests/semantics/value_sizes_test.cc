@@ -36,18 +36,10 @@ TEST_P(ValueSizesTest, PayloadsAndAttributesOfEverySizeRoundTrip) {
   }
   Ok(rtVariableSetObject(ContextVar("top_object"), scene.group));
   constexpr unsigned kWidth = 16, kHeight = 8;
-  RTbuffer failures = nullptr;
-  Ok(rtBufferCreate(ctx_, RT_BUFFER_OUTPUT, &failures));
-  Ok(rtBufferSetFormat(failures, RT_FORMAT_UNSIGNED_INT));
-  Ok(rtBufferSetSize2D(failures, kWidth, kHeight));
-  Ok(rtVariableSetObject(ContextVar("failures"), failures));
+  RTbuffer failures =
+      Buffer2D("failures", RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, kWidth, kHeight);
   Ok(rtContextLaunch2D(ctx_, 0, kWidth, kHeight));
-
-  void* data = nullptr;
-  Ok(rtBufferMap(failures, &data));
-  unsigned values[kWidth * kHeight];
-  std::memcpy(values, data, sizeof(values));
-  Ok(rtBufferUnmap(failures));
+  const std::vector<unsigned> values = ReadAs<unsigned>(failures);
   // Bit b set: the payload of ray type b did not come back as its closest-hit program made it
   // (bit 8: the self-traced payload, bit 9: the 8-byte one).
   for (unsigned i = 0; i < kWidth * kHeight; ++i) {
