@@ -77,7 +77,9 @@ class RtFixture : public ::testing::Test {
     RTacceleration a = nullptr;
     EXPECT_EQ(rtAccelerationCreate(ctx_, &a), RT_SUCCESS);
     EXPECT_EQ(rtAccelerationSetBuilder(a, builder), RT_SUCCESS);
-    EXPECT_EQ(rtAccelerationSetTraverser(a, "Bvh"), RT_SUCCESS);
+    // NoAccel takes only its own traverser, as in OptiX.
+    EXPECT_EQ(rtAccelerationSetTraverser(a, std::string(builder) == "NoAccel" ? "NoAccel" : "Bvh"),
+              RT_SUCCESS);
     return a;
   }
 

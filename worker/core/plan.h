@@ -151,6 +151,10 @@ struct LaunchPlan {
   }
 };
 
+// The Embree build quality for an acceleration's builder and properties (docs/programs.md,
+// "Accelerations and Embree"); `has_filter`: an any-hit program will see its candidates.
+RTCBuildQuality BuildQuality(const AccelRec& a, bool has_filter);
+
 class SceneCache {
  public:
   explicit SceneCache(RTCDevice device) : device_(device) {}

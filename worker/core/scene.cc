@@ -106,18 +106,6 @@ void ChildBounds(const RTCBoundsFunctionArguments* args) {
 }
 
 // OptiX builder names → Embree build quality (docs/COMPATIBILITY.md "Accelerations").
-RTCBuildQuality Quality(const AccelRec& a, bool has_filter) {
-  auto refit = a.properties.find("refit");
-  if (refit != a.properties.end() && refit->second != "0") return RTC_BUILD_QUALITY_REFIT;
-  const std::string& b = a.builder;
-  if (b == "Sbvh" || b == "TriangleKdTree" || b == "Trbvh") {
-    // HIGH uses spatial splits, which can report one primitive twice to a filter callback;
-    // any-hit programs must see each candidate once.
-    return has_filter ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
-  }
-  if (b == "MedianBvh" || b == "Lbvh" || b == "NoAccel") return RTC_BUILD_QUALITY_LOW;
-  return RTC_BUILD_QUALITY_MEDIUM;
-}
 
 bool TriangleBuilder(const AccelRec& a) {
   return a.builder == "Sbvh" || a.builder == "TriangleKdTree" || a.builder == "Trbvh" ||
@@ -170,6 +158,21 @@ absl::StatusOr<bool> FindTriangles(const Replica& r, uint64_t accel_id, const Ac
 }
 
 }  // namespace
+
+RTCBuildQuality BuildQuality(const AccelRec& a, bool has_filter) {
+  auto refit = a.properties.find("refit");
+  if (refit != a.properties.end() && refit->second != "0") return RTC_BUILD_QUALITY_REFIT;
+  const std::string& b = a.builder;
+  if (b == "Sbvh" || b == "TriangleKdTree" || b == "Trbvh") {
+    // HIGH uses spatial splits, which can report one primitive twice to a filter callback;
+    // any-hit programs must see each candidate once.
+    return has_filter ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+  }
+  // MedianBvh, Lbvh and NoAccel too: Embree's LOW quality (Morton) build, run on several threads,
+  // orders primitives differently from run to run, and two hits at exactly the same t would go to
+  // a different primitive from one run, or device, to the next.
+  return RTC_BUILD_QUALITY_MEDIUM;
+}
 
 SceneEntry::~SceneEntry() {
   if (scene != nullptr) rtcReleaseScene(scene);
@@ -325,7 +328,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
   entry->scene = rtcNewScene(device_);
   bool any_filter = false;
   for (uint64_t gid : gg->children) any_filter |= plan.instances[gid].has_any_hit;
-  RTCBuildQuality quality = Quality(*accel, any_filter);
+  RTCBuildQuality quality = BuildQuality(*accel, any_filter);
   rtcSetSceneBuildQuality(entry->scene,
                           quality == RTC_BUILD_QUALITY_REFIT ? RTC_BUILD_QUALITY_MEDIUM : quality);
   if (quality == RTC_BUILD_QUALITY_REFIT) rtcSetSceneFlags(entry->scene, RTC_SCENE_FLAG_DYNAMIC);
