@@ -3,15 +3,21 @@
 #include <embree3/rtcore.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
+#include <exception>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <new>
+#include <system_error>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
@@ -125,6 +131,70 @@ class WriteEpochs {
   std::array<int, kMaxEpochs + 1> running_{};
 };
 
+// Runs `f` on one long-lived thread of the process and waits for it. The in-process device builds
+// its plans (and so commits Embree scenes) there: Embree keeps some memory for every thread that
+// ever committed a scene, and a launch's calls come from dispatch threads started afresh for it,
+// which cost ~0.25 KB a launch for good (docs/devices.md, "Memory over long use"). `f` runs inline
+// where the thread cannot be started (a process limit), and a child forked from the process
+// starts its own (the parent's thread did not come along).
+void RunOnPlanThread(const std::function<void()>& f) {
+  struct Job {
+    const std::function<void()>* f;
+    bool done = false;
+    std::exception_ptr error;
+  };
+  struct State {
+    pid_t pid = getpid();
+    bool failed = false;  // no thread: run inline
+    std::mutex mu;
+    std::condition_variable work, finished;
+    std::deque<Job*> queue;
+  };
+  static std::atomic<State*> current{nullptr};
+  State* state = current.load();
+  if (state == nullptr || state->pid != getpid()) {
+    auto* fresh = new State;  // never freed: its thread outlives every device
+    try {
+      std::thread([fresh] {
+        std::unique_lock<std::mutex> lock(fresh->mu);
+        for (;;) {
+          fresh->work.wait(lock, [fresh] { return !fresh->queue.empty(); });
+          Job* job = fresh->queue.front();
+          fresh->queue.pop_front();
+          lock.unlock();
+          try {
+            (*job->f)();
+          } catch (...) {
+            job->error = std::current_exception();
+          }
+          lock.lock();
+          job->done = true;
+          fresh->finished.notify_all();
+        }
+      }).detach();
+    } catch (const std::system_error&) {
+      fresh->failed = true;
+    }
+    // Another thread may have installed one meanwhile: use that, leave this one idle.
+    if (current.compare_exchange_strong(state, fresh) || state->pid != getpid()) {
+      current.store(fresh);
+      state = fresh;
+    }
+  }
+  if (state->failed) {
+    f();
+    return;
+  }
+  Job job{&f, false, nullptr};
+  {
+    std::unique_lock<std::mutex> lock(state->mu);
+    state->queue.push_back(&job);
+    state->work.notify_one();
+    state->finished.wait(lock, [&job] { return job.done; });
+  }
+  if (job.error) std::rethrow_exception(job.error);
+}
+
 class InprocDevice : public Device {
  public:
   InprocDevice(int num_threads, bool results_in_rounds)
@@ -180,14 +250,16 @@ class InprocDevice : public Device {
     const uint64_t sequence = ++calls_;  // calls run one at a time: this is the order they ran
     if (!plan_ || plan_->generation != replica_.generation()) {
       absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan;
-      try {
-        plan = worker::MakePlan(replica_, scenes_, &cancel);
-      } catch (const FatalError& e) {
-        plan = e.status;
-      } catch (const std::bad_alloc&) {
-        plan = absl::ResourceExhaustedError(
-            "the device ran out of memory building the launch's programs and accelerations");
-      }
+      RunOnPlanThread([&] {
+        try {
+          plan = worker::MakePlan(replica_, scenes_, &cancel);
+        } catch (const FatalError& e) {
+          plan = e.status;
+        } catch (const std::bad_alloc&) {
+          plan = absl::ResourceExhaustedError(
+              "the device ran out of memory building the launch's programs and accelerations");
+        }
+      });
       if (!plan.ok()) return plan.status();
       plan_ = std::move(*plan);
     }
