@@ -227,14 +227,9 @@ std::vector<std::string> ProgramIncludeDirs() {
   if (!installed.empty() && fs::is_regular_file(installed + "/tessera/device.h", ec)) {
     return {installed};
   }
-  if (!scheduler::RunningFromBuildTree()) {
-    static std::once_flag once;
-    std::call_once(once, [&] {
-      scheduler::WarnBuildTreeFallback("program headers",
-                                       fs::path(installed).lexically_normal().string(),
-                                       TESSERA_PROGRAM_INCLUDE_DIR);
-    });
-  }
+  scheduler::NoteBuildTreeFallback(scheduler::InstalledPart::kHeaders,
+                                   fs::path(installed).lexically_normal(),
+                                   TESSERA_PROGRAM_INCLUDE_DIR);
   return absl::StrSplit(TESSERA_PROGRAM_INCLUDE_DIR, ':', absl::SkipEmpty());
 }
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 
 // Set by scheduler/CMakeLists.txt from GNUInstallDirs: the installed <bindir> and <includedir>
 // relative to <libdir>, which `cmake --install --prefix` keeps whatever the prefix.
@@ -77,12 +78,19 @@ bool RunningFromBuildTree() {
 #endif
 }
 
-void WarnBuildTreeFallback(const char* what, const std::string& missing, const std::string& used) {
-  std::fprintf(stderr,
-               "tessera: no usable %s at %s (beside %s); using the build tree's, %s, which may "
-               "be another version: reinstall, or set %s\n",
-               what, missing.c_str(), ThisBinaryPathOnce().c_str(), used.c_str(),
-               std::strcmp(what, "tessera-worker") == 0 ? "TESSERA_WORKER" : "TESSERA_INCLUDE_DIR");
+void NoteBuildTreeFallback(InstalledPart part, const std::string& missing,
+                           const std::string& used) {
+  if (RunningFromBuildTree()) return;
+  static std::once_flag said[2];
+  const bool worker = part == InstalledPart::kWorker;
+  std::call_once(said[worker ? 0 : 1], [&] {
+    std::fprintf(stderr,
+                 "tessera: no usable %s at %s (beside %s); using the build tree's, %s, which may "
+                 "be another version: reinstall, or set %s\n",
+                 worker ? "tessera-worker" : "program headers", missing.c_str(),
+                 ThisBinaryPathOnce().c_str(), used.c_str(),
+                 worker ? "TESSERA_WORKER" : "TESSERA_INCLUDE_DIR");
+  });
 }
 
 }  // namespace tessera::scheduler

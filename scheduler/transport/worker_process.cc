@@ -290,16 +290,14 @@ absl::StatusOr<std::string> FindWorkerBinary() {
       scheduler::InstalledWorkerPath(),
       self.empty() ? std::string() : absl::StrCat(DirName(self), "/", kWorkerName),
       TESSERA_WORKER_BUILD_PATH};
+  auto normal = [](const std::string& p) { return std::filesystem::path(p).lexically_normal(); };
   for (const std::string& candidate : candidates) {
     if (candidate.empty()) continue;
-    const std::string path = std::filesystem::path(candidate).lexically_normal().string();
+    const std::string path = normal(candidate);
     if (IsExecutable(path)) {
-      if (&candidate == &candidates[2] && !scheduler::RunningFromBuildTree()) {
-        static std::once_flag once;
-        std::call_once(once, [&] {
-          scheduler::WarnBuildTreeFallback(
-              kWorkerName, std::filesystem::path(candidates[0]).lexically_normal().string(), path);
-        });
+      if (candidate == candidates[2]) {  // the build tree's
+        scheduler::NoteBuildTreeFallback(scheduler::InstalledPart::kWorker, normal(candidates[0]),
+                                         path);
       }
       return path;
     }

@@ -175,11 +175,12 @@ void RunOnPlanThread(const std::function<void()>& f) {
     } catch (const std::system_error&) {
       fresh->failed = true;
     }
-    // Another thread may have installed one meanwhile: use that, leave this one idle.
-    if (current.compare_exchange_strong(state, fresh) || state->pid != getpid()) {
-      current.store(fresh);
-      state = fresh;
+    // Install it unless another thread of this process installed one meanwhile (then that one
+    // serves, and this thread stays idle); a forked child replaces its parent's.
+    while (!current.compare_exchange_weak(state, fresh)) {
+      if (state != nullptr && state->pid == getpid()) break;
     }
+    if (state == nullptr || state->pid != getpid()) state = fresh;
   }
   if (state->failed) {
     f();

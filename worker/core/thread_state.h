@@ -327,9 +327,9 @@ inline void Enter(ThreadState& ts, const BoundProgram& p) {
   }
   if (ms.loaded != &p) Apply(ms, p);
   if (ms.index_written != ts.index_serial && p.kind != ProgramKind::kBoundingBox) {
-    // The tile loop has just stored the index's components one by one.
-    for (const BoundProgram::SlotRef& r : p.launch_index)
-      CopyWords(ms.slots[r.var], &ts.index, r.size);
+    // Word by word (WriteSlots' CopyWords): the tile loop has just stored the index's components
+    // one by one.
+    WriteSlots(ms, p.launch_index, ts.index.data(), sizeof(ts.index));
     WriteSlots<sizeof(ts.dims)>(ms, p.launch_dim, ts.dims.data());
     // Attributes a program leaves unwritten read zeros, not what the thread's last launch index
     // left: output must not depend on which launch indices shared a thread.

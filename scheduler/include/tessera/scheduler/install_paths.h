@@ -21,11 +21,14 @@ std::string DirName(const std::string& path);
 std::string InstalledWorkerPath();
 std::string InstalledIncludeDir();
 
-// Whether ThisBinaryPath() lies in the build tree it was built in. An installed (or copied)
-// library that falls back to that tree's worker or headers says so once on stderr
-// (WarnBuildTreeFallback): they may be another version than the library.
+// Whether ThisBinaryPath() lies in the build tree it was built in.
 bool RunningFromBuildTree();
-void WarnBuildTreeFallback(const char* what, const std::string& missing, const std::string& used);
+
+// An installed (or copied) library that has to use the build tree's worker or headers, because
+// its own (`missing`) are not there, says so once per part on stderr: they may be another version.
+// Nothing is said for a library used from its build tree.
+enum class InstalledPart { kWorker, kHeaders };
+void NoteBuildTreeFallback(InstalledPart part, const std::string& missing, const std::string& used);
 
 }  // namespace tessera::scheduler
 
