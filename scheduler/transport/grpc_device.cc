@@ -269,9 +269,17 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
 
 absl::Status GrpcDevice::LostOrFailed(absl::Status status) {
   if (process_ != nullptr) {
-    // A spawned worker that died: a crash (a program's fault: say which program) or a kill.
+    // A spawned worker that died: a crash (a program's fault: say which program) or a kill. A
+    // broken connection can come before the process is reaped, so it gets a moment; an error
+    // the worker itself sent (a program's error, say) only a look: the worker is alive, and
+    // waiting made every failed launch last a second.
+    const absl::StatusCode code = status.code();
+    const bool connection =
+        code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kUnknown ||
+        code == absl::StatusCode::kInternal || code == absl::StatusCode::kCancelled;
     bool crashed = false;
-    std::string exit = process_->WaitForExit(absl::Seconds(1), &crashed);
+    std::string exit =
+        process_->WaitForExit(connection ? absl::Seconds(1) : absl::ZeroDuration(), &crashed);
     if (!exit.empty()) {
       std::string log = process_->LogTail(16384);
       size_t at = log.rfind(kCrashReportPrefix);

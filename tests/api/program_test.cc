@@ -187,17 +187,9 @@ TEST_F(HostProgramTest, ACompilerThatWritesNothingOrCannotRunIsNamed) {
 TEST_F(HostProgramTest, UnsupportedProgramFeaturesSayWhatTheyAre) {
   const std::pair<const char*, const char*> cases[] = {
       {"rtTextureSampler<float4, 2> envmap;\n", "no texture samplers yet"},
-      {"rtCallableProgram(float3, shade, (float3));\n", "no callable program variables yet"},
       {"rtDeclareVariable(rtCallableProgramId<float3(float3)>, fn, , );\n",
-       "no callable program variables yet"},
+       "no bindless callable programs yet"},
       {"rtBuffer<rtBufferId<float3, 1>, 1> ids;\n", "no buffer ids yet"},
-      // The guide's pickled pointer example, callee and caller.
-      {"RT_CALLABLE_PROGRAM void plus_one(rtPickledLocalPointer pointer) {\n"
-       "  int* p = rtUnpickleLocalPointer(pointer);\n  *p += 1;\n}\n",
-       "rtPickledLocalPointer: Tessera has no callable program variables yet"},
-      {"RT_PROGRAM void some_program() {\n  int x = 42;\n"
-       "  rtPickledLocalPointer p = rtPickleLocalPointer(&x);\n}\n",
-       "rtPickledLocalPointer: Tessera has no callable program variables yet"},
   };
   for (const auto& [code, said] : cases) {
     const std::string source = std::string("#include <optix_world.h>\nusing namespace optix;\n") +

@@ -156,7 +156,7 @@ absl::StatusOr<size_t> AttributeLayout::Offset(const std::string& name, size_t s
 
 absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint64_t program_id,
                                   const std::vector<const Scope*>& outer,
-                                  AttributeLayout& attributes) {
+                                  AttributeLayout& attributes, bool callable) {
   const ProgramRec* program = replica.Find(replica.programs, program_id);
   if (program == nullptr) {
     return absl::NotFoundError(
@@ -170,8 +170,9 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
   b.id = program_id;
   b.module = *module;
   b.module_index = static_cast<unsigned>(b.module->index());
-  b.name =
-      absl::StrCat(KindName(kind), " program '", program->function, "' in ", program->module_path);
+  b.name = absl::StrCat(callable ? "callable" : KindName(kind), " program '", program->function,
+                        "' in ", program->module_path);
+  b.outer = outer;
   b.function = b.module->Function(program->function);
   if (b.function == nullptr) {
     return absl::NotFoundError(absl::StrCat(b.name, ": no such function in the module"));
@@ -181,6 +182,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
   scopes.insert(scopes.end(), outer.begin(), outer.end());
 
   const auto& vars = b.module->variables();
+  std::vector<size_t> callable_copies;  // indices in b.copies of rtCallableProgram slots
   for (unsigned i = 0; i < vars.size(); ++i) {
     const ModuleVariable& v = vars[i];
     switch (v.semantic) {
@@ -205,6 +207,20 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
         b.attributes.push_back({i, *offset, v.size});
         continue;
       }
+      case Semantic::kCallable: {
+        const Value* value = Lookup(scopes, v.name);
+        if (value != nullptr && value->type != RT_OBJECTTYPE_PROGRAM) {
+          return absl::InvalidArgumentError(absl::StrCat(
+              b.name, ": rtCallableProgram '", v.name, "' is set to ", ValueTypeName(value->type),
+              "; set it with rtVariableSetObject to a program made from an RT_CALLABLE_PROGRAM"));
+        }
+        // The slot's value comes from `callables` once the plan has bound the target; every
+        // binding of the module copies it, null when no scope names a program.
+        b.callables.push_back({i, value == nullptr ? 0 : value->object_id, nullptr});
+        callable_copies.push_back(b.copies.size());
+        b.copies.push_back({i, nullptr, sizeof(const BoundProgram*)});
+        continue;
+      }
       case Semantic::kUser:
         break;
     }
@@ -217,7 +233,8 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
         value->type == RT_OBJECTTYPE_TEXTURE_SAMPLER) {
       return absl::InvalidArgumentError(absl::StrCat(
           b.name, ": variable '", v.name, "' is declared with rtDeclareVariable but bound to ",
-          ValueTypeName(value->type), " (use rtBuffer for buffers)"));
+          ValueTypeName(value->type),
+          " (use rtBuffer for buffers, rtCallableProgram for programs)"));
     }
     if (IsNodeType(value->type)) {
       // Only an rtObject receives a node: a float2 or uint2 has the same 8 bytes but would read
@@ -295,6 +312,11 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
       }
     }
     b.table.push_back(view);
+  }
+  // `callables` is complete: its elements keep their addresses from here on (also when `b`
+  // moves into the plan).
+  for (size_t k = 0; k < callable_copies.size(); ++k) {
+    b.copies[callable_copies[k]].src = &b.callables[k].target;
   }
   return b;
 }

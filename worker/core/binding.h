@@ -82,6 +82,17 @@ struct BoundProgram {
   // Variables declared with each semantic (a module may declare one several times, e.g. a
   // radiance and a shadow payload).
   std::vector<SlotRef> launch_index, launch_dim, ray, payload, distance;
+  // rtCallableProgram variables: the program each names through this binding's scopes (0: none)
+  // and the engine's binding of it with this binding's outer scopes (plan.cc), whose address
+  // `copies` puts in the variable's slot.
+  struct Callable {
+    unsigned var;
+    uint64_t program;
+    const BoundProgram* target;
+  };
+  std::vector<Callable> callables;
+  // The scopes after the program's own, which a callable program it calls searches after its own.
+  std::vector<const Scope*> outer;
   // Set once a call showed that the function does not write through the bounding-box result
   // pointer every call passes (CallProgram). Written and read with relaxed atomics by the
   // threads of a launch; it only ever goes from false to true.
@@ -89,9 +100,11 @@ struct BoundProgram {
 };
 
 // Binds `program_id` with scopes searched in order (the program's own scope comes first).
+// `callable`: the program runs through an rtCallableProgram variable of a program of `kind`,
+// which it takes the place of (the calls it may make, the values it sees).
 absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint64_t program_id,
                                   const std::vector<const Scope*>& scopes,
-                                  AttributeLayout& attributes);
+                                  AttributeLayout& attributes, bool callable = false);
 
 }  // namespace tessera::worker
 

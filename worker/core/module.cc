@@ -36,7 +36,7 @@ absl::Status ParseSemantic(const std::string& module, ModuleVariable& v, const c
   static const std::pair<const char*, Semantic> kBuiltins[] = {
       {"rtLaunchIndex", Semantic::kLaunchIndex},       {"rtLaunchDim", Semantic::kLaunchDim},
       {"rtCurrentRay", Semantic::kCurrentRay},         {"rtPayload", Semantic::kPayload},
-      {"rtIntersectionDistance", Semantic::kDistance},
+      {"rtIntersectionDistance", Semantic::kDistance}, {"rtCallableProgram", Semantic::kCallable},
   };
   for (const auto& [name, semantic] : kBuiltins) {
     if (s == name) {

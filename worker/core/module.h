@@ -24,7 +24,8 @@ enum class Semantic {
   kCurrentRay,
   kPayload,
   kDistance,
-  kAttribute
+  kAttribute,
+  kCallable,  // rtCallableProgram: the slot holds the engine's binding of the program it names
 };
 
 struct ModuleVariable {

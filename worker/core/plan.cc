@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <map>
+#include <tuple>
 
 #include "absl/strings/str_cat.h"
 #include "runtime.h"
@@ -62,6 +64,44 @@ void SplitInvariants(LaunchPlan& plan) {
     }
   }
 }
+
+// Binds the programs that rtCallableProgram variables name (OptiX guide, "Callable Programs"):
+// each with its own scope and then its caller's scopes after the caller's own, once per caller
+// kind and scopes; a program that calls itself, directly or not, reuses its binding.
+class CallableBinder {
+ public:
+  CallableBinder(const Replica& replica, LaunchPlan& plan) : replica_(replica), plan_(plan) {}
+
+  absl::Status Resolve(BoundProgram& caller) {
+    for (BoundProgram::Callable& c : caller.callables) {
+      if (c.program == 0) continue;  // calling it fails, naming the variable (callable.cc)
+      Key key{c.program, caller.kind, caller.outer};
+      if (auto it = bound_.find(key); it != bound_.end()) {
+        c.target = it->second;
+        continue;
+      }
+      absl::StatusOr<BoundProgram> b =
+          Bind(replica_, caller.kind, c.program, caller.outer, plan_.attributes, true);
+      if (!b.ok()) {
+        return absl::Status(b.status().code(), absl::StrCat(caller.name, ", rtCallableProgram '",
+                                                            caller.module->variables()[c.var].name,
+                                                            "': ", b.status().message()));
+      }
+      plan_.programs.push_back(std::move(*b));  // a deque: bindings keep their addresses
+      BoundProgram& callee = plan_.programs.back();
+      bound_.emplace(std::move(key), &callee);
+      c.target = &callee;
+      if (absl::Status s = Resolve(callee); !s.ok()) return s;
+    }
+    return absl::OkStatus();
+  }
+
+ private:
+  using Key = std::tuple<uint64_t, ProgramKind, std::vector<const Scope*>>;
+  const Replica& replica_;
+  LaunchPlan& plan_;
+  std::map<Key, const BoundProgram*> bound_;
+};
 
 // Resolves every graph node once, so traversal never searches the replica.
 void IndexNodes(LaunchPlan& plan) {
@@ -204,13 +244,16 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   plan->print_index = ctx.print_index;
   plan->print_buffer_size = ctx.print_buffer_size;
 
+  CallableBinder callables(replica, *plan);
   auto bind = [&](ProgramKind kind, uint64_t id,
                   std::vector<const Scope*> scopes) -> absl::StatusOr<const BoundProgram*> {
     if (id == 0) return nullptr;
     absl::StatusOr<BoundProgram> b = Bind(replica, kind, id, scopes, plan->attributes);
     if (!b.ok()) return b.status();
     plan->programs.push_back(std::move(*b));
-    return &plan->programs.back();
+    BoundProgram& bound = plan->programs.back();
+    if (absl::Status s = callables.Resolve(bound); !s.ok()) return s;
+    return &bound;
   };
   const Scope* context_scope = &ctx.vars;
   auto bind_all = [&](ProgramKind kind, const std::vector<uint64_t>& ids,

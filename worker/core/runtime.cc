@@ -350,6 +350,8 @@ TesseraRuntime MakeRuntime() {
       &RtGetPrimitiveIndex,
       &RtTriangleHit,
       &RtTriangleBarycentrics,
+      &RtCallableEnter,
+      &RtCallableLeave,
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -

@@ -126,6 +126,8 @@ struct ThreadState {
   Hit candidate;
   // The hit an attribute program computes the attributes of (ts.candidate or a frame's hit).
   Hit* attribute_hit = nullptr;
+  // The ray of the running any-hit or attribute program, in its object space (callable.cc).
+  const RayData* object_ray = nullptr;
   bool ah_ignore = false, ah_terminate = false;
   // Where rtIgnoreIntersection and rtTerminateRay end the running any-hit program (RunAnyHit).
   std::jmp_buf* ah_end = nullptr;
@@ -396,6 +398,9 @@ int RtPotentialIntersection(float t);
 int RtReportIntersection(unsigned material);
 void RtIgnoreIntersection();
 void RtTerminateRay();
+// rtCallableProgram calls (callable.cc).
+void* RtCallableEnter(const void* variable, TesseraCallFrame* frame);
+void RtCallableLeave(TesseraCallFrame* frame);
 // OptiX 6 hit queries (trace.cc).
 unsigned RtGetPrimitiveIndex();
 unsigned RtTriangleHit();  // 0: not built-in triangles, 1: front face, 2: back face

@@ -304,6 +304,7 @@ bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& 
   // The running program (an intersection program) resumes after this: keep its slots if the
   // any-hit program lives in the same module.
   SuspendedSlots& suspended = Suspend(ts, ts.depth);
+  ts.object_ray = &object_ray;
   Enter(ts, ah);
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, ah.ray, object_ray);
@@ -342,6 +343,7 @@ void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
   }
   const BoundProgram* p = ip.attribute;
   if (p == nullptr) return;
+  ts.object_ray = &object_ray;
   Enter(ts, *p);
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, p->ray, object_ray);

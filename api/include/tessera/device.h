@@ -36,7 +36,9 @@
 #include "tessera/rt.h"
 
 #define RT_PROGRAM extern "C" __attribute__((visibility("default"), used))
-#define RT_CALLABLE_PROGRAM
+// Exported under its own name as well, so that rtProgramCreateFromPTXFile finds it for an
+// rtCallableProgram variable; other programs of the module may still call it directly.
+#define RT_CALLABLE_PROGRAM extern "C" __attribute__((visibility("default"), used))
 #define RT_INTERNAL_CALLABLE_PROGRAM
 
 // A node of the graph (Group, GeometryGroup, Transform, Selector) as programs see it.
@@ -171,6 +173,61 @@ tessera_module_init(const TesseraRuntime* runtime, unsigned abi_version) {
   __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name
 
 #define rtDeclareAnnotation(variable, annotation)
+
+// ---- Callable programs (OptiX 3.0) ---------------------------------------------------------
+namespace tessera::detail {
+template <typename Signature>
+class CallableProgram;
+// An rtCallableProgram variable: the engine stores in the calling thread's slot its binding of
+// the program the variable names through the caller's scopes (OptiX guide, "Callable Programs").
+// A call makes that program the running one, with its own variables looked up from its own
+// scope and then the caller's, and calls its function directly.
+template <typename R, typename... A>
+class CallableProgram<R(A...)> {
+ public:
+  R operator()(A... args) const {
+    TesseraCallFrame frame;
+    auto* function = reinterpret_cast<R (*)(A...)>(Rt()->callable_enter(this, &frame));
+    struct Leave {
+      TesseraCallFrame* frame;
+      ~Leave() { Rt()->callable_leave(frame); }  // also when rtThrow unwinds the call
+    } leave{&frame};
+    return function(args...);
+  }
+
+ private:
+  const void* binding_;
+};
+}  // namespace tessera::detail
+
+// rtCallableProgram(return_type, name, (parameter types)): `name(args)` calls the
+// RT_CALLABLE_PROGRAM the host set on the variable with rtVariableSetObject. Signatures are not
+// checked (a module's symbols carry none): the program must take and return what the variable
+// says, as in C.
+#define rtCallableProgram(return_type, name, parameters)                              \
+  rtDeclareVariable(::tessera::detail::CallableProgram<return_type parameters>, name, \
+                    rtCallableProgram, )
+
+// Pointers to a program's locals passed to callable programs (OptiX 3.0, for SM 1.x GPUs): on a
+// CPU a pointer is a pointer, so pickling keeps it as it is.
+struct rtPickledLocalPointer {
+  void* pointer;
+  // What rtUnpickleLocalPointer gives: converts to a pointer of the type the program wants.
+  struct Unpickled {
+    void* pointer;
+    template <typename T>
+    operator T*() const {
+      return static_cast<T*>(pointer);
+    }
+  };
+};
+template <typename T>
+inline rtPickledLocalPointer rtPickleLocalPointer(T* pointer) {
+  return {const_cast<void*>(static_cast<const void*>(pointer))};
+}
+inline rtPickledLocalPointer::Unpickled rtUnpickleLocalPointer(rtPickledLocalPointer p) {
+  return {p.pointer};
+}
 
 namespace optix {
 
@@ -325,32 +382,15 @@ struct rtBufferId {
 template <typename Signature>
 struct rtCallableProgramId {
   static_assert(::tessera::detail::kNotYet<Signature>,
-                "rtCallableProgramId: Tessera has no callable program variables yet (OptiX 3.5+; "
-                "docs/COMPATIBILITY.md)");
+                "rtCallableProgramId: Tessera has no bindless callable programs yet (OptiX 3.5+; "
+                "rtCallableProgram variables work; docs/COMPATIBILITY.md)");
 };
 template <typename Signature>
 struct rtCallableProgramX {
   static_assert(::tessera::detail::kNotYet<Signature>,
-                "rtCallableProgramX: Tessera has no callable program variables yet (OptiX 3.5+; "
-                "docs/COMPATIBILITY.md)");
+                "rtCallableProgramX: Tessera has no bindless callable programs yet (OptiX 3.5+; "
+                "rtCallableProgram variables work; docs/COMPATIBILITY.md)");
 };
-#define rtCallableProgram(return_type, name, parameters)           \
-  static_assert(::tessera::detail::kNotYet<return_type>,           \
-                "rtCallableProgram " #name                         \
-                ": Tessera has no callable program variables yet " \
-                "(docs/COMPATIBILITY.md)")
-// Pickled pointers exist only to pass local pointers to callable programs (OptiX 3.0, SM 1.x).
-template <typename T = void>
-struct rtPickledLocalPointerNotYet {
-  static_assert(::tessera::detail::kNotYet<T>,
-                "rtPickledLocalPointer: Tessera has no callable program variables yet "
-                "(docs/COMPATIBILITY.md)");
-};
-using rtPickledLocalPointer = rtPickledLocalPointerNotYet<>;
-template <typename T>
-rtPickledLocalPointerNotYet<T> rtPickleLocalPointer(T* pointer);
-template <typename T = int>
-T* rtUnpickleLocalPointer(rtPickledLocalPointerNotYet<T> pointer);
 
 // ---- Tracing ---------------------------------------------------------------------------------
 template <typename T>

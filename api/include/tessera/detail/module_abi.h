@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 5u
+#define TESSERA_MODULE_ABI_VERSION 6u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -63,6 +63,13 @@ typedef struct {
   const TesseraBufferDecl* buffers;
 } TesseraModuleInfo;
 
+/* What the engine keeps on a program's stack while a callable program it called runs: the
+ * caller, to make it the running program again (TesseraRuntime::callable_leave). */
+typedef struct {
+  const void* caller;
+  void* caller_module;
+} TesseraCallFrame;
+
 /* Geometry kinds for TesseraRuntime::transform. */
 enum { TESSERA_TRANSFORM_POINT = 0, TESSERA_TRANSFORM_VECTOR = 1, TESSERA_TRANSFORM_NORMAL = 2 };
 
@@ -95,6 +102,13 @@ typedef struct {
   unsigned (*primitive_index)(void);
   unsigned (*triangle_hit)(void);
   void (*triangle_barycentrics)(float* uv);
+  /* OptiX 3.0 callable programs (version 6). `variable` is the calling thread's slot of an
+   * rtCallableProgram variable, which holds the engine's binding of the program it names (null
+   * when no scope sets one). callable_enter makes that program the running one, keeping the
+   * caller in *frame, and returns the function to call; callable_leave makes the caller run
+   * again, also while an exception unwinds the call. */
+  void* (*callable_enter)(const void* variable, TesseraCallFrame* frame);
+  void (*callable_leave)(TesseraCallFrame* frame);
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
