@@ -14,9 +14,9 @@ struct UserElement {
   char tag[12];
 };
 
-#define COPY_PROGRAM(T, name)                                           \
-  rtBuffer<T, 1> in_##name;                                             \
-  rtBuffer<T, 1> out_##name;                                            \
+#define COPY_PROGRAM(T, name) \
+  rtBuffer<T, 1> in_##name;   \
+  rtBuffer<T, 1> out_##name;  \
   RT_PROGRAM void copy_##name() { out_##name[index1] = in_##name[index1]; }
 
 COPY_PROGRAM(float, float1)

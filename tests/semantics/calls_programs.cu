@@ -1,6 +1,7 @@
 // Programs that each make one device call, for the "which calls where" table test. Every call
-// comes in three signatures: plain (ray generation, exception, closest hit, any hit, miss),
-// intersection (int) and bounding box (int, float[6]).
+// comes in four forms: plain (ray generation, exception, closest hit, any hit, miss),
+// intersection (int), bounding box (int, float[6]) and visit (the call, then the selector's only
+// child).
 #include <optix_world.h>
 
 using namespace optix;
@@ -20,9 +21,10 @@ static void DoTransform() {
 static void DoTrace() {
   Payload p;
   p.value = 0.f;
-  rtTrace(top_object, make_Ray(make_float3(0.f, 0.f, -10.f), make_float3(0.f, 0.f, 1.f), 0, 0.f,
-                               RT_DEFAULT_MAX),
-          p);
+  rtTrace(
+      top_object,
+      make_Ray(make_float3(0.f, 0.f, -10.f), make_float3(0.f, 0.f, 1.f), 0, 0.f, RT_DEFAULT_MAX),
+      p);
 }
 static void DoThrow() { rtThrow(RT_EXCEPTION_USER); }
 static void DoPrint() { rtPrintf("print\n"); }
@@ -30,6 +32,7 @@ static void DoTerminate() { rtTerminateRay(); }
 static void DoIgnore() { rtIgnoreIntersection(); }
 static void DoPotential() { rtPotentialIntersection(1.f); }
 static void DoReport() { rtReportIntersection(0); }
+static void DoIntersectChild() { rtIntersectChild(0); }
 
 // The unit box every intersection program below reports at t = 1.
 static void UnitBounds(float b[6]) {
@@ -40,15 +43,19 @@ static void ReportUnit() {
   if (rtPotentialIntersection(1.f)) rtReportIntersection(0);
 }
 
-#define CALL_PROGRAMS(name, call)                    \
-  RT_PROGRAM void name##_plain() { call(); }         \
-  RT_PROGRAM void name##_intersect(int) {            \
-    call();                                          \
-    ReportUnit();                                    \
-  }                                                  \
-  RT_PROGRAM void name##_bounds(int, float b[6]) {   \
-    UnitBounds(b);                                   \
-    call();                                          \
+#define CALL_PROGRAMS(name, call)                  \
+  RT_PROGRAM void name##_plain() { call(); }       \
+  RT_PROGRAM void name##_intersect(int) {          \
+    call();                                        \
+    ReportUnit();                                  \
+  }                                                \
+  RT_PROGRAM void name##_bounds(int, float b[6]) { \
+    UnitBounds(b);                                 \
+    call();                                        \
+  }                                                \
+  RT_PROGRAM void name##_visit() {                 \
+    call();                                        \
+    rtIntersectChild(0);                           \
   }
 
 CALL_PROGRAMS(transform, DoTransform)
@@ -59,12 +66,12 @@ CALL_PROGRAMS(terminate, DoTerminate)
 CALL_PROGRAMS(ignore, DoIgnore)
 CALL_PROGRAMS(potential, DoPotential)
 CALL_PROGRAMS(report, DoReport)
+CALL_PROGRAMS(intersect_child, DoIntersectChild)
 
 // Fillers for the positions a test does not probe.
 RT_PROGRAM void nothing() {}
+RT_PROGRAM void visit_plain() { rtIntersectChild(0); }
 RT_PROGRAM void plain_intersect(int) { ReportUnit(); }
 RT_PROGRAM void plain_bounds(int, float b[6]) { UnitBounds(b); }
 RT_PROGRAM void camera() { DoTrace(); }
-RT_PROGRAM void throw_camera() {
-  rtThrow(RT_EXCEPTION_USER);
-}
+RT_PROGRAM void throw_camera() { rtThrow(RT_EXCEPTION_USER); }

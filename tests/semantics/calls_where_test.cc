@@ -10,26 +10,41 @@ namespace {
 
 constexpr char kModule[] = "calls_programs";
 
-enum Kind { kRayGen, kException, kClosestHit, kAnyHit, kMiss, kIntersection, kBounds, kKinds };
-const char* const kKindNames[] = {"RayGeneration", "Exception",    "ClosestHit", "AnyHit",
-                                  "Miss",          "Intersection", "BoundingBox"};
+enum Kind {
+  kRayGen,
+  kException,
+  kClosestHit,
+  kAnyHit,
+  kMiss,
+  kIntersection,
+  kBounds,
+  kVisit,
+  kKinds
+};
+const char* const kKindNames[] = {"RayGeneration", "Exception",    "ClosestHit",  "AnyHit",
+                                  "Miss",          "Intersection", "BoundingBox", "Visit"};
 
 struct Row {
   const char* call;      // program name prefix in calls_programs.cu
   const char* api_name;  // what the error message names
-  bool allowed[kKinds];  // RG, Exc, CH, AH, Miss, IS, BB
+  bool allowed[kKinds];  // RG, Exc, CH, AH, Miss, IS, BB, Visit
 };
 
-// The guide's table (Visit column omitted: selectors are not supported yet).
+// The guide's table.
 const Row kTable[] = {
-    {"transform", "rtTransform", {false, false, true, true, true, true, true}},
-    {"trace", "rtTrace", {true, false, true, false, true, false, false}},
-    {"throw", "rtThrow", {true, false, true, true, true, true, true}},
-    {"print", "rtPrintf", {true, true, true, true, true, true, true}},
-    {"terminate", "rtTerminateRay", {false, false, false, true, true, false, false}},
-    {"ignore", "rtIgnoreIntersection", {false, false, false, true, false, false, false}},
-    {"potential", "rtPotentialIntersection", {false, false, false, false, false, true, false}},
-    {"report", "rtReportIntersection", {false, false, false, false, false, true, false}},
+    {"transform", "rtTransform", {false, false, true, true, true, true, true, true}},
+    {"trace", "rtTrace", {true, false, true, false, true, false, false, false}},
+    {"throw", "rtThrow", {true, false, true, true, true, true, true, true}},
+    {"print", "rtPrintf", {true, true, true, true, true, true, true, true}},
+    {"terminate", "rtTerminateRay", {false, false, false, true, true, false, false, false}},
+    {"ignore", "rtIgnoreIntersection", {false, false, false, true, false, false, false, false}},
+    {"intersect_child",
+     "rtIntersectChild",
+     {false, false, false, false, false, false, false, true}},
+    {"potential",
+     "rtPotentialIntersection",
+     {false, false, false, false, false, true, false, false}},
+    {"report", "rtReportIntersection", {false, false, false, false, false, true, false, false}},
 };
 
 class CallsWhereTest : public RtFixture,
@@ -41,7 +56,10 @@ TEST_P(CallsWhereTest, CallIsAllowedExactlyWhereTheTableSays) {
   std::string prefix = row.call;
   auto probe = [&](Kind k, const char* filler) {
     if (k != kind) return Program(kModule, filler);
-    const char* suffix = k == kIntersection ? "_intersect" : k == kBounds ? "_bounds" : "_plain";
+    const char* suffix = k == kIntersection ? "_intersect"
+                         : k == kBounds     ? "_bounds"
+                         : k == kVisit      ? "_visit"
+                                            : "_plain";
     return Program(kModule, prefix + suffix);
   };
   Ok(rtContextSetEntryPointCount(ctx_, 1));
@@ -57,9 +75,15 @@ TEST_P(CallsWhereTest, CallIsAllowedExactlyWhereTheTableSays) {
   Instance i = MakeInstance(probe(kIntersection, "plain_intersect"), probe(kBounds, "plain_bounds"),
                             1, probe(kClosestHit, "nothing"), probe(kAnyHit, "nothing"));
   if (kind == kMiss) Ok(rtGeometrySetPrimitiveCount(i.geometry, 0));
+  // The probe ray reaches the geometry through a selector of one child.
+  RTselector selector = nullptr;
+  Ok(rtSelectorCreate(ctx_, &selector));
+  Ok(rtSelectorSetVisitProgram(selector, probe(kVisit, "visit_plain")));
+  Ok(rtSelectorSetChildCount(selector, 1));
+  Ok(rtSelectorSetChild(selector, 0, i.group));
   RTvariable top = nullptr;
   Ok(rtContextDeclareVariable(ctx_, "top_object", &top));
-  Ok(rtVariableSetObject(top, i.group));
+  Ok(rtVariableSetObject(top, selector));
   RTresult r = rtContextLaunch1D(ctx_, 0, 1);
   if (row.allowed[kind]) {
     EXPECT_EQ(r, RT_SUCCESS) << row.api_name << " in " << kKindNames[kind] << ": " << Error(r);

@@ -41,9 +41,8 @@ RT_PROGRAM void trace_camera() {
 // Ray generation that reads the variable `value` through its scopes (Program, Context).
 RT_PROGRAM void raygen_value() { result[launch_index] = make_float4(value, 0.f, 0.f, 0.f); }
 RT_PROGRAM void raygen_launch_semantics() {
-  result[launch_index] =
-      make_float4(float(launch_index.x), float(launch_index.y), float(launch_dim.x),
-                  float(launch_dim.y));
+  result[launch_index] = make_float4(float(launch_index.x), float(launch_index.y),
+                                     float(launch_dim.x), float(launch_dim.y));
 }
 
 RT_PROGRAM void miss_value() { payload.value = make_float4(value, 1.f, 0.f, 0.f); }
@@ -51,9 +50,7 @@ RT_PROGRAM void miss_ray() { payload.value = make_float4(ray.origin, ray.tmax); 
 
 RT_PROGRAM void closest_hit_value() { payload.value = make_float4(value, 2.f, 0.f, 0.f); }
 RT_PROGRAM void closest_hit_ray() { payload.value = make_float4(ray.origin, t_hit); }
-RT_PROGRAM void closest_hit_attributes() {
-  payload.value = make_float4(hit_origin, hit_id);
-}
+RT_PROGRAM void closest_hit_attributes() { payload.value = make_float4(hit_origin, hit_id); }
 RT_PROGRAM void closest_hit_count() {
   payload.value = make_float4(float(payload.hits), t_hit, hit_id, 0.f);
 }

@@ -113,17 +113,30 @@ void IndexNodes(LaunchPlan& plan) {
     return e != nullptr && e->plan_serial == plan.serial ? e : nullptr;
   };
   for (const auto& [id, g] : r.geometry_groups) {
-    plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_GEOMETRY_GROUP, scene(id), nullptr, nullptr};
+    NodeInfo& n = plan.nodes[id];
+    n.type = RT_OBJECTTYPE_GEOMETRY_GROUP;
+    n.scene = scene(id);
   }
   for (const auto& [id, g] : r.groups) {
-    plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_GROUP, scene(id), nullptr, nullptr};
+    NodeInfo& n = plan.nodes[id];
+    n.type = RT_OBJECTTYPE_GROUP;
+    n.scene = scene(id);
   }
-  for (const auto& [id, s] : r.selectors) plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_SELECTOR};
+  for (const auto& [id, s] : r.selectors) {
+    NodeInfo& n = plan.nodes[id];
+    n.type = RT_OBJECTTYPE_SELECTOR;
+    auto v = plan.visits.find(id);
+    n.visit = v == plan.visits.end() ? nullptr : v->second;
+    n.children = s.children;
+  }
   for (const auto& [id, t] : r.transforms) {
-    plan.nodes[id] = NodeInfo{RT_OBJECTTYPE_TRANSFORM, nullptr, &t, nullptr};
+    NodeInfo& n = plan.nodes[id];
+    n.type = RT_OBJECTTYPE_TRANSFORM;
+    n.transform = &t;
   }
   for (auto& [id, n] : plan.nodes) {
     if (n.transform != nullptr) n.child = plan.Node(n.transform->child.id);
+    for (const NodeRef& c : n.children) n.child_nodes.push_back(plan.Node(c.id));
     if (n.type == RT_OBJECTTYPE_GROUP && n.scene != nullptr) {
       for (const auto& c : n.scene->children) c->node = plan.Node(c->child.id);
     }
@@ -273,6 +286,19 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   if (auto s = bind_all(ProgramKind::kMiss, ctx.miss, plan->miss); !s.ok()) return s;
 
   std::vector<uint64_t> roots;
+  // Visit programs search their own scope, then the selector's (Table 5: no context).
+  for (const auto& [id, sel] : replica.selectors) {
+    absl::StatusOr<const BoundProgram*> visit = bind(ProgramKind::kVisit, sel.visit, {&sel.vars});
+    if (!visit.ok()) {
+      plan->node_problems.emplace(id, visit.status());
+    } else if (*visit == nullptr) {
+      plan->node_problems.emplace(id, absl::FailedPreconditionError(
+                                          absl::StrCat("selector #", id, " has no visit program")));
+    } else {
+      plan->visits.emplace(id, *visit);
+    }
+    CollectRoots(sel.vars, roots);
+  }
   CollectRoots(ctx.vars, roots);
   for (const auto& [id, p] : replica.programs) CollectRoots(p.vars, roots);
 

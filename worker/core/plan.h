@@ -115,6 +115,11 @@ struct NodeInfo {
   const SceneEntry* scene = nullptr;        // Group, GeometryGroup
   const TransformRec* transform = nullptr;  // Transform
   const NodeInfo* child = nullptr;          // Transform
+  // Selector: its visit program (null when it could not be bound: node_problems says why) and
+  // its children, which the visit program chooses among with rtIntersectChild.
+  const BoundProgram* visit = nullptr;
+  std::vector<NodeRef> children;
+  std::vector<const NodeInfo*> child_nodes;
 };
 
 struct LaunchPlan {
@@ -128,7 +133,8 @@ struct LaunchPlan {
   std::vector<ModuleInvariants> invariants;  // by module index
   size_t attribute_bytes = 0;                // attribute bytes a hit carries
   long barycentrics_offset = -1;  // of attribute rtTriangleBarycentrics, -1 if none declares it
-  std::unordered_map<uint64_t, NodeInfo> nodes;  // every graph node (stable addresses)
+  std::unordered_map<uint64_t, NodeInfo> nodes;              // every graph node (stable addresses)
+  std::unordered_map<uint64_t, const BoundProgram*> visits;  // by selector
   // Why the scene of a root node (one an object variable names) could not be built. Reported
   // when a program traces it, not when the plan is made: a variable of an unreachable object (a
   // program no longer attached, say) still lives on the device and must not fail launches.
@@ -177,6 +183,9 @@ class SceneCache {
   // An Embree triangle geometry from GeometryTriangles `id` (not committed).
   absl::StatusOr<RTCGeometry> BuiltinTriangles(const Replica& r, uint64_t id, const GeometryRec& g);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
+  // A selector has no Embree scene: its entry holds the bounds and height of its children, whose
+  // scenes it builds.
+  absl::StatusOr<const SceneEntry*> BuildSelector(LaunchPlan& plan, uint64_t id, int depth);
 
   bool Cancelled() const { return cancel_ != nullptr && cancel_->load(std::memory_order_relaxed); }
   // Embree's progress monitor: returning false stops the build (RTC_ERROR_CANCELLED).

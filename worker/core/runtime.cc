@@ -324,11 +324,6 @@ void* RtBufferIndexError(unsigned slot, unsigned long long x, unsigned long long
   return ts.scratch.data();
 }
 
-void RtIntersectChild(unsigned index) {
-  CheckCall(TS(), Bit(ProgramKind::kVisit), "rtIntersectChild");
-  throw FatalError{absl::UnimplementedError("selectors are not supported yet")};
-}
-
 TesseraRuntime MakeRuntime() {
   TesseraRuntime r = {
       TESSERA_MODULE_ABI_VERSION,
@@ -371,6 +366,7 @@ namespace {
 // Forgets the nested calls a launch index left behind when an exception unwound them.
 void ResetNesting(ThreadState& ts) {
   ts.depth = 0;
+  ts.visits.clear();
   for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
 }
 

@@ -208,7 +208,8 @@ absl::Status SceneCache::Update(LaunchPlan& plan, const std::vector<uint64_t>& r
   // earlier replica generation and is gone before a new one is made.
   for (auto it = entries_.begin(); it != entries_.end();) {
     const Replica& r = *plan.replica;
-    if (r.Find(r.geometry_groups, it->first) == nullptr && r.Find(r.groups, it->first) == nullptr) {
+    if (r.Find(r.geometry_groups, it->first) == nullptr && r.Find(r.groups, it->first) == nullptr &&
+        r.Find(r.selectors, it->first) == nullptr) {
       it = entries_.erase(it);
     } else {
       ++it;
@@ -236,7 +237,8 @@ absl::Status TooDeep(uint64_t id) {
 
 absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref, int depth) {
   if (depth > kMaxGraphDepth) return TooDeep(ref.id);
-  if (ref.type == RT_OBJECTTYPE_GROUP || ref.type == RT_OBJECTTYPE_GEOMETRY_GROUP) {
+  if (ref.type == RT_OBJECTTYPE_GROUP || ref.type == RT_OBJECTTYPE_GEOMETRY_GROUP ||
+      ref.type == RT_OBJECTTYPE_SELECTOR) {
     // Built or checked earlier in this plan through another parent: a graph that shares
     // subgraphs costs a visit per node, not per path (2^levels when each level shares one child
     // twice).
@@ -260,8 +262,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref
       return Node(plan, t->child, depth + 1);
     }
     case RT_OBJECTTYPE_SELECTOR:
-      return absl::UnimplementedError(
-          absl::StrCat("selector #", ref.id, ": selectors are not supported yet"));
+      return BuildSelector(plan, ref.id, depth);
     default:
       return absl::InvalidArgumentError(
           absl::StrCat("object #", ref.id, " is not a graph node (type ", ref.type, ")"));
@@ -597,6 +598,33 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
     Grow(entry->bounds, b[3], b[4], b[5]);
   }
   ++built_;
+  slot = std::move(entry);
+  return slot.get();
+}
+
+absl::StatusOr<const SceneEntry*> SceneCache::BuildSelector(LaunchPlan& plan, uint64_t id,
+                                                            int depth) {
+  const Replica& r = *plan.replica;
+  const SelectorRec* selector = r.Find(r.selectors, id);
+  if (selector == nullptr) return absl::NotFoundError(absl::StrCat("unknown selector #", id));
+  auto entry = std::make_unique<SceneEntry>();
+  entry->plan_serial = plan.serial;
+  entry->bounds = EmptyBox();
+  for (size_t i = 0; i < selector->children.size(); ++i) {
+    const NodeRef& child = selector->children[i];
+    if (child.id == 0) {
+      return absl::FailedPreconditionError(
+          absl::StrCat("selector #", id, ": child ", i, " is not set"));
+    }
+    int child_height = 0;
+    absl::StatusOr<Box> b = Bounds(plan, child, depth + 1, &child_height);
+    if (!b.ok()) return b.status();
+    entry->height = std::max(entry->height, child_height + 1);
+    if (IsEmpty(*b)) continue;
+    Grow(entry->bounds, (*b)[0], (*b)[1], (*b)[2]);
+    Grow(entry->bounds, (*b)[3], (*b)[4], (*b)[5]);
+  }
+  auto& slot = entries_[id];
   slot = std::move(entry);
   return slot.get();
 }

@@ -7,6 +7,7 @@
 #include <array>
 #include <csetjmp>
 #include <cstring>
+#include <deque>
 #include <exception>
 #include <memory>
 #include <string>
@@ -79,6 +80,13 @@ struct IntersectState {
   float reported_error = 0, candidate_error = 0;
 };
 
+// A selector whose visit program runs (rtIntersectChild traverses one of its children).
+struct VisitState {
+  uint64_t id = 0;
+  const NodeInfo* node = nullptr;
+  RayData ray{};  // in the selector's space
+};
+
 struct ExceptionSignal {
   unsigned code;
   std::string details;
@@ -123,6 +131,10 @@ struct ThreadState {
   const BoundProgram* current = nullptr;
   ModuleState* current_module = nullptr;
   IntersectState is;
+  // Selectors being visited, innermost last, and a suspended state per level for their visit
+  // programs while a child is traversed (a deque: linked states keep their addresses).
+  std::vector<VisitState> visits;
+  std::deque<SuspendedSlots> visit_suspended;
   Hit candidate;
   // The hit an attribute program computes the attributes of (ts.candidate or a frame's hit).
   Hit* attribute_hit = nullptr;
@@ -398,6 +410,7 @@ int RtPotentialIntersection(float t);
 int RtReportIntersection(unsigned material);
 void RtIgnoreIntersection();
 void RtTerminateRay();
+void RtIntersectChild(unsigned index);
 // rtCallableProgram calls (callable.cc).
 void* RtCallableEnter(const void* variable, TesseraCallFrame* frame);
 void RtCallableLeave(TesseraCallFrame* frame);

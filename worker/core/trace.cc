@@ -196,6 +196,8 @@ inline bool ValidRay(const RayData& r) {
   return ok;
 }
 
+void Visit(ThreadState& ts, uint64_t id, const NodeInfo& node, const RayData& ray);
+
 // Intersects one node; `parent_ray` is in the node's parent space. Hits are committed to the top
 // frame.
 void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, const RayData& parent_ray) {
@@ -236,10 +238,37 @@ void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, const RayD
       f.xform = saved;
       return;
     }
+    case RT_OBJECTTYPE_SELECTOR:
+      Visit(ts, id, *node, ray);
+      return;
     default:
-      throw FatalError{absl::UnimplementedError(absl::StrCat(
-          "node #", id, " is a selector; selectors are not supported yet (visit programs)"))};
+      throw FatalError{absl::InvalidArgumentError(
+          absl::StrCat("node #", id, " is not a graph node (type ", node->type, ")"))};
   }
+}
+
+// Runs a selector's visit program on `ray` (in the selector's space); its rtIntersectChild calls
+// traverse the children it picks (OptiX guide, "Selector Programs").
+void Visit(ThreadState& ts, uint64_t id, const NodeInfo& node, const RayData& ray) {
+  if (node.visit == nullptr) {
+    if (auto it = ts.plan->node_problems.find(id); it != ts.plan->node_problems.end()) {
+      throw FatalError{it->second};
+    }
+    throw FatalError{absl::FailedPreconditionError(
+        absl::StrCat("selector #", id, " has no visit program on the device"))};
+  }
+  Frame& f = ts.top();
+  const BoundProgram& v = *node.visit;
+  ts.visits.push_back(VisitState{id, &node, ray});
+  Enter(ts, v);
+  const ModuleState& ms = *ts.current_module;
+  WriteRaySlots(ms, v.ray, ray);
+  WriteSlots<sizeof(float)>(ms, v.distance, &f.hit.t);
+  KeepPayloadBefore(v, f);
+  WriteSlots(ms, v.payload, f.payload, f.payload_size);
+  CallProgram(ts, v);
+  ReadPayload(*ts.current_module, v, f);
+  ts.visits.pop_back();
 }
 
 // Runs the intersection program of `instance` for one primitive. Returns whether it committed.
@@ -588,6 +617,42 @@ void RtTerminateRay() {
   if (ts.kind != ProgramKind::kAnyHit) return;
   ts.ah_terminate = true;
   std::longjmp(*ts.ah_end, 1);
+}
+
+// Traverses child `index` of the selector whose visit program runs, with the ray clipped to the
+// closest hit so far; the visit program then sees the payload and distance as the child left
+// them.
+void RtIntersectChild(unsigned index) {
+  ThreadState& ts = TS();
+  CheckCall(ts, Bit(ProgramKind::kVisit), "rtIntersectChild");
+  const VisitState visit = ts.visits.back();  // a copy: nested visits push more
+  const NodeInfo& selector = *visit.node;
+  if (index >= selector.children.size()) {
+    throw FatalError{absl::OutOfRangeError(
+        absl::StrCat("rtIntersectChild(", index, ") from ", ts.current->name, ": selector #",
+                     visit.id, " has ", selector.children.size(), " children"))};
+  }
+  Frame& f = ts.top();
+  const BoundProgram& v = *ts.current;
+  ModuleState& ms = *ts.current_module;
+  ReadPayload(ms, v, f);  // any-hit programs below see what the visit program wrote
+  const size_t level = ts.visits.size() - 1;
+  while (ts.visit_suspended.size() <= level) ts.visit_suspended.emplace_back();
+  SuspendedSlots& s = ts.visit_suspended[level];
+  s.module = &ms;
+  s.outer = ms.suspended;
+  s.saved = false;
+  s.reads_per_call = true;
+  ms.suspended = &s;
+  RayData ray;
+  CopyWords(&ray, &visit.ray, sizeof(ray));
+  ray.tmax = std::min(ray.tmax, f.hit.t);
+  TraverseNode(ts, selector.children[index].id, selector.child_nodes[index], ray);
+  Resume(ts, s);
+  ReturnTo(ts, v, ms);
+  WriteSlots<sizeof(float)>(ms, v.distance, &f.hit.t);
+  KeepPayloadBefore(v, f);
+  WriteSlots(ms, v.payload, f.payload, f.payload_size);
 }
 
 namespace {
