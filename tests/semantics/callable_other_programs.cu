@@ -30,3 +30,23 @@ RT_CALLABLE_PROGRAM void shade_other() {
 RT_CALLABLE_PROGRAM void attributes_other() { value = current.origin.x + 0.5f; }
 
 RT_CALLABLE_PROGRAM float tint_twice(float x) { return 2.f * x + level; }
+
+// Traces from x + 0.5 (callable_programs.cu's ch_values_after checks its own values after).
+RT_CALLABLE_PROGRAM void trace_shifted() {
+  Payload q = {0.f, 1u};
+  rtTrace(top_object,
+          make_Ray(current.origin + make_float3(0.5f, 0.f, 0.f), current.direction, 0, 0.f,
+                   RT_DEFAULT_MAX),
+          q);
+  data.value = q.value;
+}
+
+// Called from any-hit programs: count the candidate in the payload, then end the program.
+RT_CALLABLE_PROGRAM void count_and_ignore() {
+  data.value += 100.f + distance;
+  rtIgnoreIntersection();
+}
+RT_CALLABLE_PROGRAM void count_and_terminate() {
+  data.value += 100.f + distance;
+  rtTerminateRay();
+}

@@ -115,3 +115,25 @@ RT_CALLABLE_PROGRAM void shade_here() {
 }
 RT_PROGRAM void ch_shade() { shade_hit(); }
 RT_PROGRAM void ch_attribute() { prd.value = a_value; }
+
+// Its own values after a callee of another module traced from x + 0.5: its attribute is still x.
+RT_PROGRAM void ch_values_after() {
+  if (prd.depth != 0) {
+    prd.value = a_value;
+    return;
+  }
+  shade_hit();
+  if (a_value == static_cast<float>(launch_index.x) && hit_t == 1.f) prd.value += 1000.f;
+}
+
+// ---- Any hit ----------------------------------------------------------------------------------
+// Primitive i is hit at t = i + 1.
+RT_PROGRAM void intersect_indexed(int primitive) {
+  if (rtPotentialIntersection(1.f + static_cast<float>(primitive))) {
+    a_value = ray.origin.x;
+    rtReportIntersection(0);
+  }
+}
+rtCallableProgram(void, on_candidate, ());
+RT_PROGRAM void ah_calls() { on_candidate(); }
+RT_PROGRAM void ch_add() { prd.value += 1000.f * hit_t; }

@@ -133,6 +133,37 @@ TEST_P(CallableTest, ACalleeSharesItsCallersValuesInAnyModule) {
   }
 }
 
+// The callee traces, and the nested hit runs the caller's own program: the caller's values
+// (attribute, distance) must be its own after the call.
+TEST_P(CallableTest, ACalleeThatTracesLeavesItsCallersValuesAlone) {
+  Instance scene = Scene(Program(kModule, "ch_values_after"));
+  RTvariable v = nullptr;
+  Ok(rtMaterialDeclareVariable(scene.material, "shade_hit", &v));
+  Ok(rtVariableSetObject(v, Program(kOther, "trace_shifted")));
+  ExpectEach(Launch(), [](float x, float) { return x + 0.5f + 1000.f; });
+}
+
+// A callee of another module ends the any-hit program that called it: what it wrote to the
+// payload before stays (OptiX keeps an any-hit program's payload writes).
+TEST_P(CallableTest, AnAnyHitProgramsCalleeMayEndIt) {
+  Instance scene = MakeInstance(Program(kModule, "intersect_indexed"), Program(kModule, "bounds"),
+                                3, Program(kModule, "ch_add"), Program(kModule, "ah_calls"));
+  Ok(rtVariableSetObject(ContextVar("top_object"), scene.group));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "trace_raygen")));
+  RTvariable v = nullptr;
+  Ok(rtMaterialDeclareVariable(scene.material, "on_candidate", &v));
+  Ok(rtVariableSetObject(v, Program(kOther, "count_and_ignore")));
+  // Every candidate ignored: 100 + t for t = 1, 2, 3, and no closest hit.
+  ExpectEach(Launch(), [](float, float) { return 306.f; });
+  // One candidate, which the callee accepts and ends the ray at: the closest hit adds 1000 * t.
+  Instance one = MakeInstance(Program(kModule, "intersect_indexed"), Program(kModule, "bounds"), 1,
+                              Program(kModule, "ch_add"), Program(kModule, "ah_calls"));
+  Ok(rtVariableSetObject(ContextVar("top_object"), one.group));
+  Ok(rtMaterialDeclareVariable(one.material, "on_candidate", &v));
+  Ok(rtVariableSetObject(v, Program(kOther, "count_and_terminate")));
+  ExpectEach(Launch(), [](float, float) { return 101.f + 1000.f; });
+}
+
 TEST_P(CallableTest, AnIntersectionProgramsCalleeWritesAttributes) {
   Instance scene = Scene(Program(kModule, "ch_attribute"), "intersect_via_callable");
   RTvariable v = nullptr;

@@ -81,3 +81,10 @@ RT_PROGRAM void visit_traces() {
   Payload p = {0.f, 0.f, 0.f, 0.f};
   rtTrace(top_object, ray, p);
 }
+
+// The child picked by a callable program (selector_other_programs.cu).
+rtCallableProgram(void, pick, ());
+RT_PROGRAM void visit_via_callable() {
+  prd.visits += 1.f;
+  pick();
+}

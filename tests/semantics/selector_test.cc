@@ -140,6 +140,32 @@ TEST_P(SelectorTest, SelectorsUnderTransformsAndGroups) {
   }
 }
 
+// A callable program of another module, set on the selector (a visit program's scopes are its
+// own and the selector's), sees the visit program's ray, payload and distance.
+TEST_P(SelectorTest, AVisitProgramsCalleePicksTheChild) {
+  RTselector s = Selector("visit_via_callable", {Plane(1.f, 10.f), Plane(2.f, 20.f)});
+  SetTop(s);
+  RTprogram pick = Program("selector_other_programs", "pick_by_direction");
+  Ok(rtVariableSetObject(ContextVar("pick"), pick));
+  const std::string message = FailedLaunch();
+  EXPECT_NE(message.find("on the program or its selector (visit programs do not search the "
+                         "context)"),
+            std::string::npos)
+      << message;
+
+  RTvariable v = nullptr;
+  Ok(rtSelectorDeclareVariable(s, "pick", &v));
+  Ok(rtVariableSetObject(v, pick));
+  const std::vector<Float4> r = Launch();
+  for (unsigned y = 0; y < kHeight; ++y) {
+    for (unsigned x = 0; x < kWidth; ++x) {
+      const Float4& p = r[y * kWidth + x];
+      const float t = y % 2 == 0 ? 1.f : 2.f;
+      EXPECT_EQ(p, (Float4{10.f * t, t, 11.f, t})) << x << ", " << y;
+    }
+  }
+}
+
 TEST_P(SelectorTest, MistakesInVisitProgramsAreNamed) {
   SetTop(Selector("visit_out_of_range", {Plane(1.f, 10.f), Plane(2.f, 20.f)}));
   std::string message = FailedLaunch();

@@ -27,7 +27,8 @@ const BoundProgram::Attribute* SameAttribute(const BoundProgram& p,
 }
 
 bool HasPayload(ProgramKind k) {
-  return k == ProgramKind::kClosestHit || k == ProgramKind::kAnyHit || k == ProgramKind::kMiss;
+  return k == ProgramKind::kClosestHit || k == ProgramKind::kAnyHit || k == ProgramKind::kMiss ||
+         k == ProgramKind::kVisit;
 }
 
 // Where the engine keeps the running program's semantic values, for a caller that declares no
@@ -39,6 +40,8 @@ const RayData* EngineRay(ThreadState& ts) {
       return &ts.top().ray;
     case ProgramKind::kIntersection:
       return &ts.is.ray;
+    case ProgramKind::kVisit:
+      return &ts.visits.back().ray;
     case ProgramKind::kAnyHit:
     case ProgramKind::kAttribute:
       return ts.object_ray;
@@ -59,7 +62,9 @@ Hit* EngineHit(ThreadState& ts) {
   }
 }
 const float* EngineDistance(ThreadState& ts) {
-  if (ts.kind == ProgramKind::kIntersection) return &ts.top().hit.t;
+  if (ts.kind == ProgramKind::kIntersection || ts.kind == ProgramKind::kVisit) {
+    return &ts.top().hit.t;
+  }
   const Hit* h = EngineHit(ts);
   return h == nullptr ? nullptr : &h->t;
 }
@@ -114,6 +119,23 @@ void ShareOut(ThreadState& ts, const BoundProgram& caller, const ModuleState& fr
   }
 }
 
+// The scopes a program of kind `k` searches after its own (Table 5), for messages.
+const char* OuterScopes(ProgramKind k) {
+  switch (k) {
+    case ProgramKind::kClosestHit:
+    case ProgramKind::kAnyHit:
+      return "its geometry instance, its material or the context";
+    case ProgramKind::kIntersection:
+    case ProgramKind::kBoundingBox:
+    case ProgramKind::kAttribute:
+      return "its geometry instance, its geometry or the context";
+    case ProgramKind::kVisit:
+      return "its selector (visit programs do not search the context)";
+    default:
+      return "the context";
+  }
+}
+
 [[noreturn]] __attribute__((noinline, cold)) void NotSet(const ThreadState& ts,
                                                          const void* variable) {
   std::string name = "?";
@@ -121,11 +143,11 @@ void ShareOut(ThreadState& ts, const BoundProgram& caller, const ModuleState& fr
   for (unsigned i = 0; i < vars.size(); ++i) {
     if (ts.current_module->slots[i] == variable) name = vars[i].name;
   }
-  throw FatalError{absl::FailedPreconditionError(absl::StrCat(
-      "rtCallableProgram '", name, "' called from ", ts.current->name,
-      ": no scope sets it (set it with rtVariableSetObject to a program made from an "
-      "RT_CALLABLE_PROGRAM, on the program, its geometry instance, material or geometry, or the "
-      "context)"))};
+  throw FatalError{absl::FailedPreconditionError(
+      absl::StrCat("rtCallableProgram '", name, "' called from ", ts.current->name,
+                   ": no scope sets it (set it with rtVariableSetObject to a program made from an "
+                   "RT_CALLABLE_PROGRAM, on the program or ",
+                   OuterScopes(ts.kind), ")"))};
 }
 
 [[noreturn]] __attribute__((noinline, cold)) void TooDeep(const ThreadState& ts,
@@ -152,22 +174,45 @@ void* RtCallableEnter(const void* variable, TesseraCallFrame* frame) {
   ModuleState& from = *ts.current_module;
   frame->caller = &caller;
   frame->caller_module = &from;
+  frame->suspended = nullptr;
+  if (callee->module != caller.module) {
+    // The callee may trace, and programs of the caller's module then run: they must save the
+    // caller's values first, as for a caller of rtTrace. (A callee of the caller's own module
+    // shares those values, and its own rtTrace suspends them.)
+    const size_t level = ts.calls.size();
+    while (ts.call_suspended.size() <= level) ts.call_suspended.emplace_back();
+    frame->suspended = &SuspendInto(ts, ts.call_suspended[level]);
+  }
+  ts.calls.push_back(frame);
   Enter(ts, *callee);
   if (callee->module != caller.module) ShareIn(ts, caller, from, *callee, *ts.current_module);
   return callee->function;
 }
 
-void RtCallableLeave(TesseraCallFrame* frame) {
-  ThreadState& ts = TS();
-  const auto& caller = *static_cast<const BoundProgram*>(frame->caller);
-  auto& from = *static_cast<ModuleState*>(frame->caller_module);
-  // While an exception unwinds the call, the running program may be one the callee called: the
-  // launch index ends, and only the caller's binding needs to come back.
-  if (std::uncaught_exceptions() == 0 && ts.current->module != caller.module) {
-    ShareOut(ts, caller, from, *ts.current, *ts.current_module);
-  }
+namespace {
+// Makes the caller of `frame` run again; `share`: copy back what the callee wrote of its
+// caller's values (not while an exception unwinds the call: the running program may then be
+// one the callee called, and the launch index ends anyway).
+void Leave(ThreadState& ts, TesseraCallFrame& frame, bool share) {
+  const auto& caller = *static_cast<const BoundProgram*>(frame.caller);
+  auto& from = *static_cast<ModuleState*>(frame.caller_module);
+  const BoundProgram& callee = *ts.current;
+  ModuleState& to = *ts.current_module;
+  if (!ts.calls.empty() && ts.calls.back() == &frame) ts.calls.pop_back();
+  if (frame.suspended != nullptr) Resume(ts, *static_cast<SuspendedSlots*>(frame.suspended));
+  if (share && callee.module != caller.module) ShareOut(ts, caller, from, callee, to);
   ReturnTo(ts, caller, from);
   if (from.loaded != &caller) Apply(from, caller);  // the callee shares the caller's module
+}
+}  // namespace
+
+void RtCallableLeave(TesseraCallFrame* frame) {
+  ThreadState& ts = TS();
+  Leave(ts, *frame, std::uncaught_exceptions() == 0);
+}
+
+void EndAnyHitCalls(ThreadState& ts) {
+  while (ts.calls.size() > ts.ah_calls) Leave(ts, *ts.calls.back(), true);
 }
 
 }  // namespace tessera::worker

@@ -367,6 +367,7 @@ namespace {
 void ResetNesting(ThreadState& ts) {
   ts.depth = 0;
   ts.visits.clear();
+  ts.calls.clear();
   for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
 }
 

@@ -135,6 +135,12 @@ struct ThreadState {
   // programs while a child is traversed (a deque: linked states keep their addresses).
   std::vector<VisitState> visits;
   std::deque<SuspendedSlots> visit_suspended;
+  // Callable program calls under way, innermost last, and a suspended state per level for
+  // callers in another module than their callee's (callable.cc); calls an any-hit program made
+  // begin at `ah_calls` (RunAnyHit).
+  std::vector<TesseraCallFrame*> calls;
+  std::deque<SuspendedSlots> call_suspended;
+  size_t ah_calls = 0;
   Hit candidate;
   // The hit an attribute program computes the attributes of (ts.candidate or a frame's hit).
   Hit* attribute_hit = nullptr;
@@ -352,15 +358,18 @@ inline void Enter(ThreadState& ts, const BoundProgram& p) {
   }
 }
 
-// Suspends the running program's module across a nested call; Resume restores it if needed.
-inline SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
-  SuspendedSlots& s = ts.suspended[level];
+// Suspends the running program's module across a nested call, in `s`; Resume restores it if
+// needed.
+inline SuspendedSlots& SuspendInto(ThreadState& ts, SuspendedSlots& s) {
   s.module = ts.current_module;
   s.outer = s.module->suspended;
   s.saved = false;
   s.reads_per_call = ts.kind != ProgramKind::kRayGeneration && ts.kind != ProgramKind::kException;
   s.module->suspended = &s;
   return s;
+}
+inline SuspendedSlots& Suspend(ThreadState& ts, size_t level) {
+  return SuspendInto(ts, ts.suspended[level]);
 }
 // Puts back a suspended program's per-call values and binding (runtime.cc): another program of its
 // module ran while it was suspended.
@@ -414,6 +423,9 @@ void RtIntersectChild(unsigned index);
 // rtCallableProgram calls (callable.cc).
 void* RtCallableEnter(const void* variable, TesseraCallFrame* frame);
 void RtCallableLeave(TesseraCallFrame* frame);
+// Ends the calls an any-hit program made (innermost first) before rtIgnoreIntersection or
+// rtTerminateRay leaves their frames behind.
+void EndAnyHitCalls(ThreadState& ts);
 // OptiX 6 hit queries (trace.cc).
 unsigned RtGetPrimitiveIndex();
 unsigned RtTriangleHit();  // 0: not built-in triangles, 1: front face, 2: back face

@@ -309,15 +309,21 @@ void Commit(ThreadState& ts, Frame& f, const Hit& c, bool terminate) {
 // Runs an any-hit program until it returns or ends itself: rtIgnoreIntersection and
 // rtTerminateRay do not return, as in OptiX, so a program's code after them never runs. They
 // longjmp back here; what that skips is the program's own frames (any-hit programs cannot trace,
-// so no engine state lives there) and the engine call itself, none with destructors to run.
+// so no engine state lives there; the callable programs it called are ended first,
+// EndAnyHitCalls) and the engine call itself, none with destructors to run.
 __attribute__((noinline)) void RunAnyHit(ThreadState& ts, const BoundProgram& ah) {
   std::jmp_buf end;
   struct Restore {
     ThreadState& ts;
     std::jmp_buf* outer;
-    ~Restore() { ts.ah_end = outer; }  // also when the program throws (rtThrow, a bad call)
-  } restore{ts, ts.ah_end};
+    size_t outer_calls;
+    ~Restore() {  // also when the program throws (rtThrow, a bad call)
+      ts.ah_end = outer;
+      ts.ah_calls = outer_calls;
+    }
+  } restore{ts, ts.ah_end, ts.ah_calls};
   ts.ah_end = &end;
+  ts.ah_calls = ts.calls.size();
   if (setjmp(end) == 0) {
     CallProgram(ts, ah);
   } else if (!__atomic_load_n(&ah.arguments_checked, __ATOMIC_RELAXED)) {
@@ -607,6 +613,7 @@ void RtIgnoreIntersection() {
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kAnyHit), "rtIgnoreIntersection");
   ts.ah_ignore = true;
+  EndAnyHitCalls(ts);
   std::longjmp(*ts.ah_end, 1);  // any-hit programs run only through RunAnyHit
 }
 
@@ -616,6 +623,7 @@ void RtTerminateRay() {
   CheckCall(ts, Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss), "rtTerminateRay");
   if (ts.kind != ProgramKind::kAnyHit) return;
   ts.ah_terminate = true;
+  EndAnyHitCalls(ts);
   std::longjmp(*ts.ah_end, 1);
 }
 

@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 6u
+#define TESSERA_MODULE_ABI_VERSION 7u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -64,10 +64,12 @@ typedef struct {
 } TesseraModuleInfo;
 
 /* What the engine keeps on a program's stack while a callable program it called runs: the
- * caller, to make it the running program again (TesseraRuntime::callable_leave). */
+ * caller, to make it the running program again, and its module's values if another program of
+ * that module may overwrite them (TesseraRuntime::callable_leave). */
 typedef struct {
   const void* caller;
   void* caller_module;
+  void* suspended;
 } TesseraCallFrame;
 
 /* Geometry kinds for TesseraRuntime::transform. */
@@ -102,7 +104,7 @@ typedef struct {
   unsigned (*primitive_index)(void);
   unsigned (*triangle_hit)(void);
   void (*triangle_barycentrics)(float* uv);
-  /* OptiX 3.0 callable programs (version 6). `variable` is the calling thread's slot of an
+  /* OptiX 3.0 callable programs (version 7). `variable` is the calling thread's slot of an
    * rtCallableProgram variable, which holds the engine's binding of the program it names (null
    * when no scope sets one). callable_enter makes that program the running one, keeping the
    * caller in *frame, and returns the function to call; callable_leave makes the caller run
