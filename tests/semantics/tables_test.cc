@@ -1,5 +1,6 @@
 // The OptiX 3 guide's Table 4 (semantic variables per program kind), Table 5 (scope search order)
-// and Table 6 (object vs world space), row by row, through the C API.
+// and Table 6 (object vs world space), row by row, through the C API. The Visit rows are in
+// selector_test.cc, with the selectors they need.
 #include <cstring>
 
 #include "rt_fixture.h"
