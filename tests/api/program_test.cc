@@ -203,6 +203,23 @@ TEST_F(HostProgramTest, UnsupportedProgramFeaturesSayWhatTheyAre) {
   }
 }
 
+// Programs created from one module file share one read of it, until the file changes.
+TEST_F(HostProgramTest, AModuleFileIsReadAgainAfterItChanges) {
+  const fs::path module = dir_ / "module.so";
+  fs::copy_file(kTestModule, module);
+  RTprogram p = nullptr;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(rtProgramCreateFromPTXFile(ctx, module.c_str(), "closest_hit", &p), RT_SUCCESS)
+        << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+  }
+  Write("module.so", "not an ELF file any more");
+  EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, module.c_str(), "closest_hit", &p),
+            RT_ERROR_INVALID_SOURCE);
+  fs::copy_file(kTestModule, module, fs::copy_options::overwrite_existing);
+  EXPECT_EQ(rtProgramCreateFromPTXFile(ctx, module.c_str(), "closest_hit", &p), RT_SUCCESS)
+      << ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
+}
+
 TEST_F(HostProgramTest, AModuleCutShortIsInvalidSourceNotACrash) {
   // Its ELF headers survive, its segments do not: dlopen would map it and the host die of SIGBUS.
   std::ifstream in(kTestModule, std::ios::binary);

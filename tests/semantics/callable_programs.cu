@@ -137,3 +137,21 @@ RT_PROGRAM void intersect_indexed(int primitive) {
 rtCallableProgram(void, on_candidate, ());
 RT_PROGRAM void ah_calls() { on_candidate(); }
 RT_PROGRAM void ch_add() { prd.value += 1000.f * hit_t; }
+
+// ---- Where recursion runs out ----------------------------------------------------------------
+// About a kilobyte of native stack per level; launch index x recurses 200 x levels.
+rtCallableProgram(unsigned, fat, (unsigned));
+RT_CALLABLE_PROGRAM unsigned fat_levels(unsigned n) {
+  volatile unsigned char pad[1024];
+  pad[n % 1024] = 1;
+  return n == 0 ? 0u : fat(n - 1) + pad[n % 1024];
+}
+RT_PROGRAM void call_fat() {
+  result[launch_index] = static_cast<float>(fat(200u * launch_index.x));
+}
+
+// ---- A chain of callable programs, each set on the next link's own scope ---------------------
+rtCallableProgram(float, next_link, (float));
+RT_CALLABLE_PROGRAM float chain_link(float x) { return next_link(x) + 1.f; }
+RT_CALLABLE_PROGRAM float chain_end(float x) { return x; }
+RT_PROGRAM void call_chain() { result[launch_index] = next_link(0.f); }

@@ -234,6 +234,67 @@ TEST_P(CallableTest, VariablesSetToTheWrongThingAreNamed) {
   EXPECT_NE(message.find("rtCallableProgram for programs"), std::string::npos) << message;
 }
 
+// Where deep recursion raises RT_EXCEPTION_STACK_OVERFLOW depends on the program alone, not on
+// the thread that ran the launch index (TBB's threads have half the stack of others), the
+// thread count or the device set.
+class CallableDepthTest : public RtFixture {};
+
+TEST_F(CallableDepthTest, RecursionRunsOutAtTheSameDepthOnEveryThreadAndDevice) {
+  constexpr unsigned kIndices = 40;
+  std::vector<float> first;
+  for (auto [spec, threads] :
+       {std::pair{"inproc", 1}, std::pair{"inproc", 2}, std::pair{"local:2", 0}}) {
+    SCOPED_TRACE(std::string(spec) + " with " + std::to_string(threads) + " threads");
+    rtContextDestroy(ctx_);
+    Ok(rtContextCreate(&ctx_));
+    Ok(tesseraContextSetDeviceSpec(ctx_, spec));
+    if (threads > 0) {
+      Ok(rtContextSetAttribute(ctx_, RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS, sizeof(threads),
+                               &threads));
+    }
+    Ok(rtContextSetEntryPointCount(ctx_, 1));
+    Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "call_fat")));
+    Ok(rtContextSetExceptionProgram(ctx_, 0, Program(kModule, "on_exception")));
+    Ok(rtContextSetExceptionEnabled(ctx_, RT_EXCEPTION_STACK_OVERFLOW, 1));
+    Ok(rtVariableSetObject(ContextVar("fat"), Program(kModule, "fat_levels")));
+    RTbuffer result = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, kIndices, 1);
+    // Tiles of one launch index each, so that both threads run some.
+    const RTsize one[2] = {1, 1};
+    Ok(tesseraContextSetTileSize(ctx_, 2, one));
+    Ok(rtContextLaunch2D(ctx_, 0, kIndices, 1));
+    std::vector<float> values = ReadAs<float>(result);
+    // Some indices finish and some run out: the test straddles the limit.
+    EXPECT_EQ(values[1], 200.f);
+    EXPECT_EQ(values[kIndices - 1], -static_cast<float>(RT_EXCEPTION_STACK_OVERFLOW));
+    if (first.empty()) {
+      first = values;
+    } else {
+      EXPECT_EQ(values, first);
+    }
+  }
+}
+
+// Twenty thousand program objects of one callable function, each calling the one before it:
+// binding them must not recurse once per link (the plan's thread has a bounded stack).
+TEST_F(CallableDepthTest, ALongChainOfCallableProgramsBinds) {
+  constexpr int kLinks = 20000;
+  Ok(tesseraContextSetDeviceSpec(ctx_, "inproc"));
+  Ok(rtContextSetEntryPointCount(ctx_, 1));
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "call_chain")));
+  RTbuffer result = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, 1, 1);
+  RTprogram previous = Program(kModule, "chain_end");
+  for (int i = 0; i < kLinks; ++i) {
+    RTprogram link = Program(kModule, "chain_link");
+    RTvariable v = nullptr;
+    Ok(rtProgramDeclareVariable(link, "next_link", &v));
+    Ok(rtVariableSetObject(v, previous));
+    previous = link;
+  }
+  Ok(rtVariableSetObject(ContextVar("next_link"), previous));
+  Ok(rtContextLaunch2D(ctx_, 0, 1, 1));
+  EXPECT_EQ(ReadAs<float>(result)[0], static_cast<float>(kLinks));
+}
+
 INSTANTIATE_TEST_SUITE_P(Devices, CallableTest, ::testing::Values("inproc", "local:2"),
                          [](const ::testing::TestParamInfo<const char*>& info) {
                            return std::string(info.param) == "inproc" ? "Inproc" : "Local2";

@@ -72,26 +72,34 @@ class CallableBinder {
  public:
   CallableBinder(const Replica& replica, LaunchPlan& plan) : replica_(replica), plan_(plan) {}
 
-  absl::Status Resolve(BoundProgram& caller) {
-    for (BoundProgram::Callable& c : caller.callables) {
-      if (c.program == 0) continue;  // calling it fails, naming the variable (callable.cc)
-      Key key{c.program, caller.kind, caller.outer};
-      if (auto it = bound_.find(key); it != bound_.end()) {
-        c.target = it->second;
-        continue;
+  // With a worklist, not recursion: a chain of thousands of callable programs, each calling the
+  // next, must not use up the plan thread's stack.
+  absl::Status Resolve(BoundProgram& first) {
+    std::vector<BoundProgram*> pending{&first};
+    while (!pending.empty()) {
+      BoundProgram& caller = *pending.back();
+      pending.pop_back();
+      for (BoundProgram::Callable& c : caller.callables) {
+        if (c.program == 0) continue;  // calling it fails, naming the variable (callable.cc)
+        Key key{c.program, caller.kind, caller.outer};
+        if (auto it = bound_.find(key); it != bound_.end()) {
+          c.target = it->second;
+          continue;
+        }
+        absl::StatusOr<BoundProgram> b =
+            Bind(replica_, caller.kind, c.program, caller.outer, plan_.attributes, true);
+        if (!b.ok()) {
+          return absl::Status(
+              b.status().code(),
+              absl::StrCat(caller.name, ", rtCallableProgram '",
+                           caller.module->variables()[c.var].name, "': ", b.status().message()));
+        }
+        plan_.programs.push_back(std::move(*b));  // a deque: bindings keep their addresses
+        BoundProgram& callee = plan_.programs.back();
+        bound_.emplace(std::move(key), &callee);
+        c.target = &callee;
+        pending.push_back(&callee);
       }
-      absl::StatusOr<BoundProgram> b =
-          Bind(replica_, caller.kind, c.program, caller.outer, plan_.attributes, true);
-      if (!b.ok()) {
-        return absl::Status(b.status().code(), absl::StrCat(caller.name, ", rtCallableProgram '",
-                                                            caller.module->variables()[c.var].name,
-                                                            "': ", b.status().message()));
-      }
-      plan_.programs.push_back(std::move(*b));  // a deque: bindings keep their addresses
-      BoundProgram& callee = plan_.programs.back();
-      bound_.emplace(std::move(key), &callee);
-      c.target = &callee;
-      if (absl::Status s = Resolve(callee); !s.ok()) return s;
     }
     return absl::OkStatus();
   }

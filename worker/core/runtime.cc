@@ -63,14 +63,16 @@ ThreadState& CreateThreadState() {
   t_owner = std::make_unique<ThreadState>();
   t_state = t_owner.get();
   // Nested rtTrace runs on the native stack (TBB workers have 4 MiB, others 8 MiB): programs with
-  // large locals reach its end long before 1024 levels, so rtTrace also checks the stack itself.
+  // large locals reach its end long before 1024 levels, so rtTrace also checks the stack itself
+  // (LimitStack).
   pthread_attr_t attr;
   if (pthread_getattr_np(pthread_self(), &attr) == 0) {
     void* base = nullptr;
     size_t size = 0;
     if (pthread_attr_getstack(&attr, &base, &size) == 0 && base != nullptr) {
       constexpr size_t kReserve = 256 * 1024;
-      t_state->stack_limit = static_cast<const char*>(base) + std::min(size / 2, kReserve);
+      t_state->stack_floor = static_cast<const char*>(base) + std::min(size / 2, kReserve);
+      t_state->stack_limit = t_state->stack_floor;
     }
     pthread_attr_destroy(&attr);
   }
@@ -453,6 +455,7 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
   }
   ThreadState& ts = TS();
   UsePlan(ts, plan);
+  LimitStack(ts, __builtin_frame_address(0));
   ts.dims = dims;
   ts.out = &out;
   ts.out_print_bytes = 0;
@@ -488,6 +491,7 @@ void RunBoundsProgram(const LaunchPlan& plan, const BoundProgram& program, unsig
                       float result[6]) {
   ThreadState& ts = TS();
   UsePlan(ts, plan);
+  LimitStack(ts, __builtin_frame_address(0));
   ts.out = nullptr;
   ts.depth = 0;
   try {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <csetjmp>
+#include <cstdint>
 #include <cstring>
 #include <deque>
 #include <exception>
@@ -169,9 +170,13 @@ struct ThreadState {
   const NodeInfo* last_node = nullptr;
   // Where a program's `result` argument points when its kind passes none (CallProgram).
   float scratch_result[6] = {};
-  // rtTrace raises RT_EXCEPTION_STACK_OVERFLOW below this address: the thread's native stack
-  // minus a reserve for one more level of engine, Embree and program frames (CreateThreadState).
+  // rtTrace and callable program calls raise RT_EXCEPTION_STACK_OVERFLOW below this address:
+  // kNativeStackBudget below where the running tile (or bounding box program) began, so the same
+  // on every thread, or `stack_floor` if that is higher (LimitStack).
   const char* stack_limit = nullptr;
+  // The thread's native stack minus a reserve for one more level of engine, Embree and program
+  // frames (CreateThreadState).
+  const char* stack_floor = nullptr;
 
   Frame& top() { return frames[depth - 1]; }
 };
@@ -193,6 +198,17 @@ inline void ReturnTo(ThreadState& ts, const BoundProgram& p, ModuleState& ms) {
   ts.current_module = &ms;
   t_buffer_table = p.table.data();
 }
+// The native stack a launch index may use for nested calls. Measured from where its tile began,
+// not from the thread's end, so that where deep recursion runs out does not depend on the thread,
+// device or process that ran the tile (TBB's threads have 4 MiB of stack, others 8 MiB). It
+// leaves TBB's threads more than the reserve of CreateThreadState.
+inline constexpr size_t kNativeStackBudget = 3 * 1024 * 1024 + 256 * 1024;
+inline void LimitStack(ThreadState& ts, const void* start) {
+  const auto here = reinterpret_cast<uintptr_t>(start);
+  const uintptr_t limit = here > kNativeStackBudget ? here - kNativeStackBudget : 0;
+  ts.stack_limit = std::max(ts.stack_floor, reinterpret_cast<const char*>(limit));
+}
+
 inline ThreadState& TS() {
   if (__builtin_expect(t_state == nullptr, 0)) return CreateThreadState();
   return *t_state;
