@@ -154,6 +154,16 @@ class Context : public Object {
 
   // ---- Launch (launch.cc).
   absl::Status Launch(unsigned entry_point, const std::vector<uint64_t>& dims);
+  // Nanoseconds of one device thread per launch index in the last launch of `entry_point` that
+  // finished (its devices' time over its launch indices), 0 before one: sizes the next launch's
+  // calls (DispatchOptions::min_indices_per_thread).
+  double ns_per_index(unsigned entry_point) const {
+    return entry_point < ns_per_index_.size() ? ns_per_index_[entry_point] : 0.0;
+  }
+  void set_ns_per_index(unsigned entry_point, double ns) {
+    if (entry_point >= ns_per_index_.size()) ns_per_index_.resize(entry_point + 1, 0.0);
+    ns_per_index_[entry_point] = ns;
+  }
   uint64_t NextLaunchId() { return ++last_launch_id_; }
   void set_running(bool running) { running_.store(running); }
   // The exception reports of the last launch.
@@ -211,6 +221,7 @@ class Context : public Object {
   bool race_check_ = false;
   uint64_t last_race_count_ = 0;
   uint64_t bytes_received_ = 0;
+  std::vector<double> ns_per_index_;  // by entry point
   std::atomic<uint64_t> tiles_done_{0}, tiles_total_{0};
   uint64_t last_exception_count_ = 0;
 

@@ -392,6 +392,17 @@ absl::StatusOr<std::vector<uint64_t>> TileSizeFor(const Context& context,
   return size;
 }
 
+// The fewest launch indices per device thread a call should carry (scheduler::Dispatcher):
+// about two milliseconds of work at the cost per index the last launch of the entry point
+// measured (with its calls' own overhead, which shrinks as they grow: a light launch settles on
+// a call or two per device), or the dispatcher's default before any launch.
+uint64_t MinIndicesPerCall(double ns_per_index) {
+  constexpr double kCallWorkNs = 2e6;
+  constexpr double kMost = 1 << 20;
+  if (!(ns_per_index > 0)) return 0;
+  return static_cast<uint64_t>(std::min(kCallWorkNs / ns_per_index, kMost));
+}
+
 }  // namespace
 
 absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& dims) {
@@ -472,8 +483,11 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   StartProgress(tiles.size());
 
   gather.SetDevices(slots);
-  scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles), stable,
-                                   progress_counter());
+  uint64_t indices = 1;
+  for (uint64_t d : dims) indices *= d;
+  const auto devices_began = std::chrono::steady_clock::now();
+  scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles), stable, progress_counter(),
+                                   MinIndicesPerCall(ns_per_index(entry_point)));
 
   // The launching thread applies results as they arrive and polls the timeout callback.
   std::vector<scheduler::FinishedBatch> batches;
@@ -503,6 +517,12 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   }
 
   timing.Mark("devices");
+  if (dispatcher.status().ok() && !poller.cancelled() && indices > 0) {
+    const double ns =
+        std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - devices_began)
+            .count();
+    set_ns_per_index(entry_point, ns * total_threads / static_cast<double>(indices));
+  }
   absl::Status tile_status = gather.Finish();
   // Batches that did not finish left their writes in the devices' copies only.
   if (poller.cancelled() || !dispatcher.status().ok() || !tile_status.ok()) {

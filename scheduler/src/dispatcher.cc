@@ -30,8 +30,12 @@ constexpr size_t kGuidedShare = 4;
 }  // namespace
 
 Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
-                       bool stable_ownership, std::atomic<uint64_t>* progress)
-    : devices_(std::move(devices)), stable_(stable_ownership), progress_(progress) {
+                       bool stable_ownership, std::atomic<uint64_t>* progress,
+                       uint64_t min_indices_per_thread)
+    : devices_(std::move(devices)),
+      stable_(stable_ownership),
+      progress_(progress),
+      min_indices_per_thread_(std::max(min_indices_per_thread, kMinIndicesPerThread)) {
   const size_t n = devices_.size();
   std::lock_guard<std::mutex> lock(mu_);
   if (n == 0) {
@@ -58,6 +62,7 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   uint32_t max_index = 0;
   for (const v1::Tile& t : tiles) max_index = std::max(max_index, t.index());
   tile_losses_.assign(tiles.empty() ? 0 : size_t{max_index} + 1, 0);
+  initial_tiles_ = tiles.size();
   // No tiles (the all-zero launch builds accelerations only): every device gets one empty call.
   build_only_ = tiles.empty();
   remaining_ = build_only_ ? live.size() : tiles.size();
@@ -132,13 +137,16 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
     // Shrink batches as the shared queue drains so that no device is left holding a long tail
     // while the others idle: with two calls in flight per device, at most half of the queue is
     // out at once (and a lost device takes back no more than that).
-    // But not below a 64x64 tile's worth of launch indices per thread while the queue allows:
-    // a call costs a round trip, and one-tile calls of small tiles leave devices waiting for it.
+    // But not below a 64x64 tile's worth of launch indices per thread (or what the launch asked
+    // for: light launches want fewer, larger calls), short of an equal share of the launch for
+    // every call the devices have in flight: a call costs a round trip, and one-tile calls of
+    // small tiles leave devices waiting for it.
     const size_t live =
         std::max<size_t>(1, static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false)));
-    const size_t floor =
-        std::min<size_t>(std::max<uint64_t>(1, kMinIndicesPerThread * threads / tile_indices_),
-                         queue.size() / (2 * live));
+    const size_t share =
+        std::max<size_t>(1, (initial_tiles_ + kCallsInFlight * live - 1) / (kCallsInFlight * live));
+    const size_t floor = std::min<size_t>(
+        std::max<uint64_t>(1, min_indices_per_thread_ * threads / tile_indices_), share);
     batch = std::clamp<size_t>(std::max(queue.size() / (kGuidedShare * live), floor), 1, batch);
   }
   batch = std::min(batch, queue.size());

@@ -27,6 +27,7 @@ class FakeDevice : public Device {
       : fault_(fault), fault_at_call_(fault_at_call) {}
 
   DeviceInfo Info() const override { return {"fake", "fake", 1}; }
+  int calls() const { return calls_; }
   absl::Status Apply(const v1::StateDelta&) override { return absl::OkStatus(); }
   absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                       const std::function<void(v1::TileResult&&)>& on_result) override {
@@ -77,14 +78,15 @@ struct Outcome {
   int failed_device = -1;
 };
 
-Outcome RunAll(std::vector<FakeDevice*> fakes, size_t tiles, bool stable, int threads = 1) {
+Outcome RunAll(std::vector<FakeDevice*> fakes, size_t tiles, bool stable, int threads = 1,
+               uint64_t min_indices_per_thread = 0) {
   std::vector<DispatchDevice> devices;
   for (size_t i = 0; i < fakes.size(); ++i) {
     devices.push_back({fakes[i], "fake" + std::to_string(i), threads, v1::LaunchRequest()});
   }
   // Tiles of 4096 launch indices: batches of up to 64 per device thread.
   Dispatcher dispatcher(std::move(devices), MakeTiles({tiles * kTileIndices}, {kTileIndices}),
-                        stable);
+                        stable, nullptr, min_indices_per_thread);
   Outcome out;
   std::vector<FinishedBatch> batches;
   while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
@@ -130,6 +132,20 @@ TEST(DispatcherTest, DynamicAssignmentRunsEveryTileOnce) {
   EXPECT_EQ(out.device_of_tile.size(), 100u);
   EXPECT_EQ(out.tile_reports, 100u);
   EXPECT_TRUE(out.lost.empty());
+}
+
+// A light launch asks for large calls: the launch goes out in an equal share per call the
+// devices have in flight (two each), not in calls that shrink as the queue drains.
+TEST(DispatcherTest, ALightLaunchTakesFewCalls) {
+  FakeDevice a, b;
+  Outcome guided = RunAll({&a, &b}, 100, /*stable=*/false);
+  ASSERT_TRUE(guided.status.ok()) << guided.status;
+  EXPECT_GT(a.calls() + b.calls(), 8);
+  FakeDevice c, d;
+  Outcome light = RunAll({&c, &d}, 100, /*stable=*/false, 1, /*min_indices_per_thread=*/1 << 22);
+  ASSERT_TRUE(light.status.ok()) << light.status;
+  EXPECT_EQ(light.device_of_tile.size(), 100u);
+  EXPECT_EQ(c.calls() + d.calls(), 4);
 }
 
 TEST(DispatcherTest, StableOwnershipKeepsTileIOnDeviceIModN) {

@@ -57,8 +57,12 @@ class Dispatcher {
   // counts the tiles devices finished, while their calls run (tesseraContextGetLaunchProgress):
   // a call's tiles count once it ends, or earlier as far as its device says; they are taken back
   // when the call fails (they run again elsewhere).
+  // `min_indices_per_thread`: the fewest launch indices per device thread a call takes while the
+  // queue holds enough (0: a 64x64 tile's worth); a launch whose indices cost little asks for more,
+  // so that its calls are not mostly their own overhead.
   Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
-             bool stable_ownership, std::atomic<uint64_t>* progress = nullptr);
+             bool stable_ownership, std::atomic<uint64_t>* progress = nullptr,
+             uint64_t min_indices_per_thread = 0);
   // Stops and joins the device threads (cancelling running calls).
   ~Dispatcher();
   Dispatcher(const Dispatcher&) = delete;
@@ -111,7 +115,9 @@ class Dispatcher {
   std::vector<DispatchDevice> devices_;
   const bool stable_;
   std::atomic<uint64_t>* const progress_;
-  bool build_only_ = false;        // set in the constructor, before the threads start
+  bool build_only_ = false;  // set in the constructor, before the threads start
+  uint64_t min_indices_per_thread_;
+  size_t initial_tiles_ = 0;       // the launch's tiles, set in the constructor
   uint64_t tile_indices_ = 1;      // launch indices of the launch's largest tile, ditto
   std::atomic<bool> stop_{false};  // cancels running calls: user cancel or launch failure
 
