@@ -164,6 +164,16 @@ class Context : public Object {
     if (entry_point >= ns_per_index_.size()) ns_per_index_.resize(entry_point + 1, 0.0);
     ns_per_index_[entry_point] = ns;
   }
+  // What each tile cost in the last launch of `entry_point` that finished, with its launch and
+  // tile sizes: the next launch of the same tiles cuts its batches by cost.
+  struct TileCosts {
+    std::vector<uint64_t> dims, tile_size;
+    std::vector<float> costs;
+  };
+  TileCosts& tile_costs(unsigned entry_point) {
+    if (entry_point >= tile_costs_.size()) tile_costs_.resize(entry_point + 1);
+    return tile_costs_[entry_point];
+  }
   uint64_t NextLaunchId() { return ++last_launch_id_; }
   void set_running(bool running) { running_.store(running); }
   // The exception reports of the last launch.
@@ -221,7 +231,8 @@ class Context : public Object {
   bool race_check_ = false;
   uint64_t last_race_count_ = 0;
   uint64_t bytes_received_ = 0;
-  std::vector<double> ns_per_index_;  // by entry point
+  std::vector<double> ns_per_index_;   // by entry point
+  std::vector<TileCosts> tile_costs_;  // by entry point
   std::atomic<uint64_t> tiles_done_{0}, tiles_total_{0};
   uint64_t last_exception_count_ = 0;
 

@@ -396,6 +396,16 @@ absl::StatusOr<std::vector<uint64_t>> TileSizeFor(const Context& context,
 // about two milliseconds of work at the cost per index the last launch of the entry point
 // measured (with its calls' own overhead, which shrinks as they grow: a light launch settles on
 // a call or two per device), or the dispatcher's default before any launch.
+// Whether launches cut batches by the costs the last launch of the same tiles measured
+// (TESSERA_COST_BATCHES=0 turns it off, to compare).
+bool CostBatches() {
+  static const bool on = [] {
+    const char* e = std::getenv("TESSERA_COST_BATCHES");
+    return e == nullptr || std::string(e) != "0";
+  }();
+  return on;
+}
+
 uint64_t MinIndicesPerCall(double ns_per_index) {
   constexpr double kCallWorkNs = 2e6;
   constexpr double kMost = 1 << 20;
@@ -486,8 +496,12 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   uint64_t indices = 1;
   for (uint64_t d : dims) indices *= d;
   const auto devices_began = std::chrono::steady_clock::now();
-  scheduler::Dispatcher dispatcher(std::move(devices), std::move(tiles), stable, progress_counter(),
-                                   MinIndicesPerCall(ns_per_index(entry_point)));
+  TileCosts& costs = tile_costs(entry_point);
+  const bool same_tiles = costs.dims == dims && costs.tile_size == *tile_size;
+  scheduler::Dispatcher dispatcher(
+      std::move(devices), std::move(tiles), stable, progress_counter(),
+      MinIndicesPerCall(ns_per_index(entry_point)),
+      same_tiles && CostBatches() ? costs.costs : std::vector<float>());
 
   // The launching thread applies results as they arrive and polls the timeout callback.
   std::vector<scheduler::FinishedBatch> batches;
@@ -522,6 +536,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
         std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - devices_began)
             .count();
     set_ns_per_index(entry_point, ns * total_threads / static_cast<double>(indices));
+    costs = TileCosts{dims, *tile_size, dispatcher.tile_costs()};
   }
   absl::Status tile_status = gather.Finish();
   // Batches that did not finish left their writes in the devices' copies only.

@@ -31,11 +31,12 @@ constexpr size_t kGuidedShare = 4;
 
 Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
                        bool stable_ownership, std::atomic<uint64_t>* progress,
-                       uint64_t min_indices_per_thread)
+                       uint64_t min_indices_per_thread, std::vector<float> tile_costs)
     : devices_(std::move(devices)),
       stable_(stable_ownership),
       progress_(progress),
-      min_indices_per_thread_(std::max(min_indices_per_thread, kMinIndicesPerThread)) {
+      min_indices_per_thread_(std::max(min_indices_per_thread, kMinIndicesPerThread)),
+      cost_hint_(std::move(tile_costs)) {
   const size_t n = devices_.size();
   std::lock_guard<std::mutex> lock(mu_);
   if (n == 0) {
@@ -63,6 +64,15 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   for (const v1::Tile& t : tiles) max_index = std::max(max_index, t.index());
   tile_losses_.assign(tiles.empty() ? 0 : size_t{max_index} + 1, 0);
   initial_tiles_ = tiles.size();
+  measured_.assign(tile_losses_.size(), 0.f);
+  last_end_.assign(n, std::chrono::steady_clock::time_point());
+  if (cost_hint_.size() != tile_losses_.size()) cost_hint_.clear();  // other tiles'
+  for (float c : cost_hint_) {
+    if (!(c > 0.f)) {  // a tile never measured: no hint at all
+      cost_hint_.clear();
+      break;
+    }
+  }
   // No tiles (the all-zero launch builds accelerations only): every device gets one empty call.
   build_only_ = tiles.empty();
   remaining_ = build_only_ ? live.size() : tiles.size();
@@ -147,7 +157,21 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
         std::max<size_t>(1, (initial_tiles_ + kCallsInFlight * live - 1) / (kCallsInFlight * live));
     const size_t floor = std::min<size_t>(
         std::max<uint64_t>(1, min_indices_per_thread_ * threads / tile_indices_), share);
-    batch = std::clamp<size_t>(std::max(queue.size() / (kGuidedShare * live), floor), 1, batch);
+    if (cost_hint_.empty()) {
+      batch = std::clamp<size_t>(std::max(queue.size() / (kGuidedShare * live), floor), 1, batch);
+    } else {
+      // The same guided share, of the queue's cost rather than its tiles.
+      double queued = 0;
+      for (const v1::Tile& t : queue) queued += cost_hint_[t.index()];
+      const double target = queued / static_cast<double>(kGuidedShare * live);
+      size_t n = 0;
+      double cost = 0;
+      while (n < queue.size() && n < batch && (n < floor || cost < target)) {
+        cost += cost_hint_[queue[n].index()];
+        ++n;
+      }
+      batch = std::max<size_t>(n, 1);
+    }
   }
   batch = std::min(batch, queue.size());
   std::vector<v1::Tile> tiles;
@@ -263,6 +287,7 @@ bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
   in_flight_[d].push_back(&batch);
   lock.unlock();
 
+  const auto taken = std::chrono::steady_clock::now();
   v1::LaunchRequest request = device.header;
   for (const v1::Tile& t : batch) *request.add_tiles() = t;
   FinishedBatch finished;
@@ -301,6 +326,13 @@ bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
   std::vector<const std::vector<v1::Tile>*>& calls = in_flight_[d];
   calls.erase(std::find(calls.begin(), calls.end(), &batch));
   if (status.ok()) {
+    const auto ended = std::chrono::steady_clock::now();
+    const double seconds =
+        std::chrono::duration<double>(ended - std::max(taken, last_end_[d])).count();
+    last_end_[d] = ended;
+    for (const v1::Tile& t : batch) {
+      measured_[t.index()] = static_cast<float>(std::max(seconds, 1e-9) / batch.size());
+    }
     AddProgress(batch.size() - reported);
     remaining_ -= build_only_ ? 1 : batch.size();
     Deliver(std::move(finished));
@@ -380,6 +412,12 @@ void Dispatcher::Cancel() {
     stop_ = true;
   }
   work_cv_.notify_all();
+}
+
+std::vector<float> Dispatcher::tile_costs() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (!status_.ok() || remaining_ != 0 || build_only_) return {};
+  return measured_;
 }
 
 absl::Status Dispatcher::status() const {

@@ -5,8 +5,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <exception>
 #include <map>
+#include <mutex>
 #include <thread>
 
 #include "tessera/scheduler/tiling.h"
@@ -28,10 +30,19 @@ class FakeDevice : public Device {
 
   DeviceInfo Info() const override { return {"fake", "fake", 1}; }
   int calls() const { return calls_; }
+  // The size of the batch each tile came in.
+  std::map<uint32_t, int> batch_of_tile() const {
+    std::lock_guard<std::mutex> lock(batches_mu_);
+    return batch_of_tile_;
+  }
   absl::Status Apply(const v1::StateDelta&) override { return absl::OkStatus(); }
   absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                       const std::function<void(v1::TileResult&&)>& on_result) override {
     const int call = calls_++;
+    {
+      std::lock_guard<std::mutex> lock(batches_mu_);
+      for (const v1::Tile& t : request.tiles()) batch_of_tile_[t.index()] = request.tiles_size();
+    }
     // A little time per call, as real devices take: with instant calls, one device's thread
     // could drain the queue before the others start.
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -67,7 +78,9 @@ class FakeDevice : public Device {
  private:
   Fault fault_;
   int fault_at_call_;
-  int calls_ = 0;
+  std::atomic<int> calls_{0};
+  mutable std::mutex batches_mu_;
+  std::map<uint32_t, int> batch_of_tile_;
 };
 
 struct Outcome {
@@ -79,14 +92,15 @@ struct Outcome {
 };
 
 Outcome RunAll(std::vector<FakeDevice*> fakes, size_t tiles, bool stable, int threads = 1,
-               uint64_t min_indices_per_thread = 0) {
+               uint64_t min_indices_per_thread = 0, std::vector<float> costs = {},
+               std::vector<float>* measured = nullptr) {
   std::vector<DispatchDevice> devices;
   for (size_t i = 0; i < fakes.size(); ++i) {
     devices.push_back({fakes[i], "fake" + std::to_string(i), threads, v1::LaunchRequest()});
   }
   // Tiles of 4096 launch indices: batches of up to 64 per device thread.
   Dispatcher dispatcher(std::move(devices), MakeTiles({tiles * kTileIndices}, {kTileIndices}),
-                        stable, nullptr, min_indices_per_thread);
+                        stable, nullptr, min_indices_per_thread, std::move(costs));
   Outcome out;
   std::vector<FinishedBatch> batches;
   while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
@@ -101,6 +115,7 @@ Outcome RunAll(std::vector<FakeDevice*> fakes, size_t tiles, bool stable, int th
     EXPECT_EQ(b.results.back().tile_index(), kFinalTileIndex);
   }
   out.status = dispatcher.status();
+  if (measured != nullptr) *measured = dispatcher.tile_costs();
   out.lost = dispatcher.lost();
   out.failed_device = dispatcher.failed_device();
   return out;
@@ -146,6 +161,30 @@ TEST(DispatcherTest, ALightLaunchTakesFewCalls) {
   ASSERT_TRUE(light.status.ok()) << light.status;
   EXPECT_EQ(light.device_of_tile.size(), 100u);
   EXPECT_EQ(c.calls() + d.calls(), 4);
+}
+
+// With what an earlier launch measured, batches are cut to like costs: the expensive first
+// tiles go out a few at a time, not in a batch of as many tiles as the cheap ones.
+TEST(DispatcherTest, BatchesAreCutByTheCostsAnEarlierLaunchMeasured) {
+  FakeDevice a, b;
+  std::vector<float> measured;
+  Outcome first = RunAll({&a, &b}, 200, /*stable=*/false, 1, 0, {}, &measured);
+  ASSERT_TRUE(first.status.ok()) << first.status;
+  ASSERT_EQ(measured.size(), 200u);
+  for (float c : measured) EXPECT_GT(c, 0.f);
+  std::map<uint32_t, int> batches = a.batch_of_tile();
+  for (const auto& [tile, size] : b.batch_of_tile()) batches[tile] = size;
+  EXPECT_GE(batches[0], 20);  // a guided share of tiles: 200 / (4 * 2)
+
+  std::vector<float> costs(200, 1.f);
+  for (int i = 0; i < 20; ++i) costs[i] = 10.f;
+  FakeDevice c, d;
+  Outcome second = RunAll({&c, &d}, 200, /*stable=*/false, 1, 0, costs);
+  ASSERT_TRUE(second.status.ok()) << second.status;
+  EXPECT_EQ(second.device_of_tile.size(), 200u);
+  batches = c.batch_of_tile();
+  for (const auto& [tile, size] : d.batch_of_tile()) batches[tile] = size;
+  EXPECT_LE(batches[0], 5);  // a guided share of the cost: 380 / (4 * 2) is 5 tiles of 10
 }
 
 TEST(DispatcherTest, StableOwnershipKeepsTileIOnDeviceIModN) {

@@ -60,9 +60,12 @@ class Dispatcher {
   // `min_indices_per_thread`: the fewest launch indices per device thread a call takes while the
   // queue holds enough (0: a 64x64 tile's worth); a launch whose indices cost little asks for more,
   // so that its calls are not mostly their own overhead.
+  // `tile_costs`: what each tile (by index) cost in an earlier launch of the same tiles, or
+  // empty: shared-queue batches are then cut to like costs instead of like tile counts, so that a
+  // batch through an expensive part of the image is no longer the one the others wait for.
   Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile> tiles,
              bool stable_ownership, std::atomic<uint64_t>* progress = nullptr,
-             uint64_t min_indices_per_thread = 0);
+             uint64_t min_indices_per_thread = 0, std::vector<float> tile_costs = {});
   // Stops and joins the device threads (cancelling running calls).
   ~Dispatcher();
   Dispatcher(const Dispatcher&) = delete;
@@ -77,6 +80,10 @@ class Dispatcher {
 
   // Stops handing out tiles and cancels running calls (the timeout callback asked to stop).
   void Cancel();
+
+  // After Wait returned true: what each tile cost (by tile index), measured as its call's time on
+  // its device over the call's tiles; empty unless every tile finished.
+  std::vector<float> tile_costs() const;
 
   // After Wait returned true: OK when every tile finished; CANCELLED after Cancel(); else the
   // first failure: ABORTED (a device crashed running a program), UNAVAILABLE (every device was
@@ -117,6 +124,10 @@ class Dispatcher {
   std::atomic<uint64_t>* const progress_;
   bool build_only_ = false;  // set in the constructor, before the threads start
   uint64_t min_indices_per_thread_;
+  std::vector<float> cost_hint_;                      // by tile index; empty: batches by tile count
+  std::vector<float> measured_ ABSL_GUARDED_BY(mu_);  // by tile index
+  // When each device's last call ended on the host: a call queued behind it starts then.
+  std::vector<std::chrono::steady_clock::time_point> last_end_ ABSL_GUARDED_BY(mu_);
   size_t initial_tiles_ = 0;       // the launch's tiles, set in the constructor
   uint64_t tile_indices_ = 1;      // launch indices of the launch's largest tile, ditto
   std::atomic<bool> stop_{false};  // cancels running calls: user cancel or launch failure
