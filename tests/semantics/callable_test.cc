@@ -19,13 +19,10 @@ constexpr char kOther[] = "callable_other_programs";
 constexpr char kPlain[] = "callable_plain_programs";
 constexpr unsigned kWidth = 6, kHeight = 3;
 
-class CallableTest : public RtFixture, public ::testing::WithParamInterface<const char*> {
+class CallableTest : public OnDevicesFixture {
  protected:
   void SetUp() override {
-    RtFixture::SetUp();
-    Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
-    Ok(rtContextSetEntryPointCount(ctx_, 1));
-    Ok(rtContextSetRayTypeCount(ctx_, 1));
+    OnDevicesFixture::SetUp();
     result_ = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, kWidth, kHeight);
   }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tessera/rt.h"
+#include "tessera/rt_ext.h"
 
 namespace tessera::testing {
 
@@ -117,6 +118,18 @@ class RtFixture : public ::testing::Test {
   }
 
   RTcontext ctx_ = nullptr;
+};
+
+// A context on the device set GetParam() names ("inproc", "local:2"), with one entry point and
+// one ray type.
+class OnDevicesFixture : public RtFixture, public ::testing::WithParamInterface<const char*> {
+ protected:
+  void SetUp() override {
+    RtFixture::SetUp();
+    Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
+    Ok(rtContextSetEntryPointCount(ctx_, 1));
+    Ok(rtContextSetRayTypeCount(ctx_, 1));
+  }
 };
 
 }  // namespace tessera::testing

@@ -17,13 +17,10 @@ namespace {
 constexpr char kModule[] = "selector_programs";
 constexpr unsigned kWidth = 4, kHeight = 2;
 
-class SelectorTest : public RtFixture, public ::testing::WithParamInterface<const char*> {
+class SelectorTest : public OnDevicesFixture {
  protected:
   void SetUp() override {
-    RtFixture::SetUp();
-    Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
-    Ok(rtContextSetEntryPointCount(ctx_, 1));
-    Ok(rtContextSetRayTypeCount(ctx_, 1));
+    OnDevicesFixture::SetUp();
     Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "trace_raygen")));
     Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "miss")));
     result_ = Float4Buffer("result", RT_BUFFER_OUTPUT, kWidth, kHeight);

@@ -19,13 +19,10 @@ inline constexpr unsigned kSize = 4;  // rays per side of the unit square
 
 // A context on the device set GetParam() names, tracing a 4x4 grid of rays along -z at the unit
 // square z = 0, made of two built-in triangles.
-class TrianglesFixture : public RtFixture, public ::testing::WithParamInterface<const char*> {
+class TrianglesFixture : public OnDevicesFixture {
  protected:
   void SetUp() override {
-    RtFixture::SetUp();
-    Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
-    Ok(rtContextSetEntryPointCount(ctx_, 1));
-    Ok(rtContextSetRayTypeCount(ctx_, 1));
+    OnDevicesFixture::SetUp();
     Ok(rtContextSetRayGenerationProgram(ctx_, 0, Prog("ortho")));
     Ok(rtContextSetMissProgram(ctx_, 0, Prog("miss")));
     output_ = Float4Buffer("output", RT_BUFFER_OUTPUT, kSize, kSize);
