@@ -153,7 +153,8 @@ const char* OuterScopes(ProgramKind k) {
 [[noreturn]] __attribute__((noinline, cold)) void TooDeep(const ThreadState& ts,
                                                           const BoundProgram& callee) {
   std::string what = absl::StrCat(callee.name, " called from ", ts.current->name,
-                                  ": the thread's native stack is nearly used up (callable "
+                                  ": the launch index has used the ", kNativeStackBudget / 1024,
+                                  " KiB of native stack it may take for nested calls (callable "
                                   "programs calling each other without end?)");
   Raise(RT_EXCEPTION_STACK_OVERFLOW, what);
   // Disabled: the call cannot be skipped, since it returns a value.

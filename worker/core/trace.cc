@@ -431,8 +431,9 @@ __attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) 
   const LaunchPlan& plan = *ts.plan;
   if (static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit) {
     Raise(RT_EXCEPTION_STACK_OVERFLOW,
-          absl::StrCat("rtTrace nested ", ts.depth + 1,
-                       " deep: the thread's native stack is nearly used up (programs' local "
+          absl::StrCat("rtTrace nested ", ts.depth + 1, " deep: the launch index has used the ",
+                       kNativeStackBudget / 1024,
+                       " KiB of native stack it may take for nested calls (programs' local "
                        "variables take it too)"));
     return;
   }
@@ -646,12 +647,7 @@ void RtIntersectChild(unsigned index) {
   ReadPayload(ms, v, f);  // any-hit programs below see what the visit program wrote
   const size_t level = ts.visits.size() - 1;
   while (ts.visit_suspended.size() <= level) ts.visit_suspended.emplace_back();
-  SuspendedSlots& s = ts.visit_suspended[level];
-  s.module = &ms;
-  s.outer = ms.suspended;
-  s.saved = false;
-  s.reads_per_call = true;
-  ms.suspended = &s;
+  SuspendedSlots& s = SuspendInto(ts, ts.visit_suspended[level]);
   RayData ray;
   CopyWords(&ray, &visit.ray, sizeof(ray));
   ray.tmax = std::min(ray.tmax, f.hit.t);
