@@ -392,10 +392,6 @@ absl::StatusOr<std::vector<uint64_t>> TileSizeFor(const Context& context,
   return size;
 }
 
-// The fewest launch indices per device thread a call should carry (scheduler::Dispatcher):
-// about two milliseconds of work at the cost per index the last launch of the entry point
-// measured (with its calls' own overhead, which shrinks as they grow: a light launch settles on
-// a call or two per device), or the dispatcher's default before any launch.
 // Whether launches cut batches by the costs the last launch of the same tiles measured
 // (TESSERA_COST_BATCHES=0 turns it off, to compare).
 bool CostBatches() {
@@ -406,6 +402,10 @@ bool CostBatches() {
   return on;
 }
 
+// The fewest launch indices per device thread a call should carry (scheduler::Dispatcher):
+// about two milliseconds of work at the cost per index the last launch of the entry point
+// measured (with its calls' own overhead, which shrinks as they grow: a light launch settles on
+// a call or two per device), or the dispatcher's default before any launch.
 uint64_t MinIndicesPerCall(double ns_per_index) {
   constexpr double kCallWorkNs = 2e6;
   constexpr double kMost = 1 << 20;
