@@ -154,20 +154,14 @@ class Context : public Object {
 
   // ---- Launch (launch.cc).
   absl::Status Launch(unsigned entry_point, const std::vector<uint64_t>& dims);
-  // Nanoseconds of one device thread per launch index in the last launch of `entry_point` that
-  // finished (its devices' time over its launch indices), 0 before one: sizes the next launch's
-  // calls (DispatchOptions::min_indices_per_thread).
-  double ns_per_index(unsigned entry_point) const {
-    return entry_point < ns_per_index_.size() ? ns_per_index_[entry_point] : 0.0;
-  }
-  void set_ns_per_index(unsigned entry_point, double ns) {
-    if (entry_point >= ns_per_index_.size()) ns_per_index_.resize(entry_point + 1, 0.0);
-    ns_per_index_[entry_point] = ns;
-  }
-  // What each tile cost in the last launch of `entry_point` that finished, with its launch and
-  // tile sizes: the next launch of the same tiles cuts its batches by cost.
+  // What the last launch of `entry_point` that finished cost, with its launch and tile sizes:
+  // nanoseconds of one device thread per launch index (its devices' time over its launch
+  // indices), which sizes the calls of the next launch of that size (the dispatcher's
+  // min_indices_per_thread), and each tile's cost, by which the next launch of the same tiles
+  // cuts its batches.
   struct TileCosts {
     std::vector<uint64_t> dims, tile_size;
+    double ns_per_index = 0;
     std::vector<float> costs;
   };
   TileCosts& tile_costs(unsigned entry_point) {
@@ -231,7 +225,6 @@ class Context : public Object {
   bool race_check_ = false;
   uint64_t last_race_count_ = 0;
   uint64_t bytes_received_ = 0;
-  std::vector<double> ns_per_index_;   // by entry point
   std::vector<TileCosts> tile_costs_;  // by entry point
   std::atomic<uint64_t> tiles_done_{0}, tiles_total_{0};
   uint64_t last_exception_count_ = 0;

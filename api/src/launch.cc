@@ -403,9 +403,9 @@ bool CostBatches() {
 }
 
 // The fewest launch indices per device thread a call should carry (scheduler::Dispatcher):
-// about two milliseconds of work at the cost per index the last launch of the entry point
-// measured (with its calls' own overhead, which shrinks as they grow: a light launch settles on
-// a call or two per device), or the dispatcher's default before any launch.
+// about two milliseconds of work at the cost per index the last launch of the entry point and
+// size measured (with its calls' own overhead, which shrinks as they grow: a light launch settles
+// on a call or two per device), or the dispatcher's default before any launch.
 uint64_t MinIndicesPerCall(double ns_per_index) {
   constexpr double kCallWorkNs = 2e6;
   constexpr double kMost = 1 << 20;
@@ -497,10 +497,11 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   for (uint64_t d : dims) indices *= d;
   const auto devices_began = std::chrono::steady_clock::now();
   TileCosts& costs = tile_costs(entry_point);
-  const bool same_tiles = costs.dims == dims && costs.tile_size == *tile_size;
+  const bool same_size = costs.dims == dims;
+  const bool same_tiles = same_size && costs.tile_size == *tile_size;
   scheduler::Dispatcher dispatcher(
       std::move(devices), std::move(tiles), stable, progress_counter(),
-      MinIndicesPerCall(ns_per_index(entry_point)),
+      MinIndicesPerCall(same_size ? costs.ns_per_index : 0.0),
       same_tiles && CostBatches() ? costs.costs : std::vector<float>());
 
   // The launching thread applies results as they arrive and polls the timeout callback.
@@ -535,8 +536,8 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     const double ns =
         std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - devices_began)
             .count();
-    set_ns_per_index(entry_point, ns * total_threads / static_cast<double>(indices));
-    costs = TileCosts{dims, *tile_size, dispatcher.tile_costs()};
+    costs = TileCosts{dims, *tile_size, ns * total_threads / static_cast<double>(indices),
+                      dispatcher.tile_costs()};
   }
   absl::Status tile_status = gather.Finish();
   // Batches that did not finish left their writes in the devices' copies only.

@@ -67,11 +67,18 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   measured_.assign(tile_losses_.size(), 0.f);
   last_end_.assign(n, std::chrono::steady_clock::time_point());
   if (cost_hint_.size() != tile_losses_.size()) cost_hint_.clear();  // other tiles'
+  double total_cost = 0;
   for (float c : cost_hint_) {
     if (!(c > 0.f)) {  // a tile never measured: no hint at all
       cost_hint_.clear();
       break;
     }
+    total_cost += c;
+  }
+  // No tile counts as nearly free: one that was cheap last time may not be now.
+  if (!cost_hint_.empty()) {
+    const float least = static_cast<float>(total_cost / cost_hint_.size() / 8);
+    for (float& c : cost_hint_) c = std::max(c, least);
   }
   // No tiles (the all-zero launch builds accelerations only): every device gets one empty call.
   build_only_ = tiles.empty();
@@ -148,25 +155,29 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
     // while the others idle: with two calls in flight per device, at most half of the queue is
     // out at once (and a lost device takes back no more than that).
     // But not below a 64x64 tile's worth of launch indices per thread (or what the launch asked
-    // for: light launches want fewer, larger calls), short of an equal share of the launch for
-    // every call the devices have in flight: a call costs a round trip, and one-tile calls of
-    // small tiles leave devices waiting for it.
+    // for: light launches want fewer, larger calls), short of a guided share of the whole launch
+    // (so that a launch heavier than its estimate still splits in several calls per device): a
+    // call costs a round trip, and one-tile calls of small tiles leave devices waiting for it.
     const size_t live =
         std::max<size_t>(1, static_cast<size_t>(std::count(lost_.begin(), lost_.end(), false)));
     const size_t share =
-        std::max<size_t>(1, (initial_tiles_ + kCallsInFlight * live - 1) / (kCallsInFlight * live));
+        std::max<size_t>(1, (initial_tiles_ + kGuidedShare * live - 1) / (kGuidedShare * live));
     const size_t floor = std::min<size_t>(
         std::max<uint64_t>(1, min_indices_per_thread_ * threads / tile_indices_), share);
     if (cost_hint_.empty()) {
       batch = std::clamp<size_t>(std::max(queue.size() / (kGuidedShare * live), floor), 1, batch);
     } else {
-      // The same guided share, of the queue's cost rather than its tiles.
+      // The same guided share, of the queue's cost rather than its tiles; but never more tiles
+      // than the count's share: the hint comes from an earlier launch, and what was cheap there
+      // may not be now. So hints only split expensive regions finer.
       double queued = 0;
       for (const v1::Tile& t : queue) queued += cost_hint_[t.index()];
       const double target = queued / static_cast<double>(kGuidedShare * live);
+      const size_t most =
+          std::min(batch, std::max<size_t>(floor, queue.size() / (kGuidedShare * live)));
       size_t n = 0;
       double cost = 0;
-      while (n < queue.size() && n < batch && (n < floor || cost < target)) {
+      while (n < queue.size() && n < most && (n < floor || cost < target)) {
         cost += cost_hint_[queue[n].index()];
         ++n;
       }
@@ -339,11 +350,12 @@ bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
     if (remaining_ == 0) work_cv_.notify_all();
     return !build_only_;
   }
-  // The call's tiles count again where they run next.
-  if (progress_ != nullptr) progress_->fetch_sub(reported, std::memory_order_relaxed);
   if (stop_) return false;  // cancelled, or the launch already failed elsewhere
   const absl::StatusCode code = status.code();
   if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {
+    // The call's tiles count again where they run next. (Progress goes down only here: a
+    // cancelled or failed launch keeps what it reported.)
+    if (progress_ != nullptr) progress_->fetch_sub(reported, std::memory_order_relaxed);
     if (!lost_[d]) lost_reasons_.push_back({d, status});
     lost_[d] = true;
     Release(d);

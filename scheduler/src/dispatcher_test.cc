@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <map>
@@ -54,9 +55,15 @@ class FakeDevice : public Device {
           return absl::AbortedError("crashed: signal 11 (SIGSEGV) in closest hit program 'ch'");
         case Fault::kProgramError:
           return absl::InvalidArgumentError("closest hit program 'ch': no such function");
-        case Fault::kBlockUntilCancel:
+        case Fault::kBlockUntilCancel: {
+          // Says it finished the first tile, as a worker's heartbeat does, then runs on.
+          v1::TileResult heartbeat;
+          heartbeat.set_tile_index(kHeartbeatTileIndex);
+          heartbeat.set_tiles_done(1);
+          on_result(std::move(heartbeat));
           while (!cancel.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
           return absl::CancelledError("launch cancelled");
+        }
         case Fault::kNone:
           break;
       }
@@ -149,8 +156,8 @@ TEST(DispatcherTest, DynamicAssignmentRunsEveryTileOnce) {
   EXPECT_TRUE(out.lost.empty());
 }
 
-// A light launch asks for large calls: the launch goes out in an equal share per call the
-// devices have in flight (two each), not in calls that shrink as the queue drains.
+// A light launch asks for large calls: the launch goes out in a guided share of the whole launch
+// per call (an eighth over two devices), not in calls that shrink as the queue drains.
 TEST(DispatcherTest, ALightLaunchTakesFewCalls) {
   FakeDevice a, b;
   Outcome guided = RunAll({&a, &b}, 100, /*stable=*/false);
@@ -160,7 +167,7 @@ TEST(DispatcherTest, ALightLaunchTakesFewCalls) {
   Outcome light = RunAll({&c, &d}, 100, /*stable=*/false, 1, /*min_indices_per_thread=*/1 << 22);
   ASSERT_TRUE(light.status.ok()) << light.status;
   EXPECT_EQ(light.device_of_tile.size(), 100u);
-  EXPECT_EQ(c.calls() + d.calls(), 4);
+  EXPECT_EQ(c.calls() + d.calls(), 8);
 }
 
 // With what an earlier launch measured, batches are cut to like costs: the expensive first
@@ -185,6 +192,17 @@ TEST(DispatcherTest, BatchesAreCutByTheCostsAnEarlierLaunchMeasured) {
   batches = c.batch_of_tile();
   for (const auto& [tile, size] : d.batch_of_tile()) batches[tile] = size;
   EXPECT_LE(batches[0], 5);  // a guided share of the cost: 380 / (4 * 2) is 5 tiles of 10
+
+  // Tiles nearly free last time do not make a batch larger than counting tiles would: what was
+  // cheap may not be now.
+  std::fill(costs.begin(), costs.end(), 1e-6f);
+  for (int i = 150; i < 200; ++i) costs[i] = 10.f;
+  FakeDevice e, f;
+  Outcome third = RunAll({&e, &f}, 200, /*stable=*/false, 1, 0, costs);
+  ASSERT_TRUE(third.status.ok()) << third.status;
+  batches = e.batch_of_tile();
+  for (const auto& [tile, size] : f.batch_of_tile()) batches[tile] = size;
+  EXPECT_LE(batches[0], 25);  // the count's share: 200 / (4 * 2)
 }
 
 TEST(DispatcherTest, StableOwnershipKeepsTileIOnDeviceIModN) {
@@ -315,9 +333,13 @@ TEST(DispatcherTest, BatchesComeInTheOrderTheirDeviceRanThem) {
 TEST(DispatcherTest, CancelStopsRunningCallsPromptly) {
   FakeDevice a(FakeDevice::Fault::kBlockUntilCancel), b(FakeDevice::Fault::kBlockUntilCancel);
   std::vector<DispatchDevice> devices = {{&a, "a", 1, {}}, {&b, "b", 1, {}}};
-  Dispatcher dispatcher(std::move(devices), MakeTiles({100 * kTileIndices}, {kTileIndices}), false);
+  std::atomic<uint64_t> progress{0};
+  Dispatcher dispatcher(std::move(devices), MakeTiles({100 * kTileIndices}, {kTileIndices}), false,
+                        &progress);
   std::vector<FinishedBatch> batches;
   EXPECT_FALSE(dispatcher.Wait(steady_clock::now() + std::chrono::milliseconds(20), &batches));
+  const uint64_t reported = progress.load();
+  EXPECT_GT(reported, 0u);  // the calls' heartbeats
   const auto start = steady_clock::now();
   dispatcher.Cancel();
   while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
@@ -325,6 +347,8 @@ TEST(DispatcherTest, CancelStopsRunningCallsPromptly) {
   EXPECT_LT(steady_clock::now() - start, std::chrono::seconds(2));
   EXPECT_EQ(dispatcher.status().code(), absl::StatusCode::kCancelled);
   EXPECT_TRUE(batches.empty());
+  // Progress goes down only when a device is lost, not when the launch is cancelled.
+  EXPECT_EQ(progress.load(), reported);
 }
 
 // A process that may start no more threads (RLIMIT_NPROC, as an unprivileged user) gets a
