@@ -49,23 +49,11 @@ const RayData* EngineRay(ThreadState& ts) {
       return nullptr;
   }
 }
-Hit* EngineHit(ThreadState& ts) {
-  switch (ts.kind) {
-    case ProgramKind::kClosestHit:
-      return &ts.top().hit;
-    case ProgramKind::kAnyHit:
-      return &ts.candidate;
-    case ProgramKind::kAttribute:
-      return ts.attribute_hit;
-    default:
-      return nullptr;
-  }
-}
 const float* EngineDistance(ThreadState& ts) {
   if (ts.kind == ProgramKind::kIntersection || ts.kind == ProgramKind::kVisit) {
     return &ts.top().hit.t;
   }
-  const Hit* h = EngineHit(ts);
+  const Hit* h = HitOf(ts);
   return h == nullptr ? nullptr : &h->t;
 }
 
@@ -88,7 +76,7 @@ void ShareIn(ThreadState& ts, const BoundProgram& caller, const ModuleState& fro
     const BoundProgram::SlotRef* r = OfSize(caller.payload, f.payload_size);
     WriteSlots(to, callee.payload, r ? from.slots[r->var] : f.payload, f.payload_size);
   }
-  const Hit* hit = EngineHit(ts);
+  const Hit* hit = HitOf(ts);
   for (const BoundProgram::Attribute& a : callee.attributes) {
     if (const BoundProgram::Attribute* c = SameAttribute(caller, a)) {
       CopyBytes(to.slots[a.var], from.slots[c->var], a.size);

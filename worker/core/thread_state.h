@@ -209,6 +209,21 @@ inline void LimitStack(ThreadState& ts, const void* start) {
   ts.stack_limit = std::max(ts.stack_floor, reinterpret_cast<const char*>(limit));
 }
 
+// The hit the running program sees: its own closest hit, the any-hit candidate, or the hit an
+// attribute program computes attributes for; null for other kinds.
+inline Hit* HitOf(ThreadState& ts) {
+  switch (ts.kind) {
+    case ProgramKind::kClosestHit:
+      return &ts.top().hit;
+    case ProgramKind::kAnyHit:
+      return &ts.candidate;
+    case ProgramKind::kAttribute:
+      return ts.attribute_hit;
+    default:
+      return nullptr;
+  }
+}
+
 inline ThreadState& TS() {
   if (__builtin_expect(t_state == nullptr, 0)) return CreateThreadState();
   return *t_state;

@@ -660,18 +660,8 @@ void RtIntersectChild(unsigned index) {
 }
 
 namespace {
-// The hit the running program asks about: its own closest hit, the any-hit candidate, or the hit
-// an attribute program computes attributes for.
-const Hit& CurrentHit(ThreadState& ts) {
-  switch (ts.kind) {
-    case ProgramKind::kClosestHit:
-      return ts.top().hit;
-    case ProgramKind::kAnyHit:
-      return ts.candidate;
-    default:
-      return *ts.attribute_hit;
-  }
-}
+// The hit the running program asks about (its kind was checked to be one of kHitPrograms).
+const Hit& CurrentHit(ThreadState& ts) { return *HitOf(ts); }
 constexpr unsigned kHitPrograms =
     Bit(ProgramKind::kAttribute) | Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kClosestHit);
 }  // namespace
