@@ -246,14 +246,16 @@ TEST_F(FaultTest, AnUnusableWorkerTimeoutIsSaidAndTheDefaultUsed) {
       << warning;
 }
 
-// A cancelled launch whose program never returns leaves its workers busy for good: the next
-// launch takes them for hung after the deadline and goes on without them, instead of waiting
-// behind the cancelled call forever (its queued call used to send heartbeats meanwhile).
+// A cancelled launch whose program never returns, on workers that cannot interrupt it (interrupts
+// off; tests/semantics EndlessTest has them on), leaves its workers busy for good: the next launch
+// takes them for hung after the deadline and goes on without them, instead of waiting behind the
+// cancelled call forever (its queued call used to send heartbeats meanwhile).
 int g_cancel_polls = 0;
 int CancelOnSecondPoll() { return ++g_cancel_polls >= 2 ? 1 : 0; }
 
 TEST_F(FaultTest, ACancelledEndlessProgramDoesNotWedgeTheNextLaunch) {
   setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  setenv("TESSERA_INTERRUPT_SIGNAL", "0", 1);  // read by the workers this starts
   Create("local:2");
   Ok(rtVariableSet1i(scene_.iterations, std::numeric_limits<int>::max()));  // hours per index
   g_cancel_polls = 0;
@@ -265,6 +267,7 @@ TEST_F(FaultTest, ACancelledEndlessProgramDoesNotWedgeTheNextLaunch) {
   std::string warning;
   r = TimedLaunch(0, &seconds, &warning);
   unsetenv("TESSERA_WORKER_TIMEOUT");
+  unsetenv("TESSERA_INTERRUPT_SIGNAL");
   // Both workers may be stuck: then no device is left for this launch, and the next one runs on
   // respawned workers.
   EXPECT_TRUE(r == RT_SUCCESS || r == RT_ERROR_CONNECTION_FAILED) << ErrorText(ctx_, r);

@@ -15,6 +15,7 @@
 #include "absl/strings/escaping.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "interrupt.h"
 #include "module_store.h"
 #include "runtime.h"
 #include "tessera/scheduler/module_file.h"
@@ -238,6 +239,7 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
                      TESSERA_MODULE_ABI_VERSION,
                      "): rebuild it against this Tessera's headers (docs/install.md)"));
   }
+  RegisterModuleCode(handle);  // a program looping forever in it can be jumped out of
   auto module = std::make_unique<Module>();
   // Process-wide, not per cache: the index selects this module's per-thread slot tables.
   static std::atomic<int> next_index{0};

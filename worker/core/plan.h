@@ -180,6 +180,8 @@ class SceneCache {
   absl::StatusOr<std::array<float, 6>> Bounds(LaunchPlan& plan, NodeRef ref, int depth,
                                               int* height);
   absl::StatusOr<const SceneEntry*> BuildGeometryGroup(LaunchPlan& plan, uint64_t id);
+  absl::Status RunBounds(const LaunchPlan& plan, const BoundProgram& program, uint64_t geometry,
+                         std::vector<float>& bounds);
   // An Embree triangle geometry from GeometryTriangles `id` (not committed).
   absl::StatusOr<RTCGeometry> BuiltinTriangles(const Replica& r, uint64_t id, const GeometryRec& g);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);

@@ -14,6 +14,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "interrupt.h"
 #include "tessera/rt.h"
 #include "thread_state.h"
 
@@ -373,6 +374,15 @@ void ResetNesting(ThreadState& ts) {
   for (ModuleState& ms : ts.modules) ms.suspended = nullptr;
 }
 
+// Forgets what a launch index left behind when it was jumped out of (InterruptibleTile): nested
+// calls, and the any-hit program it may have been in, whose state lived in the frames skipped.
+void ForgetInterruptedIndex(ThreadState& ts) {
+  ResetNesting(ts);
+  ts.pending = nullptr;
+  ts.ah_end = nullptr;
+  ts.ah_calls = 0;
+}
+
 // The report of the exception at the current launch index (ts.exception_code and _details),
 // which reached no exception program, for the host: printed there among the prints when printing
 // shows this launch index, else counted on stderr naming the launch's first. What the host would
@@ -444,6 +454,35 @@ inline void RunIndex(ThreadState& ts, const LaunchPlan& plan, unsigned entry,
 
 }  // namespace
 
+namespace {
+
+// The launch indices of a tile, each until it returns; false when a cancel or a failure elsewhere
+// ended the launch first. Out of RunTile, whose sigsetjmp would keep this loop's values out of
+// registers.
+__attribute__((noinline)) bool RunIndices(ThreadState& ts, const LaunchPlan& plan, unsigned entry,
+                                          const BoundProgram& rg, const Index3& origin,
+                                          const Index3& size, const Index3& dims,
+                                          const std::atomic<bool>& cancel,
+                                          const std::atomic<bool>& stop) {
+  const Index3 end{std::min(origin[0] + size[0], dims[0]), std::min(origin[1] + size[1], dims[1]),
+                   std::min(origin[2] + size[2], dims[2])};
+  for (uint32_t z = origin[2]; z < end[2]; ++z) {
+    for (uint32_t y = origin[1]; y < end[1]; ++y) {
+      for (uint32_t x = origin[0]; x < end[0]; ++x) {
+        // Checked per launch index so a cancel stops even long-running programs promptly.
+        if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
+          return false;
+        }
+        ts.index = {x, y, z};
+        RunIndex(ts, plan, entry, rg);
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const Index3& size,
              const Index3& dims, const std::atomic<bool>& cancel, const std::atomic<bool>& stop,
              v1::TileResult& out) {
@@ -470,21 +509,17 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
       ts.out_reports_not_sent = nullptr;
     }
   } clear_out{ts};
-  const Index3 end{std::min(origin[0] + size[0], dims[0]), std::min(origin[1] + size[1], dims[1]),
-                   std::min(origin[2] + size[2], dims[2])};
-  for (uint32_t z = origin[2]; z < end[2]; ++z) {
-    for (uint32_t y = origin[1]; y < end[1]; ++y) {
-      for (uint32_t x = origin[0]; x < end[0]; ++x) {
-        // Checked per launch index so a cancel stops even long-running programs promptly.
-        if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
-          return false;
-        }
-        ts.index = {x, y, z};
-        RunIndex(ts, plan, entry, *rg);
-      }
-    }
+  // A program that never returns is jumped out of when the launch ends (interrupt.h); the index
+  // it left half done is forgotten as an exception's would be, and the tile is abandoned.
+  InterruptibleTile interruptible(cancel, stop);
+  sigjmp_buf interrupted;
+  if (sigsetjmp(interrupted, 0) != 0) {
+    interruptible.Disarm();
+    ForgetInterruptedIndex(ts);
+    return false;
   }
-  return true;
+  interruptible.Arm(&interrupted);
+  return RunIndices(ts, plan, entry, *rg, origin, size, dims, cancel, stop);
 }
 
 void RunBoundsProgram(const LaunchPlan& plan, const BoundProgram& program, unsigned primitive,

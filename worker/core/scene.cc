@@ -11,6 +11,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "callbacks.h"
+#include "interrupt.h"
 #include "plan.h"
 #include "runtime.h"
 #include "tessera/rt.h"
@@ -400,23 +401,8 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
       }
       // Bounds a program leaves unwritten stay NaN: invalid, so that primitive is never hit.
       info->bounds.assign(size_t{g.primitive_count} * 6, std::numeric_limits<float>::quiet_NaN());
-      for (uint64_t p = 0; p < g.primitive_count; ++p) {
-        if (p % 1024 == 0 && Cancelled()) {
-          return absl::CancelledError(
-              absl::StrCat("launch cancelled while running the bounding box program of geometry #",
-                           gi.geometry, " (primitive ", p, " of ", g.primitive_count, ")"));
-        }
-        float* b = &info->bounds[p * 6];
-        RunBoundsProgram(plan, *ip.bounds, static_cast<unsigned>(p), b);
-        bool finite = true;
-        for (int k = 0; k < 6; ++k) finite = finite && std::isfinite(b[k]);
-        if (!finite || b[0] > b[3] || b[1] > b[4] || b[2] > b[5]) {
-          // Invalid bounds: the primitive can never be hit (OptiX leaves this undefined).
-          b[0] = b[1] = b[2] = 1.f;
-          b[3] = b[4] = b[5] = -1.f;
-        } else {
-          ClampToEmbreeRange(b);
-        }
+      if (absl::Status s = RunBounds(plan, *ip.bounds, gi.geometry, info->bounds); !s.ok()) {
+        return s;
       }
       geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
       rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(g.primitive_count));
@@ -443,6 +429,60 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
   ++built_;
   slot = std::move(entry);
   return slot.get();
+}
+
+namespace {
+
+// Bounding boxes of primitives [*next, count) into `bounds`, six floats each; *next is the
+// primitive a cancel found.
+__attribute__((noinline)) bool BoundsOf(const LaunchPlan& plan, const BoundProgram& program,
+                                        std::vector<float>& bounds, const std::atomic<bool>* cancel,
+                                        uint64_t* next) {
+  const uint64_t count = bounds.size() / 6;
+  for (uint64_t& p = *next; p < count; ++p) {
+    if (p % 1024 == 0 && cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
+      return false;
+    }
+    float* b = &bounds[p * 6];
+    RunBoundsProgram(plan, program, static_cast<unsigned>(p), b);
+    bool finite = true;
+    for (int k = 0; k < 6; ++k) finite = finite && std::isfinite(b[k]);
+    if (!finite || b[0] > b[3] || b[1] > b[4] || b[2] > b[5]) {
+      // Invalid bounds: the primitive can never be hit (OptiX leaves this undefined).
+      b[0] = b[1] = b[2] = 1.f;
+      b[3] = b[4] = b[5] = -1.f;
+    } else {
+      ClampToEmbreeRange(b);
+    }
+  }
+  return true;
+}
+
+// BoundsOf, jumped out of where a program never returns after a cancel (interrupt.h), as a
+// launch index is.
+bool InterruptibleBoundsOf(const LaunchPlan& plan, const BoundProgram& program,
+                           std::vector<float>& bounds, const std::atomic<bool>& cancel,
+                           uint64_t* next) {
+  static const std::atomic<bool> kNever{false};
+  InterruptibleTile interruptible(cancel, kNever);
+  sigjmp_buf interrupted;
+  if (sigsetjmp(interrupted, 0) != 0) return false;
+  interruptible.Arm(&interrupted);
+  return BoundsOf(plan, program, bounds, &cancel, next);
+}
+
+}  // namespace
+
+absl::Status SceneCache::RunBounds(const LaunchPlan& plan, const BoundProgram& program,
+                                   uint64_t geometry, std::vector<float>& bounds) {
+  uint64_t next = 0;
+  const bool done = cancel_ == nullptr
+                        ? BoundsOf(plan, program, bounds, nullptr, &next)
+                        : InterruptibleBoundsOf(plan, program, bounds, *cancel_, &next);
+  if (done) return absl::OkStatus();
+  return absl::CancelledError(
+      absl::StrCat("launch cancelled while running the bounding box program of geometry #",
+                   geometry, " (primitive ", next, " of ", bounds.size() / 6, ")"));
 }
 
 absl::StatusOr<RTCGeometry> SceneCache::BuiltinTriangles(const Replica& r, uint64_t id,

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "callbacks.h"
+#include "interrupt.h"
 #include "tessera/rt.h"
 #include "thread_state.h"
 
@@ -459,6 +460,9 @@ __attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) 
 }  // namespace
 
 void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t payload_size) {
+  // A program looping on rtTrace spends its time in the engine and Embree, where an interrupt
+  // only leaves this request (interrupt.h).
+  if (__builtin_expect(t_interrupt_requested, 0)) TakeInterruptRequest();
   ThreadState& ts = TS();
   CheckCall(
       ts,

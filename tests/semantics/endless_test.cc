@@ -1,0 +1,126 @@
+// A program that never returns (an endless loop) does not hang a cancelled launch: the timeout
+// callback's cancel ends the launch with RT_TIMEOUT_CALLBACK wherever the program loops, and the
+// device runs the next launch at once. On an in-process device and on worker processes.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "rt_fixture.h"
+
+namespace tessera::testing {
+namespace {
+
+constexpr char kModule[] = "endless_programs";
+constexpr unsigned kWidth = 4, kHeight = 2;
+constexpr int kEndlessAt = 1;  // launch index x that loops
+
+int CancelAlways() { return 1; }
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+class EndlessTest : public OnDevicesFixture {
+ protected:
+  void SetUp() override {
+    OnDevicesFixture::SetUp();
+    result_ = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, kWidth, kHeight);
+    Ok(rtVariableSet1i(ContextVar("endless_at"), kEndlessAt));
+  }
+
+  // A unit box at the origin every traced ray hits, with intersection and closest-hit programs
+  // `intersect` and `closest_hit`; `miss` for rays of an empty scene instead when `hit` is false.
+  void Scene(const char* intersect, const char* closest_hit, const char* miss, bool hit) {
+    Instance box = MakeInstance(Program(kModule, intersect), Program(kModule, "unit_bounds"), 1,
+                                Program(kModule, closest_hit));
+    if (!hit) Ok(rtGeometryGroupSetChildCount(box.group, 0));
+    Ok(rtVariableSetObject(ContextVar("top_object"), box.group));
+    Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, miss)));
+  }
+
+  // Launches with `raygen` and a callback that cancels at its first poll: the launch must end as
+  // cancelled. Then, with no index looping and no callback, the next launch must work at once
+  // (a worker still spinning would hold it up for TESSERA_WORKER_TIMEOUT, 10 s) and write 1
+  // everywhere.
+  void ExpectCancelledThenWorking(const char* raygen) {
+    Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, raygen)));
+    Ok(rtContextSetTimeoutCallback(ctx_, &CancelAlways, 0.05));
+    auto start = std::chrono::steady_clock::now();
+    RTresult code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
+    EXPECT_EQ(code, RT_TIMEOUT_CALLBACK) << Error(code);
+    EXPECT_LT(Seconds(start), 30.0);
+
+    Ok(rtContextSetTimeoutCallback(ctx_, nullptr, 0.0));
+    Ok(rtVariableSet1i(ContextVar("endless_at"), -1));
+    start = std::chrono::steady_clock::now();
+    code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
+    ASSERT_EQ(code, RT_SUCCESS) << Error(code);
+    EXPECT_LT(Seconds(start), 5.0) << "the device was still busy with the endless program";
+    for (float v : ReadAs<float>(result_)) EXPECT_EQ(v, 1.f);
+  }
+
+  RTbuffer result_ = nullptr;
+};
+
+TEST_P(EndlessTest, ALoopInProgramCode) {
+  Scene("quick_intersect", "quick_closest_hit", "loop_miss", true);
+  ExpectCancelledThenWorking("loop_raygen");
+}
+
+// The loop spends its time in libm, outside program code, but for its own few instructions.
+TEST_P(EndlessTest, ALoopCallingLibm) {
+  Scene("quick_intersect", "quick_closest_hit", "loop_miss", true);
+  ExpectCancelledThenWorking("libm_raygen");
+}
+
+// A loop of rtTrace calls spends its time in the engine and Embree.
+TEST_P(EndlessTest, ALoopOfTraces) {
+  Scene("quick_intersect", "quick_closest_hit", "loop_miss", true);
+  ExpectCancelledThenWorking("trace_loop_raygen");
+}
+
+TEST_P(EndlessTest, AClosestHitProgramUnderTrace) {
+  Scene("quick_intersect", "loop_closest_hit", "loop_miss", true);
+  ExpectCancelledThenWorking("trace_raygen");
+}
+
+TEST_P(EndlessTest, AMissProgramUnderTrace) {
+  Scene("quick_intersect", "quick_closest_hit", "loop_miss", false);
+  ExpectCancelledThenWorking("trace_raygen");
+}
+
+// The intersection program runs inside Embree's traversal, which the jump leaves too.
+TEST_P(EndlessTest, AnIntersectionProgramInsideTraversal) {
+  Scene("loop_intersect", "quick_closest_hit", "loop_miss", true);
+  ExpectCancelledThenWorking("trace_raygen");
+}
+
+// Bounding box programs run while the launch builds its accelerations, before any tile.
+TEST_P(EndlessTest, ABoundingBoxProgram) {
+  Instance box = MakeInstance(Program(kModule, "quick_intersect"), Program(kModule, "loop_bounds"),
+                              1, Program(kModule, "quick_closest_hit"));
+  Ok(rtVariableSetObject(ContextVar("top_object"), box.group));
+  Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "loop_miss")));
+  ExpectCancelledThenWorking("trace_raygen");
+}
+
+// Several launches in a row, each interrupted: nothing the jumps skipped piles up or breaks
+// the next launch.
+TEST_P(EndlessTest, InterruptedAgainAndAgain) {
+  Scene("loop_intersect", "loop_closest_hit", "loop_miss", true);
+  for (int i = 0; i < 3; ++i) {
+    Ok(rtVariableSet1i(ContextVar("endless_at"), kEndlessAt));
+    ExpectCancelledThenWorking(i % 2 == 0 ? "trace_raygen" : "loop_raygen");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Devices, EndlessTest, ::testing::Values("inproc", "local:2"),
+                         [](const ::testing::TestParamInfo<const char*>& info) {
+                           std::string name = info.param;
+                           return name == "inproc" ? std::string("inproc") : "local2";
+                         });
+
+}  // namespace
+}  // namespace tessera::testing

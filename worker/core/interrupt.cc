@@ -1,0 +1,258 @@
+#include "interrupt.h"
+
+#include <dlfcn.h>
+#include <link.h>
+#include <pthread.h>
+#include <signal.h>
+#include <ucontext.h>
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <cstdlib>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace tessera::worker {
+
+__thread bool t_interrupt_requested __attribute__((tls_model("initial-exec"))) = false;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A launch index that returns at all normally ends well within kGrace of a cancel (tiles check
+// between indices); only then do signals start, one every kPeriod while the thread stays.
+constexpr auto kGrace = std::chrono::milliseconds(50);
+constexpr auto kPeriod = std::chrono::milliseconds(20);
+
+// ---- Program code ------------------------------------------------------------------------------
+// Executable segments of loaded modules: appended under a lock, read by the handler without one
+// (entries are written before the count that publishes them). Modules stay loaded for the
+// process's life, so entries never go. Past kMaxRanges a module's loops are still taken at rtTrace.
+struct CodeRange {
+  uintptr_t begin, end;
+};
+constexpr size_t kMaxRanges = 16384;
+CodeRange g_ranges[kMaxRanges];
+std::atomic<size_t> g_range_count{0};
+std::mutex g_ranges_mu;
+
+bool InModuleCode(uintptr_t pc) {
+  const size_t n = g_range_count.load(std::memory_order_acquire);
+  for (size_t i = 0; i < n; ++i) {
+    if (pc >= g_ranges[i].begin && pc < g_ranges[i].end) return true;
+  }
+  return false;
+}
+
+// ---- Threads running tiles ---------------------------------------------------------------------
+struct Slot {
+  pthread_t thread;
+  // Read by the handler on the slot's own thread; written by that thread under Registry::mu.
+  std::atomic<sigjmp_buf*> jump{nullptr};  // non-null while armed
+  std::atomic<const std::atomic<bool>*> cancel{nullptr}, stop{nullptr};
+  Clock::time_point ending{};  // the interrupter's: when it first saw this tile's launch end
+};
+
+// Never destroyed: the interrupter thread waits on it until the process is gone.
+struct Registry {
+  std::mutex mu;  // guards slots, armed and the slots' arming
+  std::condition_variable armed_cv;
+  std::vector<Slot*> slots;
+  int armed = 0;
+};
+Registry& Reg() {
+  static Registry* r = new Registry;
+  return *r;
+}
+
+__thread Slot* t_slot __attribute__((tls_model("initial-exec"))) = nullptr;
+
+// Unregisters the thread's slot when the thread ends, so that no signal goes to a dead thread.
+struct SlotOwner {
+  ~SlotOwner() {
+    if (t_slot == nullptr) return;
+    Registry& r = Reg();
+    std::lock_guard<std::mutex> lock(r.mu);
+    r.slots.erase(std::find(r.slots.begin(), r.slots.end(), t_slot));
+    delete t_slot;
+    t_slot = nullptr;
+  }
+};
+thread_local SlotOwner t_slot_owner;
+
+// ---- The signal --------------------------------------------------------------------------------
+// TESSERA_INTERRUPT_SIGNAL picks another real-time signal for an application that uses this one;
+// 0 turns interrupts off (programs that never return then keep their thread, as before).
+int InterruptSignal() {
+  static const int sig = [] {
+    const char* env = std::getenv("TESSERA_INTERRUPT_SIGNAL");
+    if (env != nullptr && *env != '\0') return std::atoi(env);
+    return SIGRTMIN + 6;
+  }();
+  return sig;
+}
+
+struct sigaction g_previous;
+
+bool Ending(const Slot& s) {
+  return s.cancel.load(std::memory_order_relaxed)->load(std::memory_order_relaxed) ||
+         s.stop.load(std::memory_order_relaxed)->load(std::memory_order_relaxed);
+}
+
+void OnInterrupt(int sig, siginfo_t* info, void* context) {
+  Slot* s = t_slot;
+  sigjmp_buf* jump = s != nullptr ? s->jump.load(std::memory_order_relaxed) : nullptr;
+  if (jump == nullptr) {
+    // Not a tile of ours (or one that has just ended): an application's handler may want it.
+    if ((g_previous.sa_flags & SA_SIGINFO) != 0 && g_previous.sa_sigaction != nullptr) {
+      g_previous.sa_sigaction(sig, info, context);
+    } else if (g_previous.sa_handler != SIG_DFL && g_previous.sa_handler != SIG_IGN &&
+               g_previous.sa_handler != nullptr) {
+      g_previous.sa_handler(sig);
+    }
+    return;
+  }
+  if (!Ending(*s)) return;
+#if defined(__x86_64__)
+  const auto pc =
+      static_cast<uintptr_t>(static_cast<ucontext_t*>(context)->uc_mcontext.gregs[REG_RIP]);
+  if (InModuleCode(pc)) {
+    // Only the program's own frames, and engine frames waiting on calls into it, lie between
+    // here and the tile: no lock is held and no engine state is half written.
+    s->jump.store(nullptr, std::memory_order_relaxed);
+    siglongjmp(*jump, 1);
+  }
+#endif
+  t_interrupt_requested = true;  // the engine, Embree or a library: the next rtTrace jumps
+}
+
+void InstallHandler() {
+  struct sigaction action = {};
+  action.sa_sigaction = &OnInterrupt;
+  // SA_NODEFER: the handler leaves by siglongjmp to a sigsetjmp that saved no mask; the signal
+  // must not stay blocked after it.
+  action.sa_flags = SA_SIGINFO | SA_RESTART | SA_NODEFER;
+  sigemptyset(&action.sa_mask);
+  sigaction(InterruptSignal(), &action, &g_previous);
+}
+
+// Signals threads whose tile's launch ended kGrace ago and that are still in it. Runs only while
+// some thread is armed; sleeps on Registry::armed_cv otherwise.
+[[noreturn]] void InterrupterLoop() {
+  Registry& r = Reg();
+  std::unique_lock<std::mutex> lock(r.mu);
+  bool installed = false;
+  for (;;) {
+    r.armed_cv.wait(lock, [&] { return r.armed > 0; });
+    r.armed_cv.wait_for(lock, kPeriod);
+    const Clock::time_point now = Clock::now();
+    for (Slot* s : r.slots) {
+      if (s->jump.load(std::memory_order_relaxed) == nullptr || !Ending(*s)) {
+        s->ending = Clock::time_point();
+        continue;
+      }
+      if (s->ending == Clock::time_point()) s->ending = now;
+      if (now - s->ending < kGrace) continue;
+      if (!installed) {
+        InstallHandler();
+        installed = true;
+      }
+      pthread_kill(s->thread, InterruptSignal());
+    }
+  }
+}
+
+void StartInterrupter() {
+  static std::once_flag once;
+  std::call_once(once, [] { std::thread(&InterrupterLoop).detach(); });
+}
+
+}  // namespace
+
+void RegisterModuleCode(void* handle) {
+  link_map* map = nullptr;
+  if (dlinfo(handle, RTLD_DI_LINKMAP, &map) != 0 || map == nullptr) return;
+  struct Found {
+    ElfW(Addr) base;
+    std::vector<CodeRange> ranges;
+  } found{map->l_addr, {}};
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void* data) {
+        auto* f = static_cast<Found*>(data);
+        if (info->dlpi_addr != f->base) return 0;
+        for (ElfW(Half) i = 0; i < info->dlpi_phnum; ++i) {
+          const ElfW(Phdr)& ph = info->dlpi_phdr[i];
+          if (ph.p_type != PT_LOAD || (ph.p_flags & PF_X) == 0) continue;
+          const uintptr_t begin = info->dlpi_addr + ph.p_vaddr;
+          f->ranges.push_back({begin, begin + ph.p_memsz});
+        }
+        return 1;
+      },
+      &found);
+  std::lock_guard<std::mutex> lock(g_ranges_mu);
+  size_t n = g_range_count.load(std::memory_order_relaxed);
+  for (const CodeRange& r : found.ranges) {
+    if (n == kMaxRanges) break;
+    g_ranges[n++] = r;
+  }
+  g_range_count.store(n, std::memory_order_release);
+}
+
+InterruptibleTile::InterruptibleTile(const std::atomic<bool>& cancel,
+                                     const std::atomic<bool>& stop) {
+  if (InterruptSignal() <= 0) return;
+  StartInterrupter();
+  if (t_slot == nullptr) {
+    (void)&t_slot_owner;  // constructs the owner, which unregisters the slot at thread exit
+    auto* s = new Slot;
+    s->thread = pthread_self();
+    // A thread that blocks signals (say, one an application made before starting TBB's) would
+    // otherwise never take the interrupt.
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, InterruptSignal());
+    pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+    Registry& r = Reg();
+    std::lock_guard<std::mutex> lock(r.mu);
+    r.slots.push_back(s);
+    t_slot = s;
+  }
+  t_slot->cancel.store(&cancel, std::memory_order_relaxed);
+  t_slot->stop.store(&stop, std::memory_order_relaxed);
+}
+
+InterruptibleTile::~InterruptibleTile() { Disarm(); }
+
+void InterruptibleTile::Arm(sigjmp_buf* jump) {
+  if (t_slot == nullptr) return;
+  t_interrupt_requested = false;
+  Registry& r = Reg();
+  std::lock_guard<std::mutex> lock(r.mu);
+  t_slot->jump.store(jump, std::memory_order_relaxed);
+  armed_ = true;
+  if (++r.armed == 1) r.armed_cv.notify_one();
+}
+
+void InterruptibleTile::Disarm() {
+  if (!armed_) return;
+  Registry& r = Reg();
+  std::lock_guard<std::mutex> lock(r.mu);
+  t_slot->jump.store(nullptr, std::memory_order_relaxed);  // the handler may have cleared it
+  armed_ = false;
+  --r.armed;
+}
+
+void TakeInterruptRequest() {
+  t_interrupt_requested = false;
+  Slot* s = t_slot;
+  sigjmp_buf* jump = s != nullptr ? s->jump.load(std::memory_order_relaxed) : nullptr;
+  if (jump == nullptr || !Ending(*s)) return;
+  s->jump.store(nullptr, std::memory_order_relaxed);
+  siglongjmp(*jump, 1);
+}
+
+}  // namespace tessera::worker

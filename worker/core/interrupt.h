@@ -1,0 +1,48 @@
+// Stopping a launch index whose program never returns (an endless loop), when its launch is
+// cancelled or has failed elsewhere. Tiles check for a cancel between launch indices; a program
+// that never returns never gets there, so the thread gets a signal instead. Landing in program
+// code, the handler jumps back to the tile (RunTile's sigsetjmp); landing elsewhere (the engine,
+// Embree, libm), it leaves a request that the next rtTrace takes, or waits for the next signal.
+// docs/devices.md "Faults" says what a user sees.
+#ifndef TESSERA_WORKER_CORE_INTERRUPT_H_
+#define TESSERA_WORKER_CORE_INTERRUPT_H_
+
+#include <setjmp.h>
+
+#include <atomic>
+
+namespace tessera::worker {
+
+// Notes the executable segments of a program module just loaded with dlopen: the code a thread
+// may be jumped out of.
+void RegisterModuleCode(void* handle);
+
+// Set by the handler when the signal found the thread outside program code; rtTrace's entry,
+// where the engine's state is whole, takes it (TakeInterruptRequest).
+extern __thread bool t_interrupt_requested __attribute__((tls_model("initial-exec")));
+
+// While armed, the calling thread runs a tile that `cancel` or `stop` may end. A thread still
+// in the tile kGrace after either became true gets a signal every kPeriod until it leaves.
+// Construct before the sigsetjmp that `Arm` names and keep it in that frame: its destructor
+// disarms on every way out of the tile, a jump back included.
+class InterruptibleTile {
+ public:
+  InterruptibleTile(const std::atomic<bool>& cancel, const std::atomic<bool>& stop);
+  ~InterruptibleTile();
+  InterruptibleTile(const InterruptibleTile&) = delete;
+  InterruptibleTile& operator=(const InterruptibleTile&) = delete;
+
+  void Arm(sigjmp_buf* jump);
+  void Disarm();
+
+ private:
+  volatile bool armed_ = false;  // volatile: read again after a jump back to the sigsetjmp
+};
+
+// Jumps to the armed tile's sigsetjmp when its launch is ending; returns otherwise (a request
+// left by a signal that came as the tile ended).
+void TakeInterruptRequest();
+
+}  // namespace tessera::worker
+
+#endif  // TESSERA_WORKER_CORE_INTERRUPT_H_
