@@ -215,8 +215,11 @@ class InprocDevice : public Device {
 
   absl::Status Apply(const v1::StateDelta& delta) override {
     std::lock_guard<std::mutex> call_lock(call_mu_);
-    plan_.reset();  // bound programs point into the replica
-    return replica_.Apply(delta);
+    absl::Status applied = replica_.Apply(delta);
+    // Bound programs point into the replica: a plan outlives only deltas of values alone, which
+    // write where it points (replica_values.cc).
+    if (plan_ && plan_->structure_generation != replica_.structure_generation()) plan_.reset();
+    return applied;
   }
 
   absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
@@ -249,6 +252,10 @@ class InprocDevice : public Device {
       calls_ = 0;
     }
     const uint64_t sequence = ++calls_;  // calls run one at a time: this is the order they ran
+    if (plan_ && plan_->generation != replica_.generation() &&
+        !worker::RefreshValues(*plan_, scenes_)) {
+      plan_.reset();
+    }
     if (!plan_ || plan_->generation != replica_.generation()) {
       absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan;
       RunOnPlanThread([&] {

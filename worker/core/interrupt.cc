@@ -63,6 +63,7 @@ struct Registry {
   std::condition_variable armed_cv;
   std::vector<Slot*> slots;
   int armed = 0;
+  bool idle = false;  // the interrupter waits for a thread to arm (only then does Arm wake it)
 };
 Registry& Reg() {
   static Registry* r = new Registry;
@@ -147,21 +148,28 @@ void InstallHandler() {
   std::unique_lock<std::mutex> lock(r.mu);
   bool installed = false;
   for (;;) {
+    r.idle = true;
     r.armed_cv.wait(lock, [&] { return r.armed > 0; });
-    r.armed_cv.wait_for(lock, kPeriod);
-    const Clock::time_point now = Clock::now();
-    for (Slot* s : r.slots) {
-      if (s->jump.load(std::memory_order_relaxed) == nullptr || !Ending(*s)) {
-        s->ending = Clock::time_point();
-        continue;
+    r.idle = false;
+    while (r.armed > 0) {
+      // Not woken by threads arming meanwhile: a launch of short tiles arms a thread per tile.
+      lock.unlock();
+      std::this_thread::sleep_for(kPeriod);
+      lock.lock();
+      const Clock::time_point now = Clock::now();
+      for (Slot* s : r.slots) {
+        if (s->jump.load(std::memory_order_relaxed) == nullptr || !Ending(*s)) {
+          s->ending = Clock::time_point();
+          continue;
+        }
+        if (s->ending == Clock::time_point()) s->ending = now;
+        if (now - s->ending < kGrace) continue;
+        if (!installed) {
+          InstallHandler();
+          installed = true;
+        }
+        pthread_kill(s->thread, InterruptSignal());
       }
-      if (s->ending == Clock::time_point()) s->ending = now;
-      if (now - s->ending < kGrace) continue;
-      if (!installed) {
-        InstallHandler();
-        installed = true;
-      }
-      pthread_kill(s->thread, InterruptSignal());
     }
   }
 }
@@ -234,7 +242,8 @@ void InterruptibleTile::Arm(sigjmp_buf* jump) {
   std::lock_guard<std::mutex> lock(r.mu);
   t_slot->jump.store(jump, std::memory_order_relaxed);
   armed_ = true;
-  if (++r.armed == 1) r.armed_cv.notify_one();
+  ++r.armed;
+  if (r.idle) r.armed_cv.notify_one();
 }
 
 void InterruptibleTile::Disarm() {

@@ -47,11 +47,22 @@ void SplitInvariants(LaunchPlan& plan) {
     for (size_t i = 0; i < first.copies.size(); ++i) {
       const BoundProgram::Copy& c = first.copies[i];
       bool same = true;
+      const size_t merged = inv.merged.size();
       for (const BoundProgram* b : bindings) {
         const BoundProgram::Copy& o = b->copies[i];
-        same = same && o.var == c.var && (o.src == c.src || std::memcmp(o.src, c.src, c.size) == 0);
+        if (o.var != c.var || (o.src != c.src && std::memcmp(o.src, c.src, c.size) != 0)) {
+          same = false;
+          break;
+        }
+        if (o.src != c.src && (inv.merged.size() == merged || inv.merged.back().other != o.src)) {
+          inv.merged.push_back({c.src, o.src, c.size});
+        }
       }
-      if (same) inv.copies.push_back(c);
+      if (same) {
+        inv.copies.push_back(c);
+      } else {
+        inv.merged.resize(merged);
+      }
     }
     auto is_invariant_copy = [&](const BoundProgram::Copy& c) {
       for (const auto& i : inv.copies)
@@ -248,12 +259,29 @@ uint32_t LaunchPlan::NodeType(uint64_t id) const {
   return 0;
 }
 
+namespace {
+std::atomic<uint64_t> g_next_serial{1};
+}  // namespace
+
+bool RefreshValues(LaunchPlan& plan, SceneCache& scenes) {
+  for (const ModuleInvariants& inv : plan.invariants) {
+    for (const ModuleInvariants::Merged& m : inv.merged) {
+      if (std::memcmp(m.kept, m.other, m.size) != 0) return false;
+    }
+  }
+  const uint64_t serial = g_next_serial++;
+  scenes.Reserial(plan.serial, serial);
+  plan.serial = serial;
+  plan.generation = plan.replica->generation();
+  return true;
+}
+
 absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes,
                                                      const std::atomic<bool>* cancel) {
-  static std::atomic<uint64_t> next_serial{1};
   auto plan = std::make_unique<LaunchPlan>();
-  plan->serial = next_serial++;
+  plan->serial = g_next_serial++;
   plan->generation = replica.generation();
+  plan->structure_generation = replica.structure_generation();
   plan->replica = &replica;
   plan->scenes = &scenes;
   const ContextRec& ctx = replica.context();

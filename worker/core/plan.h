@@ -107,6 +107,15 @@ class SceneCache;
 // initializers): loaded once per thread and plan, not per program.
 struct ModuleInvariants {
   std::vector<BoundProgram::Copy> copies;
+  // Copies made invariant because their values were equal though they came from different
+  // variables: `kept` is the source the invariant copies, `other` one that had the same bytes.
+  // A delta of values alone may make them differ (RefreshValues).
+  struct Merged {
+    const void* kept;
+    const void* other;
+    size_t size;
+  };
+  std::vector<Merged> merged;
 };
 
 // A graph node as traversal needs it.
@@ -123,8 +132,9 @@ struct NodeInfo {
 };
 
 struct LaunchPlan {
-  uint64_t serial = 0;  // unique per plan in this process
-  uint64_t generation = 0;
+  uint64_t serial = 0;      // unique per plan in this process, and per refresh of its values
+  uint64_t generation = 0;  // the replica's generation it was made or refreshed for
+  uint64_t structure_generation = 0;  // the replica's structure generation it was made for
   const Replica* replica = nullptr;
   std::deque<BoundProgram> programs;  // owns every bound program
   std::vector<const BoundProgram*> ray_generation, exception, miss;
@@ -169,6 +179,13 @@ class SceneCache {
   // CANCELLED; scenes finished before that stay cached, the interrupted one is dropped.
   absl::Status Update(LaunchPlan& plan, const std::vector<uint64_t>& roots,
                       const std::atomic<bool>* cancel = nullptr);
+  // Scenes checked by the plan of serial `from` are now checked by that of serial `to` (the same
+  // plan, refreshed).
+  void Reserial(uint64_t from, uint64_t to) {
+    for (auto& [id, entry] : entries_) {
+      if (entry != nullptr && entry->plan_serial == from) entry->plan_serial = to;
+    }
+  }
   const SceneEntry* Find(uint64_t id) const {
     auto it = entries_.find(id);
     return it == entries_.end() ? nullptr : it->second.get();
@@ -205,6 +222,12 @@ class SceneCache {
 
 // Builds the plan for `replica`: binds every program, then updates the scenes (CANCELLED when
 // `cancel` becomes true meanwhile).
+// Takes in a plan the variable values deltas of values alone wrote in place since the plan was
+// made (Replica::structure_generation unchanged): a new serial makes every thread load its
+// modules' slots again. False when the plan cannot be kept (values that were equal, and so
+// shared, now differ): make a new one.
+bool RefreshValues(LaunchPlan& plan, SceneCache& scenes);
+
 absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes,
                                                      const std::atomic<bool>* cancel = nullptr);
 

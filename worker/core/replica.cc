@@ -332,9 +332,16 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
   if (absl::Status s = Allocate(staged); !s.ok()) return s;
 
   // ---- Apply.
+  std::vector<ValueWrite> writes;
+  const bool values_only = ValuesOnly(delta, &writes);
   session_id_ = delta.session_id();
   sequence_ = delta.sequence();
   ++generation_;
+  if (values_only) {
+    WriteValues(writes);
+    return absl::OkStatus();
+  }
+  ++structure_generation_;
   const v1::ContextState& c = delta.context();
   context_.entry_point_count = c.entry_point_count();
   context_.ray_type_count = c.ray_type_count();

@@ -138,6 +138,10 @@ class Replica {
   std::unordered_map<uint64_t, TransformRec> transforms;
   std::unordered_map<uint64_t, SelectorRec> selectors;
   uint64_t generation() const { return generation_; }  // bumps with every applied delta
+  // Bumps with every applied delta that changes more than the bytes of variables: the scene,
+  // programs, buffers, a variable's name, type, object or size. Deltas of values alone are
+  // written in place (replica_values.cc), where bindings of an earlier plan point.
+  uint64_t structure_generation() const { return structure_generation_; }
 
  private:
   struct StagedBuffer;
@@ -149,10 +153,20 @@ class Replica {
   // Allocates the storage staged buffers need: RESOURCE_EXHAUSTED naming the buffer if it cannot.
   absl::Status Allocate(std::unordered_map<uint64_t, StagedBuffer>& staged) const;
 
+  // A scope a delta of values alone rewrites, and its variables as the delta sends them.
+  struct ValueWrite {
+    Scope* scope;
+    const google::protobuf::RepeatedPtrField<v1::Variable>* variables;
+  };
+  // Whether `delta` changes nothing but variables' bytes, and then the scopes it rewrites.
+  bool ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* writes);
+  static void WriteValues(const std::vector<ValueWrite>& writes);
+
   ContextRec context_;
   uint64_t session_id_ = 0;
   uint64_t sequence_ = 0;
   uint64_t generation_ = 0;
+  uint64_t structure_generation_ = 0;
   alignas(64) unsigned char write_epoch_ = 1;  // its own cache line: every marking access reads it
 };
 

@@ -1,0 +1,156 @@
+// Variable values changed between launches reach the next launch from every scope, also when a
+// device keeps its launch plan across deltas of values alone (Replica::structure_generation):
+// values that were equal, and so shared by all bindings of a module, may come to differ, and a
+// variable added later still shadows. On an in-process device and on worker processes.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "rt_fixture.h"
+
+namespace tessera::testing {
+namespace {
+
+constexpr char kModule[] = "value_updates_programs";
+constexpr unsigned kCount = 4;  // instances, one per launch index x
+
+class ValueUpdatesTest : public OnDevicesFixture {
+ protected:
+  void SetUp() override {
+    OnDevicesFixture::SetUp();
+    result_ = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, kCount, 1);
+    Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "row_raygen")));
+    Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "row_miss")));
+    Ok(rtVariableSet1f(ContextVar("frame"), 0.f));
+    Ok(rtVariableSet1f(ContextVar("offset"), 0.f));
+    closest_hit_ = Program(kModule, "row_closest_hit");
+    Ok(rtGeometryCreate(ctx_, &geometry_));
+    Ok(rtGeometrySetPrimitiveCount(geometry_, 1));
+    Ok(rtGeometrySetIntersectionProgram(geometry_, Program(kModule, "square_intersect")));
+    Ok(rtGeometrySetBoundingBoxProgram(geometry_, Program(kModule, "square_bounds")));
+    RTgeometrygroup group = nullptr;
+    Ok(rtGeometryGroupCreate(ctx_, &group));
+    Ok(rtGeometryGroupSetAcceleration(group, Accel()));
+    Ok(rtGeometryGroupSetChildCount(group, kCount));
+    for (unsigned i = 0; i < kCount; ++i) {
+      Ok(rtMaterialCreate(ctx_, &materials_[i]));
+      Ok(rtMaterialSetClosestHitProgram(materials_[i], 0, closest_hit_));
+      Ok(rtGeometryInstanceCreate(ctx_, &instances_[i]));
+      Ok(rtGeometryInstanceSetGeometry(instances_[i], geometry_));
+      Ok(rtGeometryInstanceSetMaterialCount(instances_[i], 1));
+      Ok(rtGeometryInstanceSetMaterial(instances_[i], 0, materials_[i]));
+      Ok(rtVariableSet1f(Declare(instances_[i], "center"), 2.f * i));
+      Ok(rtGeometryGroupSetChild(group, i, instances_[i]));
+    }
+    Ok(rtVariableSetObject(ContextVar("top_object"), group));
+  }
+
+  RTvariable Declare(RTgeometryinstance gi, const char* name) {
+    RTvariable v = nullptr;
+    if (rtGeometryInstanceQueryVariable(gi, name, &v) != RT_SUCCESS || v == nullptr) {
+      EXPECT_EQ(rtGeometryInstanceDeclareVariable(gi, name, &v), RT_SUCCESS);
+    }
+    return v;
+  }
+  RTvariable Declare(RTmaterial m, const char* name) {
+    RTvariable v = nullptr;
+    if (rtMaterialQueryVariable(m, name, &v) != RT_SUCCESS || v == nullptr) {
+      EXPECT_EQ(rtMaterialDeclareVariable(m, name, &v), RT_SUCCESS);
+    }
+    return v;
+  }
+
+  // Sets instance i's tint to tints[i].
+  void InstanceTints(std::vector<float> tints) {
+    for (unsigned i = 0; i < kCount; ++i)
+      Ok(rtVariableSet1f(Declare(instances_[i], "tint"), tints[i]));
+  }
+
+  std::vector<float> Launch() {
+    const RTresult code = rtContextLaunch2D(ctx_, 0, kCount, 1);
+    EXPECT_EQ(code, RT_SUCCESS) << Error(code);
+    return ReadAs<float>(result_);
+  }
+
+  RTbuffer result_ = nullptr;
+  RTprogram closest_hit_ = nullptr;
+  RTgeometry geometry_ = nullptr;
+  RTmaterial materials_[kCount] = {};
+  RTgeometryinstance instances_[kCount] = {};
+};
+
+using Floats = std::vector<float>;
+
+TEST_P(ValueUpdatesTest, ContextValuesReachEveryLaunch) {
+  InstanceTints({1.f, 2.f, 3.f, 4.f});
+  for (int f = 0; f < 4; ++f) {
+    Ok(rtVariableSet1f(ContextVar("frame"), 10.f * f));
+    Ok(rtVariableSet1f(ContextVar("offset"), 100.f * f));
+    const float add = 110.f * f;
+    EXPECT_EQ(Launch(), (Floats{1.f + add, 2.f + add, 3.f + add, 4.f + add})) << "launch " << f;
+  }
+}
+
+// Equal tints are one value for every binding of the module; then one instance's changes.
+TEST_P(ValueUpdatesTest, EqualInstanceValuesMayComeToDiffer) {
+  InstanceTints({1.f, 1.f, 1.f, 1.f});
+  EXPECT_EQ(Launch(), (Floats{1.f, 1.f, 1.f, 1.f}));
+  Ok(rtVariableSet1f(Declare(instances_[2], "tint"), 5.f));
+  EXPECT_EQ(Launch(), (Floats{1.f, 1.f, 5.f, 1.f}));
+  Ok(rtVariableSet1f(Declare(instances_[2], "tint"), 1.f));
+  EXPECT_EQ(Launch(), (Floats{1.f, 1.f, 1.f, 1.f}));
+  Ok(rtVariableSet1f(Declare(instances_[0], "tint"), 7.f));
+  Ok(rtVariableSet1f(ContextVar("frame"), 0.5f));
+  EXPECT_EQ(Launch(), (Floats{7.5f, 1.5f, 1.5f, 1.5f}));
+}
+
+TEST_P(ValueUpdatesTest, MaterialAndProgramValues) {
+  for (unsigned i = 0; i < kCount; ++i) Ok(rtVariableSet1f(Declare(materials_[i], "tint"), 2.f));
+  EXPECT_EQ(Launch(), (Floats{2.f, 2.f, 2.f, 2.f}));
+  Ok(rtVariableSet1f(Declare(materials_[1], "tint"), 3.f));
+  EXPECT_EQ(Launch(), (Floats{2.f, 3.f, 2.f, 2.f}));
+  RTvariable scale = nullptr;
+  Ok(rtProgramDeclareVariable(closest_hit_, "scale", &scale));
+  Ok(rtVariableSet1f(scale, 10.f));
+  EXPECT_EQ(Launch(), (Floats{20.f, 30.f, 20.f, 20.f}));
+  Ok(rtVariableSet1f(scale, 0.5f));
+  EXPECT_EQ(Launch(), (Floats{1.f, 1.5f, 1.f, 1.f}));
+}
+
+// The intersection program reads half_width from the geometry: 0 makes every ray miss.
+TEST_P(ValueUpdatesTest, GeometryValuesReachIntersectionPrograms) {
+  InstanceTints({1.f, 2.f, 3.f, 4.f});
+  RTvariable half_width = nullptr;
+  Ok(rtGeometryDeclareVariable(geometry_, "half_width", &half_width));
+  Ok(rtVariableSet1f(half_width, 0.5f));
+  EXPECT_EQ(Launch(), (Floats{1.f, 2.f, 3.f, 4.f}));
+  Ok(rtVariableSet1f(half_width, 0.f));
+  EXPECT_EQ(Launch(), (Floats{-1000.f, -1000.f, -1000.f, -1000.f}));
+  Ok(rtVariableSet1f(half_width, 0.25f));
+  EXPECT_EQ(Launch(), (Floats{1.f, 2.f, 3.f, 4.f}));
+}
+
+// After launches that changed values alone, a tint declared on an instance shadows its
+// material's (Table 5), and removing it uncovers the material's again.
+TEST_P(ValueUpdatesTest, AVariableAddedLaterShadows) {
+  for (unsigned i = 0; i < kCount; ++i) Ok(rtVariableSet1f(Declare(materials_[i], "tint"), 2.f));
+  for (int f = 0; f < 2; ++f) {
+    Ok(rtVariableSet1f(ContextVar("frame"), f));
+    EXPECT_EQ(Launch(), (Floats{2.f + f, 2.f + f, 2.f + f, 2.f + f}));
+  }
+  Ok(rtVariableSet1f(Declare(instances_[3], "tint"), 9.f));
+  EXPECT_EQ(Launch(), (Floats{3.f, 3.f, 3.f, 10.f}));
+  RTvariable tint = Declare(instances_[3], "tint");
+  Ok(rtGeometryInstanceRemoveVariable(instances_[3], tint));
+  EXPECT_EQ(Launch(), (Floats{3.f, 3.f, 3.f, 3.f}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Devices, ValueUpdatesTest, ::testing::Values("inproc", "local:2"),
+                         [](const ::testing::TestParamInfo<const char*>& info) {
+                           std::string name = info.param;
+                           return name == "inproc" ? std::string("inproc") : "local2";
+                         });
+
+}  // namespace
+}  // namespace tessera::testing
