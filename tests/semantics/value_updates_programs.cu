@@ -2,7 +2,7 @@
 // closest-hit program writes tint * scale + offset, and the ray generation program adds `frame`.
 // tint may be set on the geometry instance or its material; scale on the closest-hit program;
 // offset and frame on the context; half_width, which the intersection program reads, on the
-// geometry.
+// geometry. The INPUT buffer `bias` adds its element x.
 #include <optix.h>
 #include <optixu/optixu_math_namespace.h>
 
@@ -23,6 +23,7 @@ rtDeclareVariable(rtObject, top_object, , );
 rtDeclareVariable(Payload, payload, rtPayload, );
 rtDeclareVariable(optix::Ray, ray, rtCurrentRay, );
 rtBuffer<float, 2> result;
+rtBuffer<float> bias;  // INPUT, one per launch index x
 
 RT_PROGRAM void row_raygen() {
   Payload p;
@@ -30,7 +31,7 @@ RT_PROGRAM void row_raygen() {
   Ray r = make_Ray(make_float3(launch_index.x * 2.f, 0.f, -5.f), make_float3(0.f, 0.f, 1.f), 0, 0.f,
                    RT_DEFAULT_MAX);
   rtTrace(top_object, r, p);
-  result[launch_index] = p.value + frame;
+  result[launch_index] = p.value + frame + bias[launch_index.x];
 }
 
 RT_PROGRAM void row_miss() { payload.value = -1000.f; }

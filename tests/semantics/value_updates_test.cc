@@ -1,9 +1,11 @@
-// Variable values changed between launches reach the next launch from every scope, also when a
-// device keeps its launch plan across deltas of values alone (Replica::structure_generation):
-// values that were equal, and so shared by all bindings of a module, may come to differ, and a
-// variable added later still shadows. On an in-process device and on worker processes.
+// Variable values and buffer contents changed between launches reach the next launch from every
+// scope, also when a device keeps its launch plan across deltas of values alone
+// (Replica::structure_generation): values that were equal, and so shared by all bindings of a
+// module, may come to differ, and a variable added later still shadows. On an in-process device and
+// on worker processes.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,11 @@ class ValueUpdatesTest : public OnDevicesFixture {
   void SetUp() override {
     OnDevicesFixture::SetUp();
     result_ = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, kCount, 1);
+    Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &bias_));
+    Ok(rtBufferSetFormat(bias_, RT_FORMAT_FLOAT));
+    Ok(rtBufferSetSize1D(bias_, kCount));
+    Biases({0.f, 0.f, 0.f, 0.f});
+    Ok(rtVariableSetObject(ContextVar("bias"), bias_));
     Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "row_raygen")));
     Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "row_miss")));
     Ok(rtVariableSet1f(ContextVar("frame"), 0.f));
@@ -67,13 +74,20 @@ class ValueUpdatesTest : public OnDevicesFixture {
       Ok(rtVariableSet1f(Declare(instances_[i], "tint"), tints[i]));
   }
 
+  void Biases(std::vector<float> values) {
+    void* p = nullptr;
+    Ok(rtBufferMap(bias_, &p));
+    std::memcpy(p, values.data(), sizeof(float) * kCount);
+    Ok(rtBufferUnmap(bias_));
+  }
+
   std::vector<float> Launch() {
     const RTresult code = rtContextLaunch2D(ctx_, 0, kCount, 1);
     EXPECT_EQ(code, RT_SUCCESS) << Error(code);
     return ReadAs<float>(result_);
   }
 
-  RTbuffer result_ = nullptr;
+  RTbuffer result_ = nullptr, bias_ = nullptr;
   RTprogram closest_hit_ = nullptr;
   RTgeometry geometry_ = nullptr;
   RTmaterial materials_[kCount] = {};
@@ -129,6 +143,17 @@ TEST_P(ValueUpdatesTest, GeometryValuesReachIntersectionPrograms) {
   EXPECT_EQ(Launch(), (Floats{-1000.f, -1000.f, -1000.f, -1000.f}));
   Ok(rtVariableSet1f(half_width, 0.25f));
   EXPECT_EQ(Launch(), (Floats{1.f, 2.f, 3.f, 4.f}));
+}
+
+// An INPUT buffer's new contents, alone or with new variable values.
+TEST_P(ValueUpdatesTest, BufferContents) {
+  InstanceTints({1.f, 2.f, 3.f, 4.f});
+  EXPECT_EQ(Launch(), (Floats{1.f, 2.f, 3.f, 4.f}));
+  Biases({10.f, 20.f, 30.f, 40.f});
+  EXPECT_EQ(Launch(), (Floats{11.f, 22.f, 33.f, 44.f}));
+  Biases({0.f, 0.f, 0.f, 0.5f});
+  Ok(rtVariableSet1f(ContextVar("frame"), 1.f));
+  EXPECT_EQ(Launch(), (Floats{2.f, 3.f, 4.f, 5.5f}));
 }
 
 // After launches that changed values alone, a tint declared on an instance shadows its

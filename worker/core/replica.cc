@@ -339,6 +339,7 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
   ++generation_;
   if (values_only) {
     WriteValues(writes);
+    WriteChunks(delta);
     return absl::OkStatus();
   }
   ++structure_generation_;
@@ -455,12 +456,16 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
       r.written_blocks = std::move(from.written_blocks);
     }
   }
+  WriteChunks(delta);
+  return absl::OkStatus();
+}
+
+void Replica::WriteChunks(const v1::StateDelta& delta) {
   for (const auto& ch : delta.chunks()) {
     if (ch.data().empty()) continue;
     BufferRec& b = buffers.at(ch.buffer_id());
     std::memcpy(b.data.data() + ch.offset(), ch.data().data(), ch.data().size());
   }
-  return absl::OkStatus();
 }
 
 v1::Object::KindCase Replica::KindOf(uint64_t id) const {

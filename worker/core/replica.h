@@ -138,9 +138,10 @@ class Replica {
   std::unordered_map<uint64_t, TransformRec> transforms;
   std::unordered_map<uint64_t, SelectorRec> selectors;
   uint64_t generation() const { return generation_; }  // bumps with every applied delta
-  // Bumps with every applied delta that changes more than the bytes of variables: the scene,
-  // programs, buffers, a variable's name, type, object or size. Deltas of values alone are
-  // written in place (replica_values.cc), where bindings of an earlier plan point.
+  // Bumps with every applied delta that changes more than the bytes of variables and buffers:
+  // the scene, programs, a buffer's shape, a variable's name, type, object or size. Deltas of
+  // values alone are written in place (replica_values.cc), where bindings of an earlier plan
+  // point.
   uint64_t structure_generation() const { return structure_generation_; }
 
  private:
@@ -161,6 +162,7 @@ class Replica {
   // Whether `delta` changes nothing but variables' bytes, and then the scopes it rewrites.
   bool ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* writes);
   static void WriteValues(const std::vector<ValueWrite>& writes);
+  void WriteChunks(const v1::StateDelta& delta);  // checked by Apply
 
   ContextRec context_;
   uint64_t session_id_ = 0;

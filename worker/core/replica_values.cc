@@ -1,7 +1,8 @@
-// Deltas that change only variable values (a camera moved, a frame counter): Replica::Apply
-// writes the new bytes where the old ones were, so that a launch plan, whose bindings point at
-// them (binding.cc), stays valid and need not be made again. Making a plan costs time in
-// proportion to the scene (16,384 geometry instances: 30–50 ms) and freeing the old one as much.
+// Deltas that change only variable values (a camera moved, a frame counter) and buffer contents:
+// Replica::Apply writes the new bytes where the old ones were, so that a launch plan, whose
+// bindings point at them (binding.cc), stays valid and need not be made again. Making a plan costs
+// time in proportion to the scene (16,384 geometry instances: 30–50 ms) and freeing the old one as
+// much.
 #include <cstring>
 
 #include "replica.h"
@@ -60,9 +61,8 @@ bool SameContext(const ContextRec& held, const v1::ContextState& c) {
 
 bool Replica::ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* writes) {
   writes->clear();
-  if (!delta.removed().empty() || !delta.chunks().empty() || !delta.modules().empty()) {
-    return false;
-  }
+  // New bytes for buffers whose shape stays (no Buffer object in the delta) land in place too.
+  if (!delta.removed().empty() || !delta.modules().empty()) return false;
   if (!SameContext(context_, delta.context())) return false;
   writes->push_back({&context_.vars, &delta.context().variables()});
   for (const v1::Object& o : delta.objects()) {
