@@ -10,6 +10,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <mutex>
 #include <thread>
@@ -90,9 +91,17 @@ thread_local SlotOwner t_slot_owner;
 // 0 turns interrupts off (programs that never return then keep their thread, as before).
 int InterruptSignal() {
   static const int sig = [] {
+    const int fallback = SIGRTMIN + 6;
     const char* env = std::getenv("TESSERA_INTERRUPT_SIGNAL");
-    if (env != nullptr && *env != '\0') return std::atoi(env);
-    return SIGRTMIN + 6;
+    if (env == nullptr || *env == '\0') return fallback;
+    char* end = nullptr;
+    const long n = std::strtol(env, &end, 10);
+    if (*end == '\0' && (n == 0 || (n >= SIGRTMIN && n <= SIGRTMAX))) return static_cast<int>(n);
+    std::fprintf(stderr,
+                 "tessera: TESSERA_INTERRUPT_SIGNAL='%s' is not 0 or a real-time signal (%d to "
+                 "%d); using %d\n",
+                 env, SIGRTMIN, SIGRTMAX, fallback);
+    return fallback;
   }();
   return sig;
 }
