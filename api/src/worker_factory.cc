@@ -10,12 +10,18 @@
 #include "system_info.h"
 #include "transport/grpc_device.h"
 #include "transport/worker_process.h"
+#ifdef TESSERA_HAVE_WORKER_CORE
+#include "tessera/worker/inproc_device.h"  // CheckInterruptSignal
+#endif
 
 namespace tessera::api {
 namespace {
 
 absl::StatusOr<std::unique_ptr<Device>> MakeWorkerDevice(const DeviceDesc& device) {
   if (device.type == DeviceSpecEntry::Type::kLocal) {
+#ifdef TESSERA_HAVE_WORKER_CORE
+    CheckInterruptSignal();  // the workers inherit the variable
+#endif
     // The workers share the machine's cores; a context's CPU_NUM_THREADS, when the application
     // sets it, still overrides this per launch (it travels in ContextState).
     transport::WorkerProcess::Options options;

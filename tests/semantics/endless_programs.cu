@@ -5,6 +5,8 @@
 #include <optix.h>
 #include <optixu/optixu_math_namespace.h>
 
+#include <exception>
+
 using namespace optix;
 
 struct Payload {
@@ -88,4 +90,38 @@ RT_PROGRAM void loop_bounds(int, float box[6]) {
   if (endless_at != -1) LoopInProgramCode();
   box[0] = box[1] = box[2] = -1.f;
   box[3] = box[4] = box[5] = 1.f;
+}
+
+// Prints without end: nearly all its time goes to formatting, in libc and the engine.
+RT_PROGRAM void print_loop_raygen() {
+  if (Endless()) {
+    for (;;) rtPrintf("%100000d\n", 1);
+  }
+  result[launch_index] = 1.f;
+}
+
+// Throws and catches without end: nearly all its time goes to the C++ unwinder.
+RT_PROGRAM void throw_loop_raygen() {
+  if (Endless()) {
+    for (;;) {
+      try {
+        throw 1;
+      } catch (int) {
+      }
+    }
+  }
+  result[launch_index] = 1.f;
+}
+
+// Loops inside a catch block; every index writes 1 only if its thread handles no exception (one
+// the interrupted loop was handling must not stay active on the thread).
+RT_PROGRAM void catch_loop_raygen() {
+  if (Endless()) {
+    try {
+      throw 1;
+    } catch (int) {
+      LoopInProgramCode();
+    }
+  }
+  result[launch_index] = std::current_exception() == nullptr ? 1.f : 0.f;
 }

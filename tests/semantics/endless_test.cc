@@ -3,8 +3,10 @@
 // device runs the next launch at once. On an in-process device and on worker processes.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "rt_fixture.h"
@@ -106,6 +108,25 @@ TEST_P(EndlessTest, ABoundingBoxProgram) {
   ExpectCancelledThenWorking("trace_raygen");
 }
 
+// rtPrintf in a loop spends its time formatting, in libc and the engine.
+TEST_P(EndlessTest, ALoopOfPrints) {
+  Scene("quick_intersect", "quick_closest_hit", "loop_miss", true);
+  Ok(rtContextSetPrintEnabled(ctx_, 1));
+  ExpectCancelledThenWorking("print_loop_raygen");
+}
+
+// Throwing and catching C++ exceptions in a loop spends its time in the unwinder.
+TEST_P(EndlessTest, ALoopOfCaughtExceptions) {
+  Scene("quick_intersect", "quick_closest_hit", "loop_miss", true);
+  ExpectCancelledThenWorking("throw_loop_raygen");
+}
+
+// A loop inside a catch block: the exception it was handling does not stay active on the thread.
+TEST_P(EndlessTest, ALoopInACatchBlock) {
+  Scene("quick_intersect", "quick_closest_hit", "loop_miss", true);
+  ExpectCancelledThenWorking("catch_loop_raygen");
+}
+
 // Several launches in a row, each interrupted: nothing the jumps skipped piles up or breaks
 // the next launch.
 TEST_P(EndlessTest, InterruptedAgainAndAgain) {
@@ -114,6 +135,53 @@ TEST_P(EndlessTest, InterruptedAgainAndAgain) {
     Ok(rtVariableSet1i(ContextVar("endless_at"), kEndlessAt));
     ExpectCancelledThenWorking(i % 2 == 0 ? "trace_raygen" : "loop_raygen");
   }
+}
+
+// A bounding box program that never returns in one in-process context, whose launch nothing
+// cancels yet, does not hold up acceleration builds of another context in the same process.
+std::atomic<bool> g_other_done{false};
+int CancelOnceOtherIsDone() { return g_other_done.load() ? 1 : 0; }
+
+class EndlessContextsTest : public RtFixture {
+ protected:
+  // A context on an in-process device tracing a box whose bounding box program never returns
+  // when `endless`. Made with the fixture's helpers, which work on ctx_.
+  RTcontext BoxContext(bool endless) {
+    RTcontext fixture_context = ctx_;
+    EXPECT_EQ(rtContextCreate(&ctx_), RT_SUCCESS);
+    RTcontext made = ctx_;
+    Ok(tesseraContextSetDeviceSpec(ctx_, "inproc"));
+    Ok(rtContextSetEntryPointCount(ctx_, 1));
+    Ok(rtContextSetRayTypeCount(ctx_, 1));
+    Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, kWidth, kHeight);
+    Ok(rtVariableSet1i(ContextVar("endless_at"), endless ? kEndlessAt : -1));
+    Instance box =
+        MakeInstance(Program(kModule, "quick_intersect"), Program(kModule, "loop_bounds"), 1,
+                     Program(kModule, "quick_closest_hit"));
+    Ok(rtVariableSetObject(ContextVar("top_object"), box.group));
+    Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "loop_miss")));
+    Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "trace_raygen")));
+    ctx_ = fixture_context;
+    return made;
+  }
+};
+
+TEST_F(EndlessContextsTest, AStuckBuildDoesNotHoldUpAnotherContext) {
+  g_other_done = false;
+  RTcontext stuck = BoxContext(true);
+  RTcontext other = BoxContext(false);
+  ASSERT_EQ(rtContextSetTimeoutCallback(stuck, &CancelOnceOtherIsDone, 0.02), RT_SUCCESS);
+  RTresult stuck_code = RT_SUCCESS;
+  std::thread launcher([&] { stuck_code = rtContextLaunch2D(stuck, 0, kWidth, kHeight); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // its build is under way
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(rtContextLaunch2D(other, 0, kWidth, kHeight), RT_SUCCESS);
+  EXPECT_LT(Seconds(start), 10.0);
+  g_other_done = true;
+  launcher.join();
+  EXPECT_EQ(stuck_code, RT_TIMEOUT_CALLBACK);
+  rtContextDestroy(stuck);
+  rtContextDestroy(other);
 }
 
 INSTANTIATE_TEST_SUITE_P(Devices, EndlessTest, ::testing::Values("inproc", "local:2"),

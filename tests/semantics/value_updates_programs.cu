@@ -15,7 +15,9 @@ struct Payload {
 rtDeclareVariable(uint2, launch_index, rtLaunchIndex, );
 rtDeclareVariable(float, frame, , );
 rtDeclareVariable(float, offset, , );
-rtDeclareVariable(float, tint, , );
+// 1 where no scope sets it (ray generation, miss): instances' tints of 1 then equal it in every
+// binding of the module, which share it until one changes.
+rtDeclareVariable(float, tint, , ) = 1.f;
 rtDeclareVariable(float, scale, , ) = 1.f;
 rtDeclareVariable(float, center, , );
 rtDeclareVariable(float, half_width, , ) = 0.5f;

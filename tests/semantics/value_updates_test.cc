@@ -106,7 +106,8 @@ TEST_P(ValueUpdatesTest, ContextValuesReachEveryLaunch) {
   }
 }
 
-// Equal tints are one value for every binding of the module; then one instance's changes.
+// Tints of 1 everywhere (the module's initializer too) are one value for every binding of the
+// module; then one instance's changes, and the device must stop sharing it.
 TEST_P(ValueUpdatesTest, EqualInstanceValuesMayComeToDiffer) {
   InstanceTints({1.f, 1.f, 1.f, 1.f});
   EXPECT_EQ(Launch(), (Floats{1.f, 1.f, 1.f, 1.f}));

@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "absl/strings/str_cat.h"
+#include "interrupt.h"
 #include "tessera/rt.h"
 #include "thread_state.h"
 
@@ -152,6 +153,7 @@ const char* OuterScopes(ProgramKind k) {
 }  // namespace
 
 void* RtCallableEnter(const void* variable, TesseraCallFrame* frame) {
+  InterruptPoint();
   ThreadState& ts = TS();
   const BoundProgram* callee;
   std::memcpy(&callee, variable, sizeof(callee));
@@ -196,6 +198,7 @@ void Leave(ThreadState& ts, TesseraCallFrame& frame, bool share) {
 }  // namespace
 
 void RtCallableLeave(TesseraCallFrame* frame) {
+  InterruptPoint();
   ThreadState& ts = TS();
   Leave(ts, *frame, std::uncaught_exceptions() == 0);
 }

@@ -131,13 +131,16 @@ class WriteEpochs {
   std::array<int, kMaxEpochs + 1> running_{};
 };
 
-// Runs `f` on one long-lived thread of the process and waits for it. The in-process device builds
+// Runs `f` on a long-lived thread of the process and waits for it. The in-process device builds
 // its plans (and so commits Embree scenes) there: Embree keeps some memory for every thread that
 // ever committed a scene, and a launch's calls come from dispatch threads started afresh for it,
-// which cost ~0.25 KB a launch for good (docs/devices.md, "Memory over long use"). `f` runs inline
-// where the thread cannot be started (a process limit), and a child forked from the process
-// starts its own (the parent's thread did not come along).
+// which cost ~0.25 KB a launch for good (docs/devices.md, "Memory over long use"). A few such
+// threads serve all devices of the process: another starts when all are busy, so that one
+// context's bounding box program that never returns cannot hold up another context's builds.
+// `f` runs inline where no thread can be started (a process limit), and a child forked from the
+// process starts its own (the parent's threads did not come along).
 void RunOnPlanThread(const std::function<void()>& f) {
+  constexpr int kMaxPlanThreads = 4;
   struct Job {
     const std::function<void()>* f;
     bool done = false;
@@ -145,50 +148,61 @@ void RunOnPlanThread(const std::function<void()>& f) {
   };
   struct State {
     pid_t pid = getpid();
-    bool failed = false;  // no thread: run inline
     std::mutex mu;
     std::condition_variable work, finished;
     std::deque<Job*> queue;
+    int threads = 0, idle = 0;  // under mu
+
+    // Starts a plan thread (under mu); false where the process allows no more threads.
+    bool Start() {
+      try {
+        std::thread([this] {
+          std::unique_lock<std::mutex> lock(mu);
+          for (;;) {
+            ++idle;
+            work.wait(lock, [this] { return !queue.empty(); });
+            --idle;
+            Job* job = queue.front();
+            queue.pop_front();
+            lock.unlock();
+            try {
+              (*job->f)();
+            } catch (...) {
+              job->error = std::current_exception();
+            }
+            lock.lock();
+            job->done = true;
+            finished.notify_all();
+          }
+        }).detach();
+      } catch (const std::system_error&) {
+        return false;
+      }
+      ++threads;
+      return true;
+    }
   };
   static std::atomic<State*> current{nullptr};
   State* state = current.load();
   if (state == nullptr || state->pid != getpid()) {
-    auto* fresh = new State;  // never freed: its thread outlives every device
-    try {
-      std::thread([fresh] {
-        std::unique_lock<std::mutex> lock(fresh->mu);
-        for (;;) {
-          fresh->work.wait(lock, [fresh] { return !fresh->queue.empty(); });
-          Job* job = fresh->queue.front();
-          fresh->queue.pop_front();
-          lock.unlock();
-          try {
-            (*job->f)();
-          } catch (...) {
-            job->error = std::current_exception();
-          }
-          lock.lock();
-          job->done = true;
-          fresh->finished.notify_all();
-        }
-      }).detach();
-    } catch (const std::system_error&) {
-      fresh->failed = true;
-    }
+    auto* fresh = new State;  // never freed: its threads outlive every device
     // Install it unless another thread of this process installed one meanwhile (then that one
-    // serves, and this thread stays idle); a forked child replaces its parent's.
+    // serves); a forked child replaces its parent's.
     while (!current.compare_exchange_weak(state, fresh)) {
       if (state != nullptr && state->pid == getpid()) break;
     }
     if (state == nullptr || state->pid != getpid()) state = fresh;
   }
-  if (state->failed) {
-    f();
-    return;
-  }
   Job job{&f, false, nullptr};
   {
     std::unique_lock<std::mutex> lock(state->mu);
+    // A thread counts as idle until it takes a job: jobs queued ahead of this one use them up.
+    const bool busy = state->idle <= static_cast<int>(state->queue.size());
+    if (busy && state->threads < kMaxPlanThreads && !state->Start() && state->threads == 0) {
+      lock.unlock();
+      f();
+      return;
+    }
     state->queue.push_back(&job);
     state->work.notify_one();
     state->finished.wait(lock, [&job] { return job.done; });

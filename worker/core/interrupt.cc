@@ -1,5 +1,6 @@
 #include "interrupt.h"
 
+#include <cxxabi.h>
 #include <dlfcn.h>
 #include <link.h>
 #include <pthread.h>
@@ -16,18 +17,24 @@
 #include <thread>
 #include <vector>
 
+#include "tessera/worker/inproc_device.h"  // CheckInterruptSignal
+
 namespace tessera::worker {
 
-__thread bool t_interrupt_requested __attribute__((tls_model("initial-exec"))) = false;
+__thread volatile bool t_interrupt_requested __attribute__((tls_model("initial-exec"))) = false;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
 // A launch index that returns at all normally ends well within kGrace of a cancel (tiles check
-// between indices); only then do signals start, one every kPeriod while the thread stays.
+// between indices); only then do signals start, one every kPeriod while the thread stays, and one
+// every kFastPeriod once it has stayed kSlow: a loop that spends nearly all its time in a library
+// (the C++ unwinder, say) gives each signal little chance to land in program code.
 constexpr auto kGrace = std::chrono::milliseconds(50);
 constexpr auto kPeriod = std::chrono::milliseconds(20);
+constexpr auto kSlow = std::chrono::milliseconds(250);
+constexpr auto kFastPeriod = std::chrono::milliseconds(1);
 
 // ---- Program code ------------------------------------------------------------------------------
 // Executable segments of loaded modules: appended under a lock, read by the handler without one
@@ -48,6 +55,14 @@ bool InModuleCode(uintptr_t pc) {
   }
   return false;
 }
+
+// The Itanium C++ ABI's per-thread exception state (__cxa_eh_globals): the exceptions being
+// handled, innermost first, and how many were thrown and not yet caught.
+struct EhGlobals {
+  void* caught_exceptions;
+  unsigned uncaught_exceptions;
+};
+EhGlobals* ThreadEhGlobals() { return reinterpret_cast<EhGlobals*>(abi::__cxa_get_globals()); }
 
 // ---- Threads running tiles ---------------------------------------------------------------------
 struct Slot {
@@ -87,25 +102,6 @@ struct SlotOwner {
 thread_local SlotOwner t_slot_owner;
 
 // ---- The signal --------------------------------------------------------------------------------
-// TESSERA_INTERRUPT_SIGNAL picks another real-time signal for an application that uses this one;
-// 0 turns interrupts off (programs that never return then keep their thread, as before).
-int InterruptSignal() {
-  static const int sig = [] {
-    const int fallback = SIGRTMIN + 6;
-    const char* env = std::getenv("TESSERA_INTERRUPT_SIGNAL");
-    if (env == nullptr || *env == '\0') return fallback;
-    char* end = nullptr;
-    const long n = std::strtol(env, &end, 10);
-    if (*end == '\0' && (n == 0 || (n >= SIGRTMIN && n <= SIGRTMAX))) return static_cast<int>(n);
-    std::fprintf(stderr,
-                 "tessera: TESSERA_INTERRUPT_SIGNAL='%s' is not 0 or a real-time signal (%d to "
-                 "%d); using %d\n",
-                 env, SIGRTMIN, SIGRTMAX, fallback);
-    return fallback;
-  }();
-  return sig;
-}
-
 struct sigaction g_previous;
 
 bool Ending(const Slot& s) {
@@ -140,6 +136,12 @@ void OnInterrupt(int sig, siginfo_t* info, void* context) {
   t_interrupt_requested = true;  // the engine, Embree or a library: the next rtTrace jumps
 }
 
+bool HandlerInstalled() {
+  struct sigaction current = {};
+  sigaction(InterruptSignal(), nullptr, &current);
+  return (current.sa_flags & SA_SIGINFO) != 0 && current.sa_sigaction == &OnInterrupt;
+}
+
 void InstallHandler() {
   struct sigaction action = {};
   action.sa_sigaction = &OnInterrupt;
@@ -155,17 +157,19 @@ void InstallHandler() {
 [[noreturn]] void InterrupterLoop() {
   Registry& r = Reg();
   std::unique_lock<std::mutex> lock(r.mu);
-  bool installed = false;
+  bool installed = false, replaced = false;
   for (;;) {
     r.idle = true;
     r.armed_cv.wait(lock, [&] { return r.armed > 0; });
     r.idle = false;
+    auto period = kPeriod;
     while (r.armed > 0) {
       // Not woken by threads arming meanwhile: a launch of short tiles arms a thread per tile.
       lock.unlock();
-      std::this_thread::sleep_for(kPeriod);
+      std::this_thread::sleep_for(period);
       lock.lock();
       const Clock::time_point now = Clock::now();
+      period = kPeriod;
       for (Slot* s : r.slots) {
         if (s->jump.load(std::memory_order_relaxed) == nullptr || !Ending(*s)) {
           s->ending = Clock::time_point();
@@ -173,9 +177,24 @@ void InstallHandler() {
         }
         if (s->ending == Clock::time_point()) s->ending = now;
         if (now - s->ending < kGrace) continue;
+        if (now - s->ending >= kSlow) period = kFastPeriod;
         if (!installed) {
           InstallHandler();
           installed = true;
+        }
+        if (!HandlerInstalled()) {
+          // An application took the signal over after Tessera installed its handler: the
+          // signal would now reach the application's handler instead.
+          if (!replaced) {
+            std::fprintf(stderr,
+                         "tessera: signal %d (TESSERA_INTERRUPT_SIGNAL) now has another handler: "
+                         "programs that never return can no longer be stopped; set "
+                         "TESSERA_INTERRUPT_SIGNAL to a real-time signal the application does "
+                         "not use\n",
+                         InterruptSignal());
+            replaced = true;
+          }
+          continue;
         }
         pthread_kill(s->thread, InterruptSignal());
       }
@@ -189,6 +208,25 @@ void StartInterrupter() {
 }
 
 }  // namespace
+
+// TESSERA_INTERRUPT_SIGNAL picks another real-time signal for an application that uses this one;
+// 0 turns interrupts off (programs that never return then keep their thread, as before).
+int InterruptSignal() {
+  static const int sig = [] {
+    const int fallback = SIGRTMIN + 6;
+    const char* env = std::getenv("TESSERA_INTERRUPT_SIGNAL");
+    if (env == nullptr || *env == '\0') return fallback;
+    char* end = nullptr;
+    const long n = std::strtol(env, &end, 10);
+    if (*end == '\0' && (n == 0 || (n >= SIGRTMIN && n <= SIGRTMAX))) return static_cast<int>(n);
+    std::fprintf(stderr,
+                 "tessera: TESSERA_INTERRUPT_SIGNAL='%s' is not 0 or a real-time signal (%d to "
+                 "%d); using %d\n",
+                 env, SIGRTMIN, SIGRTMAX, fallback);
+    return fallback;
+  }();
+  return sig;
+}
 
 void RegisterModuleCode(void* handle) {
   link_map* map = nullptr;
@@ -247,12 +285,23 @@ InterruptibleTile::~InterruptibleTile() { Disarm(); }
 void InterruptibleTile::Arm(sigjmp_buf* jump) {
   if (t_slot == nullptr) return;
   t_interrupt_requested = false;
+  const EhGlobals* globals = ThreadEhGlobals();
+  caught_exceptions_ = globals->caught_exceptions;
+  uncaught_exceptions_ = globals->uncaught_exceptions;
   Registry& r = Reg();
   std::lock_guard<std::mutex> lock(r.mu);
   t_slot->jump.store(jump, std::memory_order_relaxed);
   armed_ = true;
   ++r.armed;
   if (r.idle) r.armed_cv.notify_one();
+}
+
+void InterruptibleTile::Jumped() {
+  Disarm();
+  // A catch block the jump left never ended its exception (which stays allocated).
+  EhGlobals* globals = ThreadEhGlobals();
+  globals->caught_exceptions = caught_exceptions_;
+  globals->uncaught_exceptions = uncaught_exceptions_;
 }
 
 void InterruptibleTile::Disarm() {
@@ -274,3 +323,7 @@ void TakeInterruptRequest() {
 }
 
 }  // namespace tessera::worker
+
+namespace tessera {
+void CheckInterruptSignal() { (void)worker::InterruptSignal(); }
+}  // namespace tessera

@@ -19,7 +19,8 @@ void RegisterModuleCode(void* handle);
 
 // Set by the handler when the signal found the thread outside program code; rtTrace's entry,
 // where the engine's state is whole, takes it (TakeInterruptRequest).
-extern __thread bool t_interrupt_requested __attribute__((tls_model("initial-exec")));
+// volatile: written by the signal handler on the same thread.
+extern __thread volatile bool t_interrupt_requested __attribute__((tls_model("initial-exec")));
 
 // While armed, the calling thread runs a tile that `cancel` or `stop` may end. A thread still
 // in the tile kGrace after either became true gets a signal every kPeriod until it leaves.
@@ -34,14 +35,32 @@ class InterruptibleTile {
 
   void Arm(sigjmp_buf* jump);
   void Disarm();
+  // After a jump back to the sigsetjmp: disarms, and forgets the C++ exceptions the abandoned
+  // program was handling (a catch block it never left would stay active on the thread).
+  void Jumped();
 
  private:
   volatile bool armed_ = false;  // volatile: read again after a jump back to the sigsetjmp
+  // The thread's C++ exception state when armed (Itanium C++ ABI __cxa_eh_globals).
+  void* caught_exceptions_ = nullptr;
+  unsigned uncaught_exceptions_ = 0;
 };
 
 // Jumps to the armed tile's sigsetjmp when its launch is ending; returns otherwise (a request
 // left by a signal that came as the tile ended).
 void TakeInterruptRequest();
+
+// At the entry of every engine call a program makes (the runtime table), where the engine's state
+// is whole: a program looping on engine calls (rtTrace, rtPrintf) spends its time there, and an
+// interrupt landing there leaves a request.
+inline void InterruptPoint() {
+  if (__builtin_expect(t_interrupt_requested, 0)) TakeInterruptRequest();
+}
+
+// The signal interrupts use (TESSERA_INTERRUPT_SIGNAL, else SIGRTMIN+6; 0: none). The first call
+// in a process says on stderr when the variable holds something unusable; the host calls it
+// before starting workers, so that the message reaches the user, not only a worker's log.
+int InterruptSignal();
 
 }  // namespace tessera::worker
 

@@ -148,6 +148,7 @@ void CallNotAllowed(const ThreadState& ts, const char* call) {
 namespace {
 
 void RtThrow(unsigned code) {
+  InterruptPoint();
   CheckCall(TS(), kAllKinds & ~Bit(ProgramKind::kException), "rtThrow");
   if (code < RT_EXCEPTION_USER || code > 0xFFFF) {
     throw FatalError{absl::InvalidArgumentError(
@@ -158,6 +159,7 @@ void RtThrow(unsigned code) {
 }
 
 unsigned RtExceptionCode() {
+  InterruptPoint();
   CheckCall(TS(), Bit(ProgramKind::kException), "rtGetExceptionCode");
   return TS().exception_code;
 }
@@ -219,8 +221,12 @@ void Emit(const std::string& text) {
   r->set_text(text);
 }
 
-int RtPrintActive() { return PrintActive() ? 1 : 0; }
+int RtPrintActive() {
+  InterruptPoint();
+  return PrintActive() ? 1 : 0;
+}
 void RtPrint(const char* text) {
+  InterruptPoint();
   if (PrintActive() && text != nullptr) Emit(text);
 }
 
@@ -255,6 +261,7 @@ std::string ExceptionText() {
 }
 
 void RtPrintExceptionDetails() {
+  InterruptPoint();
   CheckCall(TS(), Bit(ProgramKind::kException), "rtPrintExceptionDetails");
   if (PrintActive()) Emit(ExceptionText());
 }
@@ -277,6 +284,7 @@ const Mat& CurrentTransform(bool to_world) {
 }
 
 void RtTransform(unsigned kind, unsigned what, const float* in, float* out) {
+  InterruptPoint();
   CheckCall(TS(),
             Bit(ProgramKind::kClosestHit) | Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss) |
                 Bit(ProgramKind::kIntersection) | Bit(ProgramKind::kBoundingBox) |
@@ -304,6 +312,7 @@ void RtTransform(unsigned kind, unsigned what, const float* in, float* out) {
 }
 
 void RtGetTransform(unsigned kind, float* m) {
+  InterruptPoint();
   CheckCall(TS(),
             Bit(ProgramKind::kClosestHit) | Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss) |
                 Bit(ProgramKind::kIntersection) | Bit(ProgramKind::kBoundingBox) |
@@ -315,6 +324,7 @@ void RtGetTransform(unsigned kind, float* m) {
 
 void* RtBufferIndexError(unsigned slot, unsigned long long x, unsigned long long y,
                          unsigned long long z) {
+  InterruptPoint();
   ThreadState& ts = TS();
   const Module* m = ts.current->module;
   const TesseraBufferView& v = ts.current->table[slot];
@@ -514,7 +524,7 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
   InterruptibleTile interruptible(cancel, stop);
   sigjmp_buf interrupted;
   if (sigsetjmp(interrupted, 0) != 0) {
-    interruptible.Disarm();
+    interruptible.Jumped();
     ForgetInterruptedIndex(ts);
     return false;
   }

@@ -466,7 +466,10 @@ bool InterruptibleBoundsOf(const LaunchPlan& plan, const BoundProgram& program,
   static const std::atomic<bool> kNever{false};
   InterruptibleTile interruptible(cancel, kNever);
   sigjmp_buf interrupted;
-  if (sigsetjmp(interrupted, 0) != 0) return false;
+  if (sigsetjmp(interrupted, 0) != 0) {
+    interruptible.Jumped();
+    return false;
+  }
   interruptible.Arm(&interrupted);
   return BoundsOf(plan, program, bounds, &cancel, next);
 }

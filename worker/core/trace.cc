@@ -461,8 +461,8 @@ __attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) 
 
 void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t payload_size) {
   // A program looping on rtTrace spends its time in the engine and Embree, where an interrupt
-  // only leaves this request (interrupt.h).
-  if (__builtin_expect(t_interrupt_requested, 0)) TakeInterruptRequest();
+  // only leaves a request (interrupt.h).
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(
       ts,
@@ -547,6 +547,7 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
 }
 
 int RtPotentialIntersection(float t) {
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kIntersection), "rtPotentialIntersection");
   IntersectState& is = ts.is;
@@ -571,6 +572,7 @@ int RtPotentialIntersection(float t) {
 }
 
 int RtReportIntersection(unsigned material) {
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kIntersection), "rtReportIntersection");
   IntersectState& is = ts.is;
@@ -615,6 +617,7 @@ int RtReportIntersection(unsigned material) {
 }
 
 void RtIgnoreIntersection() {
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kAnyHit), "rtIgnoreIntersection");
   ts.ah_ignore = true;
@@ -624,6 +627,7 @@ void RtIgnoreIntersection() {
 
 // In a miss program there is no traversal left to end: the call returns and does nothing.
 void RtTerminateRay() {
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kMiss), "rtTerminateRay");
   if (ts.kind != ProgramKind::kAnyHit) return;
@@ -636,6 +640,7 @@ void RtTerminateRay() {
 // closest hit so far; the visit program then sees the payload and distance as the child left
 // them.
 void RtIntersectChild(unsigned index) {
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kVisit), "rtIntersectChild");
   const VisitState visit = ts.visits.back();  // a copy: nested visits push more
@@ -671,6 +676,7 @@ constexpr unsigned kHitPrograms =
 }  // namespace
 
 unsigned RtGetPrimitiveIndex() {
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(ts, kHitPrograms | Bit(ProgramKind::kIntersection), "rtGetPrimitiveIndex");
   if (ts.kind == ProgramKind::kIntersection) return ts.is.primitive;
@@ -679,6 +685,7 @@ unsigned RtGetPrimitiveIndex() {
 }
 
 unsigned RtTriangleHit() {
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(ts, kHitPrograms, "rtIsTriangleHit*");
   const Hit& h = CurrentHit(ts);
@@ -687,6 +694,7 @@ unsigned RtTriangleHit() {
 }
 
 void RtTriangleBarycentrics(float* uv) {
+  InterruptPoint();
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kAttribute), "rtGetTriangleBarycentrics");
   uv[0] = ts.attribute_hit->barycentrics[0];

@@ -19,6 +19,11 @@ namespace tessera {
 // timed the same either way).
 std::unique_ptr<Device> CreateInprocDevice(int num_threads, bool results_in_rounds = false);
 
+// Says on stderr, once per process, when TESSERA_INTERRUPT_SIGNAL holds something unusable
+// (docs/devices.md). The host calls it before it starts workers, which would say so only in their
+// logs.
+void CheckInterruptSignal();
+
 }  // namespace tessera
 
 #endif  // TESSERA_WORKER_INPROC_DEVICE_H_
