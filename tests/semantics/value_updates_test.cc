@@ -36,7 +36,7 @@ class ValueUpdatesTest : public OnDevicesFixture {
     Ok(rtGeometrySetPrimitiveCount(geometry_, 1));
     Ok(rtGeometrySetIntersectionProgram(geometry_, Program(kModule, "square_intersect")));
     Ok(rtGeometrySetBoundingBoxProgram(geometry_, Program(kModule, "square_bounds")));
-    RTgeometrygroup group = nullptr;
+    RTgeometrygroup& group = geometry_group_;
     Ok(rtGeometryGroupCreate(ctx_, &group));
     Ok(rtGeometryGroupSetAcceleration(group, Accel()));
     Ok(rtGeometryGroupSetChildCount(group, kCount));
@@ -90,6 +90,7 @@ class ValueUpdatesTest : public OnDevicesFixture {
   RTbuffer result_ = nullptr, bias_ = nullptr;
   RTprogram closest_hit_ = nullptr;
   RTgeometry geometry_ = nullptr;
+  RTgeometrygroup geometry_group_ = nullptr;
   RTmaterial materials_[kCount] = {};
   RTgeometryinstance instances_[kCount] = {};
 };
@@ -170,6 +171,58 @@ TEST_P(ValueUpdatesTest, AVariableAddedLaterShadows) {
   RTvariable tint = Declare(instances_[3], "tint");
   Ok(rtGeometryInstanceRemoveVariable(instances_[3], tint));
   EXPECT_EQ(Launch(), (Floats{3.f, 3.f, 3.f, 3.f}));
+}
+
+// Graph changes between launches (a transform moved, a group's children, an acceleration's
+// builder), alone and with new values, which devices take keeping their bindings.
+TEST_P(ValueUpdatesTest, GraphChanges) {
+  InstanceTints({1.f, 2.f, 3.f, 4.f});
+  RTtransform transform = nullptr;
+  Ok(rtTransformCreate(ctx_, &transform));
+  Ok(rtTransformSetChild(transform, geometry_group_));
+  RTgroup top = nullptr;
+  Ok(rtGroupCreate(ctx_, &top));
+  Ok(rtGroupSetAcceleration(top, Accel()));
+  Ok(rtGroupSetChildCount(top, 1));
+  Ok(rtGroupSetChild(top, 0, transform));
+  Ok(rtVariableSetObject(ContextVar("top_object"), top));
+  constexpr float kMiss = -1000.f;
+  // Moved right by 2 * shift, instance j lies under launch index j + shift.
+  auto shifted = [&](int shift) {
+    Floats out;
+    for (int i = 0; i < static_cast<int>(kCount); ++i) {
+      const int j = i - shift;
+      out.push_back(j >= 0 && j < static_cast<int>(kCount) ? 1.f + j : kMiss);
+    }
+    return out;
+  };
+  for (int shift = 0; shift < 3; ++shift) {
+    const float m[16] = {1, 0, 0, 2.f * shift, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    Ok(rtTransformSetMatrix(transform, 0, m, nullptr));
+    EXPECT_EQ(Launch(), shifted(shift)) << "shift " << shift;
+  }
+  const float back[16] = {1, 0, 0, -2.f, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  Ok(rtTransformSetMatrix(transform, 0, back, nullptr));
+  Ok(rtVariableSet1f(ContextVar("frame"), 0.5f));
+  Floats expected = shifted(-1);
+  for (float& v : expected) v += 0.5f;
+  EXPECT_EQ(Launch(), expected);
+  Ok(rtGroupSetChildCount(top, 0));
+  EXPECT_EQ(Launch(), (Floats{kMiss + 0.5f, kMiss + 0.5f, kMiss + 0.5f, kMiss + 0.5f}));
+  // Both: the geometry group where it is, and through the transform moved left by 2 and nearer
+  // by 1, which hides it where both lie under a launch index.
+  const float nearer[16] = {1, 0, 0, -2.f, 0, 1, 0, 0, 0, 0, 1, -1.f, 0, 0, 0, 1};
+  Ok(rtTransformSetMatrix(transform, 0, nearer, nullptr));
+  Ok(rtGroupSetChildCount(top, 2));
+  Ok(rtGroupSetChild(top, 0, geometry_group_));
+  Ok(rtGroupSetChild(top, 1, transform));
+  EXPECT_EQ(Launch(), (Floats{2.5f, 3.5f, 4.5f, 4.5f}));
+  RTacceleration accel = nullptr;
+  Ok(rtGroupGetAcceleration(top, &accel));
+  Ok(rtAccelerationSetBuilder(accel, "NoAccel"));
+  Ok(rtAccelerationSetTraverser(accel, "NoAccel"));
+  Ok(rtGroupSetChild(top, 1, geometry_group_));  // the same child twice
+  EXPECT_EQ(Launch(), (Floats{1.5f, 2.5f, 3.5f, 4.5f}));
 }
 
 INSTANTIATE_TEST_SUITE_P(Devices, ValueUpdatesTest, ::testing::Values("inproc", "local:2"),

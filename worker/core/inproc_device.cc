@@ -230,9 +230,9 @@ class InprocDevice : public Device {
   absl::Status Apply(const v1::StateDelta& delta) override {
     std::lock_guard<std::mutex> call_lock(call_mu_);
     absl::Status applied = replica_.Apply(delta);
-    // Bound programs point into the replica: a plan outlives only deltas of values alone, which
-    // write where it points (replica_values.cc).
-    if (plan_ && plan_->structure_generation != replica_.structure_generation()) plan_.reset();
+    // Bound programs point into the replica: a plan outlives only deltas of values and of the
+    // graph, which leave them valid (replica_values.cc).
+    if (plan_ && plan_->bindings_generation != replica_.bindings_generation()) plan_.reset();
     return applied;
   }
 
@@ -269,6 +269,23 @@ class InprocDevice : public Device {
     if (plan_ && plan_->generation != replica_.generation() &&
         !worker::RefreshValues(*plan_, scenes_)) {
       plan_.reset();
+    }
+    if (plan_ && plan_->structure_generation != replica_.structure_generation()) {
+      absl::Status refreshed;
+      RunOnPlanThread([&] {
+        try {
+          refreshed = worker::RefreshGraph(*plan_, scenes_, &cancel);
+        } catch (const FatalError& e) {
+          refreshed = e.status;
+        } catch (const std::bad_alloc&) {
+          refreshed = absl::ResourceExhaustedError(
+              "the device ran out of memory building the launch's accelerations");
+        }
+      });
+      if (!refreshed.ok()) {
+        plan_.reset();
+        return refreshed;
+      }
     }
     if (!plan_ || plan_->generation != replica_.generation()) {
       absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan;

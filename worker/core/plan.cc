@@ -282,6 +282,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   plan->serial = g_next_serial++;
   plan->generation = replica.generation();
   plan->structure_generation = replica.structure_generation();
+  plan->bindings_generation = replica.bindings_generation();
   plan->replica = &replica;
   plan->scenes = &scenes;
   const ContextRec& ctx = replica.context();
@@ -402,9 +403,23 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   SplitInvariants(*plan);
   plan->attribute_bytes = plan->attributes.used();
   plan->barycentrics_offset = plan->attributes.Find(kTriangleBarycentrics);
-  if (absl::Status s = scenes.Update(*plan, roots, cancel); !s.ok()) return s;
+  plan->bind_problems = plan->node_problems;
+  plan->roots = std::move(roots);
+  if (absl::Status s = scenes.Update(*plan, plan->roots, cancel); !s.ok()) return s;
   IndexNodes(*plan);
   return plan;
+}
+
+absl::Status RefreshGraph(LaunchPlan& plan, SceneCache& scenes, const std::atomic<bool>* cancel) {
+  // A new serial: scenes the update checks are stamped with it, and threads drop what they
+  // cached of the nodes.
+  plan.serial = g_next_serial++;
+  plan.structure_generation = plan.replica->structure_generation();
+  plan.nodes.clear();
+  plan.node_problems = plan.bind_problems;
+  if (absl::Status s = scenes.Update(plan, plan.roots, cancel); !s.ok()) return s;
+  IndexNodes(plan);
+  return absl::OkStatus();
 }
 
 }  // namespace tessera::worker

@@ -135,6 +135,7 @@ struct LaunchPlan {
   uint64_t serial = 0;      // unique per plan in this process, and per refresh of its values
   uint64_t generation = 0;  // the replica's generation it was made or refreshed for
   uint64_t structure_generation = 0;  // the replica's structure generation it was made for
+  uint64_t bindings_generation = 0;   // the replica's bindings generation it was made for
   const Replica* replica = nullptr;
   std::deque<BoundProgram> programs;  // owns every bound program
   std::vector<const BoundProgram*> ray_generation, exception, miss;
@@ -149,6 +150,10 @@ struct LaunchPlan {
   // when a program traces it, not when the plan is made: a variable of an unreachable object (a
   // program no longer attached, say) still lives on the device and must not fail launches.
   std::unordered_map<uint64_t, absl::Status> node_problems;
+  // Those of node_problems that binding found (selectors' visit programs), and the nodes object
+  // variables name: what RefreshGraph starts from.
+  std::unordered_map<uint64_t, absl::Status> bind_problems;
+  std::vector<uint64_t> roots;
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;
   uint32_t ray_type_count = 0;
@@ -227,6 +232,12 @@ class SceneCache {
 // modules' slots again. False when the plan cannot be kept (values that were equal, and so
 // shared, now differ): make a new one.
 bool RefreshValues(LaunchPlan& plan, SceneCache& scenes);
+
+// Takes in a plan the graph changes (groups, geometry groups, transforms, accelerations) made
+// since (Replica::bindings_generation unchanged): builds the scenes they touch and indexes the
+// nodes again, keeping every binding. Call RefreshValues first. On an error (a cancel) the plan
+// must not be used.
+absl::Status RefreshGraph(LaunchPlan& plan, SceneCache& scenes, const std::atomic<bool>* cancel);
 
 absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, SceneCache& scenes,
                                                      const std::atomic<bool>* cancel = nullptr);

@@ -333,16 +333,24 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
 
   // ---- Apply.
   std::vector<ValueWrite> writes;
-  const bool values_only = ValuesOnly(delta, &writes);
+  const DeltaScope scope = Classify(delta, &writes);
   session_id_ = delta.session_id();
   sequence_ = delta.sequence();
   ++generation_;
-  if (values_only) {
+  if (scope != DeltaScope::kEverything) {
     WriteValues(writes);
+    if (scope == DeltaScope::kGraph) {
+      ++structure_generation_;
+      for (uint64_t id : delta.removed()) RemoveObject(id);
+      for (const auto& o : delta.objects()) {
+        if (IsGraphKind(o.kind_case())) ApplyObject(o);
+      }
+    }
     WriteChunks(delta);
     return absl::OkStatus();
   }
   ++structure_generation_;
+  ++bindings_generation_;
   const v1::ContextState& c = delta.context();
   context_.entry_point_count = c.entry_point_count();
   context_.ray_type_count = c.ray_type_count();
@@ -360,88 +368,8 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
   context_.num_threads = c.num_threads();
   context_.vars = ToScope(c.variables());
 
-  for (uint64_t id : delta.removed()) {
-    programs.erase(id);
-    buffers.erase(id);
-    geometries.erase(id);
-    materials.erase(id);
-    instances.erase(id);
-    accelerations.erase(id);
-    geometry_groups.erase(id);
-    groups.erase(id);
-    transforms.erase(id);
-    selectors.erase(id);
-  }
-  for (const auto& o : delta.objects()) {
-    switch (o.kind_case()) {
-      case v1::Object::kProgram: {
-        const auto& p = o.program();
-        programs[p.id()] =
-            ProgramRec{p.module_path(), p.module_hash(), p.function(), ToScope(p.variables())};
-        break;
-      }
-      case v1::Object::kBuffer:
-        break;  // below, as staged
-      case v1::Object::kGeometry: {
-        const auto& g = o.geometry();
-        geometries[g.id()] =
-            GeometryRec{g.primitive_count(),    g.intersection_program(), g.bounding_box_program(),
-                        ToScope(g.variables()), g.has_triangles(),        g.triangles()};
-        break;
-      }
-      case v1::Object::kMaterial: {
-        const auto& m = o.material();
-        materials[m.id()] =
-            MaterialRec{ToVector(m.closest_hit()), ToVector(m.any_hit()), ToScope(m.variables())};
-        break;
-      }
-      case v1::Object::kGeometryInstance: {
-        const auto& gi = o.geometry_instance();
-        instances[gi.id()] =
-            InstanceRec{gi.geometry(), ToVector(gi.materials()), ToScope(gi.variables())};
-        break;
-      }
-      case v1::Object::kGeometryGroup: {
-        const auto& gg = o.geometry_group();
-        geometry_groups[gg.id()] = GeometryGroupRec{gg.acceleration(), ToVector(gg.children())};
-        break;
-      }
-      case v1::Object::kGroup: {
-        const auto& g = o.group();
-        GroupRec r{g.acceleration(), {}};
-        for (const auto& ch : g.children()) r.children.push_back(ToRef(ch));
-        groups[g.id()] = std::move(r);
-        break;
-      }
-      case v1::Object::kTransform: {
-        const auto& t = o.transform();
-        TransformRec r;
-        for (int i = 0; i < 16; ++i) {
-          r.matrix[i] = t.matrix(i);
-          r.inverse[i] = t.inverse(i);
-        }
-        r.child = ToRef(t.child());
-        transforms[t.id()] = r;
-        break;
-      }
-      case v1::Object::kSelector: {
-        const auto& s = o.selector();
-        SelectorRec r{s.visit_program(), {}, ToScope(s.variables())};
-        for (const auto& ch : s.children()) r.children.push_back(ToRef(ch));
-        selectors[s.id()] = std::move(r);
-        break;
-      }
-      case v1::Object::kAcceleration: {
-        const auto& a = o.acceleration();
-        AccelRec r{a.builder(), a.traverser(), {}, a.build_epoch()};
-        for (const auto& [k, v] : a.properties()) r.properties[k] = v;
-        accelerations[a.id()] = std::move(r);
-        break;
-      }
-      case v1::Object::KIND_NOT_SET:
-        break;
-    }
-  }
+  for (uint64_t id : delta.removed()) RemoveObject(id);
+  for (const auto& o : delta.objects()) ApplyObject(o);
   for (auto& [id, staged_buffer] : staged) {
     BufferRec& from = staged_buffer.rec;
     BufferRec& r = buffers[id];
@@ -458,6 +386,92 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
   }
   WriteChunks(delta);
   return absl::OkStatus();
+}
+
+void Replica::RemoveObject(uint64_t id) {
+  programs.erase(id);
+  buffers.erase(id);
+  geometries.erase(id);
+  materials.erase(id);
+  instances.erase(id);
+  accelerations.erase(id);
+  geometry_groups.erase(id);
+  groups.erase(id);
+  transforms.erase(id);
+  selectors.erase(id);
+}
+
+// Records of an existing id are assigned in place: their addresses, which plans hold (a
+// Transform's matrix, say), stay.
+void Replica::ApplyObject(const v1::Object& o) {
+  switch (o.kind_case()) {
+    case v1::Object::kProgram: {
+      const auto& p = o.program();
+      programs[p.id()] =
+          ProgramRec{p.module_path(), p.module_hash(), p.function(), ToScope(p.variables())};
+      break;
+    }
+    case v1::Object::kBuffer:
+      break;  // Apply stages buffers
+    case v1::Object::kGeometry: {
+      const auto& g = o.geometry();
+      geometries[g.id()] =
+          GeometryRec{g.primitive_count(),    g.intersection_program(), g.bounding_box_program(),
+                      ToScope(g.variables()), g.has_triangles(),        g.triangles()};
+      break;
+    }
+    case v1::Object::kMaterial: {
+      const auto& m = o.material();
+      materials[m.id()] =
+          MaterialRec{ToVector(m.closest_hit()), ToVector(m.any_hit()), ToScope(m.variables())};
+      break;
+    }
+    case v1::Object::kGeometryInstance: {
+      const auto& gi = o.geometry_instance();
+      instances[gi.id()] =
+          InstanceRec{gi.geometry(), ToVector(gi.materials()), ToScope(gi.variables())};
+      break;
+    }
+    case v1::Object::kGeometryGroup: {
+      const auto& gg = o.geometry_group();
+      geometry_groups[gg.id()] = GeometryGroupRec{gg.acceleration(), ToVector(gg.children())};
+      break;
+    }
+    case v1::Object::kGroup: {
+      const auto& g = o.group();
+      GroupRec r{g.acceleration(), {}};
+      for (const auto& ch : g.children()) r.children.push_back(ToRef(ch));
+      groups[g.id()] = std::move(r);
+      break;
+    }
+    case v1::Object::kTransform: {
+      const auto& t = o.transform();
+      TransformRec r;
+      for (int i = 0; i < 16; ++i) {
+        r.matrix[i] = t.matrix(i);
+        r.inverse[i] = t.inverse(i);
+      }
+      r.child = ToRef(t.child());
+      transforms[t.id()] = r;
+      break;
+    }
+    case v1::Object::kSelector: {
+      const auto& s = o.selector();
+      SelectorRec r{s.visit_program(), {}, ToScope(s.variables())};
+      for (const auto& ch : s.children()) r.children.push_back(ToRef(ch));
+      selectors[s.id()] = std::move(r);
+      break;
+    }
+    case v1::Object::kAcceleration: {
+      const auto& a = o.acceleration();
+      AccelRec r{a.builder(), a.traverser(), {}, a.build_epoch()};
+      for (const auto& [k, v] : a.properties()) r.properties[k] = v;
+      accelerations[a.id()] = std::move(r);
+      break;
+    }
+    case v1::Object::KIND_NOT_SET:
+      break;
+  }
 }
 
 void Replica::WriteChunks(const v1::StateDelta& delta) {

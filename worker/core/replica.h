@@ -139,10 +139,13 @@ class Replica {
   std::unordered_map<uint64_t, SelectorRec> selectors;
   uint64_t generation() const { return generation_; }  // bumps with every applied delta
   // Bumps with every applied delta that changes more than the bytes of variables and buffers:
-  // the scene, programs, a buffer's shape, a variable's name, type, object or size. Deltas of
+  // the graph, programs, a buffer's shape, a variable's name, type, object or size. Deltas of
   // values alone are written in place (replica_values.cc), where bindings of an earlier plan
   // point.
   uint64_t structure_generation() const { return structure_generation_; }
+  // Bumps with every applied delta that changes what programs are bound to: all of the above but
+  // groups, geometry groups, transforms and accelerations, whose changes leave bindings valid.
+  uint64_t bindings_generation() const { return bindings_generation_; }
 
  private:
   struct StagedBuffer;
@@ -159,9 +162,15 @@ class Replica {
     Scope* scope;
     const google::protobuf::RepeatedPtrField<v1::Variable>* variables;
   };
-  // Whether `delta` changes nothing but variables' bytes, and then the scopes it rewrites.
-  bool ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* writes);
+  // What a delta changes: variables' bytes and buffer contents alone, those and graph nodes
+  // (Group, GeometryGroup, Transform, Acceleration), or more. For the first two, `writes` are the
+  // scopes it rewrites.
+  enum class DeltaScope { kValues, kGraph, kEverything };
+  DeltaScope Classify(const v1::StateDelta& delta, std::vector<ValueWrite>* writes);
+  static bool IsGraphKind(v1::Object::KindCase kind);
   static void WriteValues(const std::vector<ValueWrite>& writes);
+  void ApplyObject(const v1::Object& o);  // checked by Apply; buffers are staged instead
+  void RemoveObject(uint64_t id);
   void WriteChunks(const v1::StateDelta& delta);  // checked by Apply
 
   ContextRec context_;
@@ -169,6 +178,7 @@ class Replica {
   uint64_t sequence_ = 0;
   uint64_t generation_ = 0;
   uint64_t structure_generation_ = 0;
+  uint64_t bindings_generation_ = 0;
   alignas(64) unsigned char write_epoch_ = 1;  // its own cache line: every marking access reads it
 };
 

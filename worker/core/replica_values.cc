@@ -1,5 +1,6 @@
-// Deltas that change only variable values (a camera moved, a frame counter) and buffer contents:
-// Replica::Apply writes the new bytes where the old ones were, so that a launch plan, whose
+// Deltas that change only variable values (a camera moved, a frame counter) and buffer contents,
+// and perhaps the graph (a transform moved, a group's children): Replica::Apply writes the new
+// bytes where the old ones were, so that a launch plan, whose
 // bindings point at them (binding.cc), stays valid and need not be made again. Making a plan costs
 // time in proportion to the scene (16,384 geometry instances: 30–50 ms) and freeing the old one as
 // much.
@@ -59,11 +60,22 @@ bool SameContext(const ContextRec& held, const v1::ContextState& c) {
 
 }  // namespace
 
-bool Replica::ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* writes) {
+bool Replica::IsGraphKind(v1::Object::KindCase kind) {
+  return kind == v1::Object::kGroup || kind == v1::Object::kGeometryGroup ||
+         kind == v1::Object::kTransform || kind == v1::Object::kAcceleration;
+}
+
+Replica::DeltaScope Replica::Classify(const v1::StateDelta& delta,
+                                      std::vector<ValueWrite>* writes) {
   writes->clear();
   // New bytes for buffers whose shape stays (no Buffer object in the delta) land in place too.
-  if (!delta.removed().empty() || !delta.modules().empty()) return false;
-  if (!SameContext(context_, delta.context())) return false;
+  if (!delta.modules().empty()) return DeltaScope::kEverything;
+  if (!SameContext(context_, delta.context())) return DeltaScope::kEverything;
+  DeltaScope scope_of_delta = DeltaScope::kValues;
+  for (uint64_t id : delta.removed()) {
+    if (!IsGraphKind(KindOf(id))) return DeltaScope::kEverything;
+    scope_of_delta = DeltaScope::kGraph;
+  }
   writes->push_back({&context_.vars, &delta.context().variables()});
   for (const v1::Object& o : delta.objects()) {
     Scope* scope = nullptr;
@@ -74,7 +86,7 @@ bool Replica::ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* w
         auto it = programs.find(p.id());
         if (it == programs.end() || it->second.module_path != p.module_path() ||
             it->second.module_hash != p.module_hash() || it->second.function != p.function()) {
-          return false;
+          return DeltaScope::kEverything;
         }
         scope = &it->second.vars;
         sent = &p.variables();
@@ -83,13 +95,13 @@ bool Replica::ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* w
       case v1::Object::kGeometry: {
         const auto& g = o.geometry();
         auto it = geometries.find(g.id());
-        if (it == geometries.end()) return false;
+        if (it == geometries.end()) return DeltaScope::kEverything;
         const GeometryRec& h = it->second;
         if (h.primitive_count != g.primitive_count() ||
             h.intersection != g.intersection_program() || h.bounds != g.bounding_box_program() ||
             h.builtin_triangles != g.has_triangles() ||
             h.mesh.SerializeAsString() != g.triangles().SerializeAsString()) {
-          return false;
+          return DeltaScope::kEverything;
         }
         scope = &it->second.vars;
         sent = &g.variables();
@@ -100,7 +112,7 @@ bool Replica::ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* w
         auto it = materials.find(m.id());
         if (it == materials.end() || !SameValues(it->second.closest_hit, m.closest_hit()) ||
             !SameValues(it->second.any_hit, m.any_hit())) {
-          return false;
+          return DeltaScope::kEverything;
         }
         scope = &it->second.vars;
         sent = &m.variables();
@@ -111,7 +123,7 @@ bool Replica::ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* w
         auto it = instances.find(gi.id());
         if (it == instances.end() || it->second.geometry != gi.geometry() ||
             !SameValues(it->second.materials, gi.materials())) {
-          return false;
+          return DeltaScope::kEverything;
         }
         scope = &it->second.vars;
         sent = &gi.variables();
@@ -122,19 +134,23 @@ bool Replica::ValuesOnly(const v1::StateDelta& delta, std::vector<ValueWrite>* w
         auto it = selectors.find(s.id());
         if (it == selectors.end() || it->second.visit != s.visit_program() ||
             !SameRefs(it->second.children, s.children())) {
-          return false;
+          return DeltaScope::kEverything;
         }
         scope = &it->second.vars;
         sent = &s.variables();
         break;
       }
-      default:  // buffers, graph nodes, accelerations: the scene itself changes
-        return false;
+      default:
+        // Graph nodes and accelerations change the scenes, not what programs are bound to;
+        // buffers (reallocated) change that too.
+        if (!IsGraphKind(o.kind_case())) return DeltaScope::kEverything;
+        scope_of_delta = DeltaScope::kGraph;
+        continue;
     }
-    if (!SameLayout(*scope, *sent)) return false;
+    if (!SameLayout(*scope, *sent)) return DeltaScope::kEverything;
     writes->push_back({scope, sent});
   }
-  return true;
+  return scope_of_delta;
 }
 
 void Replica::WriteValues(const std::vector<ValueWrite>& writes) {
