@@ -8,6 +8,7 @@
 #include <new>
 #include <unordered_set>
 
+#include "absl/hash/hash.h"
 #include "absl/strings/str_cat.h"
 #include "module.h"
 #include "tessera/detail/module_abi.h"
@@ -415,9 +416,13 @@ void Replica::ApplyObject(const v1::Object& o) {
       break;  // Apply stages buffers
     case v1::Object::kGeometry: {
       const auto& g = o.geometry();
-      geometries[g.id()] =
-          GeometryRec{g.primitive_count(),    g.intersection_program(), g.bounding_box_program(),
-                      ToScope(g.variables()), g.has_triangles(),        g.triangles()};
+      geometries[g.id()] = GeometryRec{g.primitive_count(),
+                                       g.intersection_program(),
+                                       g.bounding_box_program(),
+                                       ToScope(g.variables()),
+                                       g.has_triangles(),
+                                       g.triangles(),
+                                       absl::HashOf(g.triangles().SerializeAsString())};
       break;
     }
     case v1::Object::kMaterial: {

@@ -55,6 +55,7 @@ struct GeometryRec {
   Scope vars;
   bool builtin_triangles = false;  // GeometryTriangles: `mesh` says where they are
   v1::TriangleMesh mesh;
+  size_t mesh_stamp = 0;  // a hash of `mesh`, for scene stamps (hashed once, not per check)
 };
 struct MaterialRec {
   std::vector<uint64_t> closest_hit, any_hit;

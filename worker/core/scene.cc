@@ -315,7 +315,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
                                                         " has no intersection program"));
     }
     stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count, ip->second.has_any_hit,
-                         g->builtin_triangles, g->mesh.SerializeAsString());
+                         g->builtin_triangles, g->mesh_stamp);
   }
   auto& slot = entries_[id];
   if (slot && slot->stamp == stamp) {
