@@ -105,3 +105,6 @@ RT_PROGRAM void ray_gen() {
   output[launch_index] =
       make_uint4(r.any_hits | (s.any_hits << 8), r.attribute, __float_as_uint(r.t), r.partial);
 }
+
+// A selector's visit program that traverses its first child.
+RT_PROGRAM void visit_first() { rtIntersectChild(0); }

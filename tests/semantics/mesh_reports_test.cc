@@ -25,6 +25,16 @@ class MeshReportsTest : public RtFixture, public ::testing::WithParamInterface<c
   // GeometryGroup with acceleration `builder`, traced straight along +z.
   std::vector<Uint4> Render(const char* builder, const char* intersection, bool any_hit,
                             float second_z = 4.f) {
+    RTbuffer output = Build(builder, intersection, any_hit, second_z);
+    Ok(rtContextLaunch2D(ctx_, 0, kSide, kSide));
+    return ReadAs<Uint4>(output);
+  }
+
+  // The scene of Render, on a new context; returns its output buffer. With `bad_index`, the last
+  // triangle names a vertex past the buffer (the device cannot build the mesh); with `root`, that
+  // node (a Transform or a Selector) holds the geometry group instead of top_object itself.
+  RTbuffer Build(const char* builder, const char* intersection, bool any_hit, float second_z = 4.f,
+                 bool bad_index = false, const char* root = nullptr) {
     if (ctx_ != nullptr) rtContextDestroy(ctx_);
     EXPECT_EQ(rtContextCreate(&ctx_), RT_SUCCESS);
     Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
@@ -43,6 +53,7 @@ class MeshReportsTest : public RtFixture, public ::testing::WithParamInterface<c
       const int b = 4 * q;
       indices.insert(indices.end(), {b, b + 1, b + 2, b, b + 2, b + 3});
     }
+    if (bad_index) indices.back() = 8;
     RTgeometry geometry = nullptr;
     Ok(rtGeometryCreate(ctx_, &geometry));
     Ok(rtGeometrySetPrimitiveCount(geometry, 4));
@@ -66,11 +77,22 @@ class MeshReportsTest : public RtFixture, public ::testing::WithParamInterface<c
     Ok(rtGeometryGroupSetAcceleration(group, Accel(builder)));
     Ok(rtGeometryGroupSetChildCount(group, 1));
     Ok(rtGeometryGroupSetChild(group, 0, instance));
-    Ok(rtVariableSetObject(ContextVar("top_object"), group));
-
-    RTbuffer output = Buffer2D("output", RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT4, kSide, kSide);
-    Ok(rtContextLaunch2D(ctx_, 0, kSide, kSide));
-    return ReadAs<Uint4>(output);
+    RTobject top = group;
+    if (root != nullptr && std::string(root) == "transform") {
+      RTtransform transform = nullptr;
+      Ok(rtTransformCreate(ctx_, &transform));
+      Ok(rtTransformSetChild(transform, group));
+      top = transform;
+    } else if (root != nullptr) {
+      RTselector selector = nullptr;
+      Ok(rtSelectorCreate(ctx_, &selector));
+      Ok(rtSelectorSetVisitProgram(selector, Program(kModule, "visit_first")));
+      Ok(rtSelectorSetChildCount(selector, 1));
+      Ok(rtSelectorSetChild(selector, 0, group));
+      top = selector;
+    }
+    Ok(rtVariableSetObject(ContextVar("top_object"), top));
+    return Buffer2D("output", RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT4, kSide, kSide);
   }
 
   void BindBuffer(RTgeometry g, const char* name, RTformat format, const void* data, size_t n) {
@@ -134,6 +156,19 @@ TEST_P(MeshReportsTest, ExactTiesResolveTheSameWayEveryTime) {
     for (int run = 0; run < 4; ++run) {
       EXPECT_EQ(Render(builder, "intersect_twice", false, 1.f), first) << "run " << run;
     }
+  }
+}
+
+// A mesh the device cannot build says why, whatever node top_object names above it.
+TEST_P(MeshReportsTest, AMeshThatCannotBeBuiltSaysWhyBelowAnyRoot) {
+  for (const char* root : {"group", "transform", "selector"}) {
+    SCOPED_TRACE(root);
+    Build("Trbvh", "intersect_all", false, 4.f, /*bad_index=*/true,
+          std::string(root) == "group" ? nullptr : root);
+    const RTresult code = rtContextLaunch2D(ctx_, 0, kSide, kSide);
+    EXPECT_NE(code, RT_SUCCESS);
+    EXPECT_NE(Error(code).find("uses vertex 8 but the vertex buffer holds 8"), std::string::npos)
+        << Error(code);
   }
 }
 

@@ -249,11 +249,17 @@ absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref
       return it->second.get();
     }
   }
+  absl::StatusOr<const SceneEntry*> built;
   switch (ref.type) {
     case RT_OBJECTTYPE_GEOMETRY_GROUP:
-      return BuildGeometryGroup(plan, ref.id);
+      built = BuildGeometryGroup(plan, ref.id);
+      break;
     case RT_OBJECTTYPE_GROUP:
-      return BuildGroup(plan, ref.id, depth);
+      built = BuildGroup(plan, ref.id, depth);
+      break;
+    case RT_OBJECTTYPE_SELECTOR:
+      built = BuildSelector(plan, ref.id, depth);
+      break;
     case RT_OBJECTTYPE_TRANSFORM: {
       const TransformRec* t = plan.replica->Find(plan.replica->transforms, ref.id);
       if (t == nullptr) return absl::NotFoundError(absl::StrCat("unknown transform #", ref.id));
@@ -262,12 +268,16 @@ absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref
       }
       return Node(plan, t->child, depth + 1);
     }
-    case RT_OBJECTTYPE_SELECTOR:
-      return BuildSelector(plan, ref.id, depth);
     default:
       return absl::InvalidArgumentError(
           absl::StrCat("object #", ref.id, " is not a graph node (type ", ref.type, ")"));
   }
+  // Traversal that reaches this node below a Transform or Selector root finds no scene here and
+  // reports why (trace.cc TraverseNode), not only traversal from the root itself.
+  if (!built.ok() && !absl::IsCancelled(built.status())) {
+    plan.node_problems.emplace(ref.id, built.status());
+  }
+  return built;
 }
 
 absl::StatusOr<Box> SceneCache::Bounds(LaunchPlan& plan, NodeRef ref, int depth, int* height) {
