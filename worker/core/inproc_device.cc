@@ -210,6 +210,24 @@ void RunOnPlanThread(const std::function<void()>& f) {
   if (job.error) std::rethrow_exception(job.error);
 }
 
+// Runs `build` (making or refreshing a launch plan) on a plan thread; what it throws becomes its
+// status.
+template <typename F>
+absl::Status OnPlanThread(F&& build) {
+  absl::Status status;
+  RunOnPlanThread([&] {
+    try {
+      status = build();
+    } catch (const FatalError& e) {
+      status = e.status;
+    } catch (const std::bad_alloc&) {
+      status = absl::ResourceExhaustedError(
+          "the device ran out of memory building the launch's programs and accelerations");
+    }
+  });
+  return status;
+}
+
 class InprocDevice : public Device {
  public:
   InprocDevice(int num_threads, bool results_in_rounds)
@@ -271,36 +289,22 @@ class InprocDevice : public Device {
       plan_.reset();
     }
     if (plan_ && plan_->structure_generation != replica_.structure_generation()) {
-      absl::Status refreshed;
-      RunOnPlanThread([&] {
-        try {
-          refreshed = worker::RefreshGraph(*plan_, scenes_, &cancel);
-        } catch (const FatalError& e) {
-          refreshed = e.status;
-        } catch (const std::bad_alloc&) {
-          refreshed = absl::ResourceExhaustedError(
-              "the device ran out of memory building the launch's accelerations");
-        }
-      });
+      absl::Status refreshed =
+          OnPlanThread([&] { return worker::RefreshGraph(*plan_, scenes_, &cancel); });
       if (!refreshed.ok()) {
         plan_.reset();
         return refreshed;
       }
     }
     if (!plan_ || plan_->generation != replica_.generation()) {
-      absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan;
-      RunOnPlanThread([&] {
-        try {
-          plan = worker::MakePlan(replica_, scenes_, &cancel);
-        } catch (const FatalError& e) {
-          plan = e.status;
-        } catch (const std::bad_alloc&) {
-          plan = absl::ResourceExhaustedError(
-              "the device ran out of memory building the launch's programs and accelerations");
-        }
+      absl::Status made = OnPlanThread([&] {
+        absl::StatusOr<std::unique_ptr<worker::LaunchPlan>> plan =
+            worker::MakePlan(replica_, scenes_, &cancel);
+        if (!plan.ok()) return plan.status();
+        plan_ = std::move(*plan);
+        return absl::OkStatus();
       });
-      if (!plan.ok()) return plan.status();
-      plan_ = std::move(*plan);
+      if (!made.ok()) return made;
     }
     Index3 dims{1, 1, 1};
     bool empty = false;
