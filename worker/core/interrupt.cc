@@ -133,7 +133,7 @@ void OnInterrupt(int sig, siginfo_t* info, void* context) {
     siglongjmp(*jump, 1);
   }
 #endif
-  t_interrupt_requested = true;  // the engine, Embree or a library: the next rtTrace jumps
+  t_interrupt_requested = true;  // the engine, Embree or a library: the next engine call jumps
 }
 
 bool HandlerInstalled() {

@@ -2,7 +2,8 @@
 // cancelled or has failed elsewhere. Tiles check for a cancel between launch indices; a program
 // that never returns never gets there, so the thread gets a signal instead. Landing in program
 // code, the handler jumps back to the tile (RunTile's sigsetjmp); landing elsewhere (the engine,
-// Embree, libm), it leaves a request that the next rtTrace takes, or waits for the next signal.
+// Embree, libm), it leaves a request that the program's next engine call takes (InterruptPoint),
+// or waits for the next signal.
 // docs/devices.md "Faults" says what a user sees.
 #ifndef TESSERA_WORKER_CORE_INTERRUPT_H_
 #define TESSERA_WORKER_CORE_INTERRUPT_H_
@@ -17,15 +18,15 @@ namespace tessera::worker {
 // may be jumped out of.
 void RegisterModuleCode(void* handle);
 
-// Set by the handler when the signal found the thread outside program code; rtTrace's entry,
-// where the engine's state is whole, takes it (TakeInterruptRequest).
+// Set by the handler when the signal found the thread outside program code; the entry of every
+// engine call a program makes, where the engine's state is whole, takes it (InterruptPoint).
 // volatile: written by the signal handler on the same thread.
 extern __thread volatile bool t_interrupt_requested __attribute__((tls_model("initial-exec")));
 
 // While armed, the calling thread runs a tile that `cancel` or `stop` may end. A thread still
-// in the tile kGrace after either became true gets a signal every kPeriod until it leaves.
+// in the tile kGrace after either became true gets signals (interrupt.cc) until it leaves.
 // Construct before the sigsetjmp that `Arm` names and keep it in that frame: its destructor
-// disarms on every way out of the tile, a jump back included.
+// disarms on every way out of the tile; after a jump back, call Jumped.
 class InterruptibleTile {
  public:
   InterruptibleTile(const std::atomic<bool>& cancel, const std::atomic<bool>& stop);
