@@ -38,6 +38,15 @@ class Context : public Object {
   void DestroyAll();
 
   uint64_t NextVersion() { return ++version_clock_; }
+  // Moves with every change but those of variables' bytes alone (Object::TouchValue): a launch
+  // whose clock a validation or a walk of the graph saw before need not do it again.
+  uint64_t structure_clock() const { return structure_clock_; }
+  void StructureChanged() { ++structure_clock_; }
+  // The objects reachable from the context (validate.h CollectReachable) as of structure_clock.
+  const std::vector<Object*>& Reachable();
+  // ValidateContext, unless it passed at the current structure_clock already and no buffer is
+  // mapped.
+  absl::Status ValidateOnce();
 
   // The process that created the context, and whether this is another one (a child forked
   // without exec, which inherits the context but not its devices' threads and connections).
@@ -191,6 +200,9 @@ class Context : public Object {
   void ResetDeviceSlots();
 
   uint64_t version_clock_ = 0;
+  uint64_t structure_clock_ = 1;
+  uint64_t reachable_clock_ = 0, validated_clock_ = 0;  // 0: never
+  std::vector<Object*> reachable_;
   uint64_t last_id_ = 0;
   uint64_t last_launch_id_ = 0;
   absl::flat_hash_map<uint64_t, Object*> objects_;  // each holds the creation reference

@@ -436,7 +436,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
                        std::numeric_limits<uint32_t>::max(), " (launch indices are unsigned int)"));
     }
   }
-  TS_RETURN_IF_ERROR(ValidateContext(*this));
+  TS_RETURN_IF_ERROR(ValidateOnce());  // walks every object only after a change it could see
   TS_RETURN_IF_ERROR(CheckNothingMapped(*this));
   TS_RETURN_IF_ERROR(EnsureDevices());
   TS_RETURN_IF_ERROR(SyncDevicePointers(*this));

@@ -274,7 +274,7 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
     auto known = sync.versions.find(o->id());
     return known != sync.versions.end() && known->second == o->version();
   };
-  for (Object* o : CollectReachable(context)) {
+  for (Object* o : context.Reachable()) {
     if (o->kind() != Kind::kBuffer && !seen_at_version(o)) objects.push_back(o);
   }
   for (const auto& [id, object] : context.objects()) {

@@ -96,6 +96,12 @@ std::string Object::Describe() const {
 }
 
 void Object::Touch() {
+  if (context_ == nullptr) return;
+  version_ = context_->NextVersion();
+  context_->StructureChanged();
+}
+
+void Object::TouchValue() {
   if (context_ != nullptr) version_ = context_->NextVersion();
 }
 
@@ -108,6 +114,7 @@ void Object::RemoveParent(Object* parent) {
 void Object::Destroy() {
   if (!alive_) return;
   alive_ = false;
+  if (context_ != nullptr) context_->StructureChanged();
   HandleRegistry::Get().Remove(this);
   DropLinks();
 }

@@ -73,8 +73,11 @@ class Object {
     if (refs_.fetch_sub(1, std::memory_order_acq_rel) == 1) delete this;
   }
 
-  // Records a change: the object travels again with the next state delta.
+  // Records a change: the object travels again with the next state delta. TouchValue records one
+  // that changes only a variable's bytes (not its type, size or object), which no validation or
+  // graph walk of the context can see (Context::structure_clock).
   void Touch();
+  void TouchValue();
 
   // Objects whose links point here, with multiplicity. Used to carry "structure changed" upward
   // to acceleration structures.

@@ -278,6 +278,26 @@ absl::Status ValidateContext(Context& context) {
   return absl::OkStatus();
 }
 
+const std::vector<Object*>& Context::Reachable() {
+  if (reachable_clock_ != structure_clock_) {
+    reachable_ = CollectReachable(*this);
+    reachable_clock_ = structure_clock_;
+  }
+  return reachable_;
+}
+
+absl::Status Context::ValidateOnce() {
+  // Mapping is no change devices see (applications map their output after every launch), but
+  // validation reports a mapped buffer it reaches, naming it.
+  const bool mapped = std::any_of(objects().begin(), objects().end(), [](const auto& entry) {
+    return entry.second->kind() == Kind::kBuffer && static_cast<Buffer*>(entry.second)->mapped();
+  });
+  if (validated_clock_ == structure_clock_ && !mapped) return absl::OkStatus();
+  TS_RETURN_IF_ERROR(ValidateContext(*this));
+  validated_clock_ = structure_clock_;
+  return absl::OkStatus();
+}
+
 absl::Status ValidateObject(Object& object) {
   Walker walker;
   if (!walker.Walk(object)) return ToStatus(walker.problem(), RT_ERROR_INVALID_VALUE);

@@ -146,6 +146,7 @@ void Variable::Changed() { scope_owner_->Touch(); }
 
 absl::Status Variable::SetPlain(RTobjecttype type, const void* bytes, size_t size) {
   TS_RETURN_IF_ERROR(CheckType(type, "set it as"));
+  const bool same_shape = type_ == type && data_.size() == size;
   type_ = type;
   const auto* first = static_cast<const unsigned char*>(bytes);
   if (size > 0) {
@@ -153,7 +154,11 @@ absl::Status Variable::SetPlain(RTobjecttype type, const void* bytes, size_t siz
   } else {
     data_.clear();
   }
-  Changed();
+  if (same_shape) {
+    scope_owner_->TouchValue();
+  } else {
+    Changed();
+  }
   return absl::OkStatus();
 }
 
