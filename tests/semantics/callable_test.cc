@@ -292,10 +292,7 @@ TEST_F(CallableDepthTest, ALongChainOfCallableProgramsBinds) {
   EXPECT_EQ(ReadAs<float>(result)[0], static_cast<float>(kLinks));
 }
 
-INSTANTIATE_TEST_SUITE_P(Devices, CallableTest, ::testing::Values("inproc", "local:2"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           return std::string(info.param) == "inproc" ? "Inproc" : "Local2";
-                         });
+INSTANTIATE_TEST_SUITE_P(Devices, CallableTest, ::testing::Values("inproc", "local:2"), DeviceName);
 
 }  // namespace
 }  // namespace tessera::testing

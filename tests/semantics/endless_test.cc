@@ -184,11 +184,7 @@ TEST_F(EndlessContextsTest, AStuckBuildDoesNotHoldUpAnotherContext) {
   rtContextDestroy(other);
 }
 
-INSTANTIATE_TEST_SUITE_P(Devices, EndlessTest, ::testing::Values("inproc", "local:2"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           std::string name = info.param;
-                           return name == "inproc" ? std::string("inproc") : "local2";
-                         });
+INSTANTIATE_TEST_SUITE_P(Devices, EndlessTest, ::testing::Values("inproc", "local:2"), DeviceName);
 
 }  // namespace
 }  // namespace tessera::testing

@@ -173,9 +173,7 @@ TEST_P(MeshReportsTest, AMeshThatCannotBeBuiltSaysWhyBelowAnyRoot) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Devices, MeshReportsTest, ::testing::Values("inproc", "local:2"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           return std::string(info.param) == "inproc" ? "Inproc" : "Local2";
-                         });
+                         DeviceName);
 
 }  // namespace
 }  // namespace tessera::testing

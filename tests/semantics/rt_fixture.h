@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cctype>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -131,6 +132,16 @@ class OnDevicesFixture : public RtFixture, public ::testing::WithParamInterface<
     Ok(rtContextSetRayTypeCount(ctx_, 1));
   }
 };
+
+// A test name for a device spec parameter: "inproc" -> "Inproc", "local:2" -> "Local2".
+inline std::string DeviceName(const ::testing::TestParamInfo<const char*>& info) {
+  std::string name;
+  for (const char* c = info.param; *c != '\0'; ++c) {
+    if (std::isalnum(static_cast<unsigned char>(*c))) name += *c;
+  }
+  if (!name.empty()) name[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(name[0])));
+  return name;
+}
 
 }  // namespace tessera::testing
 

@@ -178,10 +178,7 @@ TEST_P(SelectorTest, MistakesInVisitProgramsAreNamed) {
   EXPECT_NE(message.find("not allowed in a visit program"), std::string::npos) << message;
 }
 
-INSTANTIATE_TEST_SUITE_P(Devices, SelectorTest, ::testing::Values("inproc", "local:2"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           return std::string(info.param) == "inproc" ? "Inproc" : "Local2";
-                         });
+INSTANTIATE_TEST_SUITE_P(Devices, SelectorTest, ::testing::Values("inproc", "local:2"), DeviceName);
 
 }  // namespace
 }  // namespace tessera::testing

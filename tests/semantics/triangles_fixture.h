@@ -117,10 +117,6 @@ class TrianglesFixture : public OnDevicesFixture {
   RTgeometrygroup group_ = nullptr;
 };
 
-inline std::string DeviceName(const ::testing::TestParamInfo<const char*>& info) {
-  return info.param[0] == 'i' ? "Inproc" : "Local2";
-}
-
 }  // namespace tessera::testing
 
 #endif  // TESSERA_TESTS_SEMANTICS_TRIANGLES_FIXTURE_H_

@@ -48,9 +48,7 @@ TEST_P(ValueSizesTest, PayloadsAndAttributesOfEverySizeRoundTrip) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Devices, ValueSizesTest, ::testing::Values("inproc", "local:2"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           return std::string(info.param) == "inproc" ? "Inproc" : "Local2";
-                         });
+                         DeviceName);
 
 }  // namespace
 }  // namespace tessera::testing

@@ -226,10 +226,7 @@ TEST_P(ValueUpdatesTest, GraphChanges) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Devices, ValueUpdatesTest, ::testing::Values("inproc", "local:2"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           std::string name = info.param;
-                           return name == "inproc" ? std::string("inproc") : "local2";
-                         });
+                         DeviceName);
 
 }  // namespace
 }  // namespace tessera::testing

@@ -1,11 +1,11 @@
 // Deltas that change only variable values (a camera moved, a frame counter) and buffer contents,
 // and perhaps the graph (a transform moved, a group's children): Replica::Apply writes the new
-// bytes where the old ones were, so that a launch plan, whose
-// bindings point at them (binding.cc), stays valid and need not be made again. Making a plan costs
-// time in proportion to the scene (16,384 geometry instances: 30–50 ms) and freeing the old one as
-// much.
+// bytes where the old ones were, so that a launch plan, whose bindings point at them
+// (binding.cc), stays valid and need not be made again. Making a plan costs time in proportion to
+// the scene (16,384 geometry instances: 30–50 ms) and freeing the old one as much.
 #include <cstring>
 
+#include "absl/hash/hash.h"
 #include "replica.h"
 
 namespace tessera::worker {
@@ -40,6 +40,14 @@ bool SameLayout(const Scope& held, const Variables& sent) {
     }
   }
   return true;
+}
+
+// The variables of the object `held` holds under `id`, if `same` says the delta's copy of it
+// differs in nothing else; else null.
+template <typename Rec, typename Same>
+Scope* HeldScope(std::unordered_map<uint64_t, Rec>& held, uint64_t id, Same&& same) {
+  auto it = held.find(id);
+  return it != held.end() && same(it->second) ? &it->second.vars : nullptr;
 }
 
 bool SameContext(const ContextRec& held, const v1::ContextState& c) {
@@ -78,66 +86,51 @@ Replica::DeltaScope Replica::Classify(const v1::StateDelta& delta,
   }
   writes->push_back({&context_.vars, &delta.context().variables()});
   for (const v1::Object& o : delta.objects()) {
-    Scope* scope = nullptr;
+    Scope* scope = nullptr;  // the held object's variables, if nothing else of it changes
     const Variables* sent = nullptr;
     switch (o.kind_case()) {
       case v1::Object::kProgram: {
         const auto& p = o.program();
-        auto it = programs.find(p.id());
-        if (it == programs.end() || it->second.module_path != p.module_path() ||
-            it->second.module_hash != p.module_hash() || it->second.function != p.function()) {
-          return DeltaScope::kEverything;
-        }
-        scope = &it->second.vars;
+        scope = HeldScope(programs, p.id(), [&](const ProgramRec& h) {
+          return h.module_path == p.module_path() && h.module_hash == p.module_hash() &&
+                 h.function == p.function();
+        });
         sent = &p.variables();
         break;
       }
       case v1::Object::kGeometry: {
         const auto& g = o.geometry();
-        auto it = geometries.find(g.id());
-        if (it == geometries.end()) return DeltaScope::kEverything;
-        const GeometryRec& h = it->second;
-        if (h.primitive_count != g.primitive_count() ||
-            h.intersection != g.intersection_program() || h.bounds != g.bounding_box_program() ||
-            h.builtin_triangles != g.has_triangles() ||
-            h.mesh.SerializeAsString() != g.triangles().SerializeAsString()) {
-          return DeltaScope::kEverything;
-        }
-        scope = &it->second.vars;
+        scope = HeldScope(geometries, g.id(), [&](const GeometryRec& h) {
+          return h.primitive_count == g.primitive_count() &&
+                 h.intersection == g.intersection_program() &&
+                 h.bounds == g.bounding_box_program() && h.builtin_triangles == g.has_triangles() &&
+                 h.mesh_stamp == absl::HashOf(g.triangles().SerializeAsString());
+        });
         sent = &g.variables();
         break;
       }
       case v1::Object::kMaterial: {
         const auto& m = o.material();
-        auto it = materials.find(m.id());
-        if (it == materials.end() || !SameValues(it->second.closest_hit, m.closest_hit()) ||
-            !SameValues(it->second.any_hit, m.any_hit())) {
-          return DeltaScope::kEverything;
-        }
-        scope = &it->second.vars;
+        scope = HeldScope(materials, m.id(), [&](const MaterialRec& h) {
+          return SameValues(h.closest_hit, m.closest_hit()) && SameValues(h.any_hit, m.any_hit());
+        });
         sent = &m.variables();
         break;
       }
       case v1::Object::kGeometryInstance: {
         const auto& gi = o.geometry_instance();
-        auto it = instances.find(gi.id());
-        if (it == instances.end() || it->second.geometry != gi.geometry() ||
-            !SameValues(it->second.materials, gi.materials())) {
-          return DeltaScope::kEverything;
-        }
-        scope = &it->second.vars;
+        scope = HeldScope(instances, gi.id(), [&](const InstanceRec& h) {
+          return h.geometry == gi.geometry() && SameValues(h.materials, gi.materials());
+        });
         sent = &gi.variables();
         break;
       }
       case v1::Object::kSelector: {
-        const auto& s = o.selector();
-        auto it = selectors.find(s.id());
-        if (it == selectors.end() || it->second.visit != s.visit_program() ||
-            !SameRefs(it->second.children, s.children())) {
-          return DeltaScope::kEverything;
-        }
-        scope = &it->second.vars;
-        sent = &s.variables();
+        const auto& sel = o.selector();
+        scope = HeldScope(selectors, sel.id(), [&](const SelectorRec& h) {
+          return h.visit == sel.visit_program() && SameRefs(h.children, sel.children());
+        });
+        sent = &sel.variables();
         break;
       }
       default:
@@ -147,7 +140,7 @@ Replica::DeltaScope Replica::Classify(const v1::StateDelta& delta,
         scope_of_delta = DeltaScope::kGraph;
         continue;
     }
-    if (!SameLayout(*scope, *sent)) return DeltaScope::kEverything;
+    if (scope == nullptr || !SameLayout(*scope, *sent)) return DeltaScope::kEverything;
     writes->push_back({scope, sent});
   }
   return scope_of_delta;
@@ -157,7 +150,7 @@ void Replica::WriteValues(const std::vector<ValueWrite>& writes) {
   for (const ValueWrite& w : writes) {
     for (const v1::Variable& v : *w.variables) {
       Value& held = w.scope->at(v.name());
-      // Same size (ValuesOnly): the bytes stay where bindings point.
+      // Same size (Classify): the bytes stay where bindings point.
       if (!v.data().empty()) std::memcpy(held.data.data(), v.data().data(), v.data().size());
     }
   }
