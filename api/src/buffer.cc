@@ -273,7 +273,7 @@ const unsigned char* Buffer::PerDeviceBytes(int ordinal) const {
 }
 
 void Buffer::SyncDevicePointersAfterLaunch() {
-  // INPUT_OUTPUT views got the devices' writes as they arrived (WriteRegion); copying the host
+  // INPUT_OUTPUT views got the devices' writes as they arrived (CopyDeviceBytes); copying the host
   // contents over them would undo what the application wrote there and no device overwrote (a
   // COPY_ON_DIRTY view the host contents did not take, or every device's own data).
   if (!gathers_content() || ships_content() || data_.empty()) return;
@@ -293,13 +293,20 @@ void Buffer::HostWrote(uint64_t begin, uint64_t end) {
   NotifyStructureChanged(this);
 }
 
-absl::Status Buffer::WriteRegion(uint64_t offset, absl::string_view bytes) {
-  if (offset > data_.size() || bytes.size() > data_.size() - offset) {
-    return RtError(RT_ERROR_LAUNCH_FAILED,
-                   absl::StrCat("device wrote bytes [", offset, ", ", offset + bytes.size(),
-                                ") outside the buffer's ", data_.size(), " bytes"));
-  }
-  if (bytes.empty()) return absl::OkStatus();
+void Buffer::NoteDeviceWrite(uint64_t offset, uint64_t size) {
+  if (size == 0) return;
+  // Device writes change what other devices must receive, not what the host wrote. Recorded by
+  // whole chunks, the unit that is rehashed: a multi-device gather writes one region per run of
+  // changed bytes (up to one per few bytes of a buffer), and a set of that many ranges made
+  // every Add linear (minutes for one 640x480 float4 launch on two devices).
+  const uint64_t begin = offset / kChunkBytes * kChunkBytes;
+  const uint64_t end = std::min<uint64_t>(
+      data_.size(), (offset + size + kChunkBytes - 1) / kChunkBytes * kChunkBytes);
+  changed_.Add(begin, end);
+}
+
+void Buffer::CopyDeviceBytes(uint64_t offset, absl::string_view bytes) {
+  if (bytes.empty()) return;
   std::memcpy(data_.data() + offset, bytes.data(), bytes.size());
   // Device pointers of an INPUT_OUTPUT buffer show what devices wrote, and keep the rest.
   if (ships_content()) {
@@ -307,15 +314,6 @@ absl::Status Buffer::WriteRegion(uint64_t offset, absl::string_view bytes) {
       std::memcpy(view.data() + offset, bytes.data(), bytes.size());
     }
   }
-  // Device writes change what other devices must receive, not what the host wrote. Recorded by
-  // whole chunks, the unit that is rehashed: a multi-device gather writes one region per run of
-  // changed bytes (up to one per few bytes of a buffer), and a set of that many ranges made
-  // every Add linear (minutes for one 640x480 float4 launch on two devices).
-  const uint64_t begin = offset / kChunkBytes * kChunkBytes;
-  const uint64_t end = std::min<uint64_t>(
-      data_.size(), (offset + bytes.size() + kChunkBytes - 1) / kChunkBytes * kChunkBytes);
-  changed_.Add(begin, end);
-  return absl::OkStatus();
 }
 
 const std::vector<uint64_t>& Buffer::ChunkHashes() {

@@ -71,9 +71,13 @@ class Buffer : public Object {
   void MarkDirty();
 
   const unsigned char* bytes() const { return data_.data(); }
-  // Applies bytes a device wrote, to the host contents and to the views of an INPUT_OUTPUT
-  // buffer; out-of-range regions are an error naming the buffer.
-  absl::Status WriteRegion(uint64_t offset, absl::string_view bytes);
+  // Bytes a device wrote, in two steps so that a large gather copies on several threads:
+  // NoteDeviceWrite records that [offset, offset + size) changed (one thread at a time), and
+  // CopyDeviceBytes puts the bytes into the host contents and the views of an INPUT_OUTPUT buffer
+  // (threads at once, on disjoint ranges). Both take ranges the caller checked against
+  // byte_size().
+  void NoteDeviceWrite(uint64_t offset, uint64_t size);
+  void CopyDeviceBytes(uint64_t offset, absl::string_view bytes);
 
   // Content hash of every chunk, recomputed only where the contents changed.
   const std::vector<uint64_t>& ChunkHashes();
@@ -104,7 +108,7 @@ class Buffer : public Object {
   // The bytes device `ordinal` gets when it has a view of an INPUT buffer; null otherwise.
   const unsigned char* PerDeviceBytes(int ordinal) const;
   // After a launch: views of OUTPUT buffers show the merged contents. (Views of INPUT_OUTPUT
-  // buffers take each element a device wrote as it arrives, WriteRegion, and keep the others.)
+  // buffers take each element a device wrote as it arrives, CopyDeviceBytes, and keep the others.)
   void SyncDevicePointersAfterLaunch();
 
   void VisitEdges(EdgeVisitor visit) const override {}

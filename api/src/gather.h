@@ -6,6 +6,7 @@
 #define TESSERA_API_SRC_GATHER_H_
 
 #include <cstdint>
+#include <mutex>
 #include <optional>
 #include <tuple>
 #include <vector>
@@ -53,8 +54,19 @@ class LaunchGather {
   static constexpr int kSeveralWriters = -2;
 
   void ApplyRegion(size_t device, const v1::BufferRegion& region);
-  // One written byte range of `b`, bounds-checked.
+  // One written byte range of `b`, bounds-checked, recorded and queued for CopyRuns.
   void ApplyRun(size_t device, Buffer& b, uint64_t offset, absl::string_view data);
+  // A queued byte range; `data` points into the batch being applied.
+  struct Run {
+    Buffer* buffer;
+    uint64_t offset;
+    absl::string_view data;
+  };
+  // Copies the queued runs into their buffers (race-checking them first), on several threads when
+  // they are large, in their order wherever they overlap; then forgets them.
+  void CopyRuns(size_t device);
+  // The part of `run` in bytes [begin, end) of its buffer.
+  void CopyRun(size_t device, const Run& run, uint64_t begin, uint64_t end);
   // Race checking (tesseraContextSetRaceCheck): records who wrote each element and reports two
   // devices writing different values to one element. Returns false for bytes to leave alone.
   void CheckRaces(size_t device, const Buffer& b, uint64_t offset, absl::string_view data);
@@ -94,6 +106,8 @@ class LaunchGather {
   // timeout callback mapping one) is in no device's copy.
   absl::flat_hash_map<uint64_t, uint64_t> host_epochs_;
   absl::flat_hash_set<uint64_t> layout_reported_;
+  std::vector<Run> runs_;  // of the batch being applied
+  std::mutex races_mu_;    // races_ and race_count_, which slices copied at once add to
   std::vector<Race> races_;
   uint64_t race_count_ = 0;
   // Per buffer id, per content chunk: which device wrote into it (or none, or several).

@@ -422,11 +422,12 @@ class InprocDevice : public Device {
       };
       std::fprintf(stderr,
                    "tessera: device call of launch %llu: %d tiles %.1fms (%d threads ran pieces "
-                   "for %.1fms in all), regions %.1fms\n",
+                   "for %.1fms in all), regions %.1fms; monotonic clock %.1f to %.1fms\n",
                    static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
                    ms(traced - started), threads,
                    ms(std::chrono::steady_clock::duration(piece_ns.load())),
-                   ms(std::chrono::steady_clock::now() - traced));
+                   ms(std::chrono::steady_clock::now() - traced), ms(started.time_since_epoch()),
+                   ms(std::chrono::steady_clock::now().time_since_epoch()));
     }
     if (!failure.ok()) return failure;
     if (cancel.load()) return absl::CancelledError("launch cancelled");
