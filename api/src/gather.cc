@@ -222,7 +222,6 @@ void LaunchGather::CopyRuns(size_t device) {
   // Each slice of a buffer is copied by one thread, its runs in their order: where runs overlap
   // (an element written again in a later epoch), the later one still lands last.
   struct Slice {
-    const Buffer* buffer;
     uint64_t begin, end;
     std::vector<const Run*> runs;
   };
@@ -234,7 +233,7 @@ void LaunchGather::CopyRuns(size_t device) {
     auto [it, added] = first_slice.try_emplace(r.buffer, slices.size());
     if (added) {
       for (uint64_t at = 0; at < r.buffer->byte_size(); at += slice_bytes) {
-        slices.push_back({r.buffer, at, std::min(r.buffer->byte_size(), at + slice_bytes), {}});
+        slices.push_back({at, std::min(r.buffer->byte_size(), at + slice_bytes), {}});
       }
     }
     const uint64_t last = (r.offset + r.data.size() - 1) / slice_bytes;

@@ -68,7 +68,7 @@ class LaunchGather {
   // The part of `run` in bytes [begin, end) of its buffer.
   void CopyRun(size_t device, const Run& run, uint64_t begin, uint64_t end);
   // Race checking (tesseraContextSetRaceCheck): records who wrote each element and reports two
-  // devices writing different values to one element. Returns false for bytes to leave alone.
+  // devices writing different values to one element. Slices of one buffer may check at once.
   void CheckRaces(size_t device, const Buffer& b, uint64_t offset, absl::string_view data);
   void RecordError(absl::Status status);
   void ReportExceptions();

@@ -1,10 +1,9 @@
 #include "image_check.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -105,15 +104,13 @@ CheckReport CheckImage(const Image& image, const Mesh& mesh, const Camera& camer
 }
 
 void WriteImage(const Image& image, const std::string& path) {
-  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
-  if (!out) throw std::runtime_error("cannot write " + path + ": " + OIIO::geterror());
-  OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), 3,
-                       OIIO::TypeDesc::UINT8);
-  if (!out->open(path, spec) ||
-      !out->write_image(OIIO::TypeDesc::UINT8, image.rgba.data(), 4 /* RGBA pixel stride */) ||
-      !out->close()) {
-    throw std::runtime_error("cannot write " + path + ": " + out->geterror());
+  std::ofstream out(path, std::ios::binary);
+  out << "P6\n" << image.width << " " << image.height << "\n255\n";
+  for (size_t pixel = 0; pixel < size_t{image.width} * image.height; ++pixel) {
+    out.write(reinterpret_cast<const char*>(&image.rgba[4 * pixel]), 3);  // RGB of RGBA
   }
+  out.close();
+  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 }  // namespace tessera::bench

@@ -23,7 +23,9 @@ struct CheckReport {
 // the host's triangle tests may round differently).
 CheckReport CheckImage(const Image& image, const Mesh& mesh, const Camera& camera);
 
-// Writes the RGB channels of `image` (OpenImageIO, format from the extension).
+// Writes the RGB channels of `image` as a binary PPM (P6), which image viewers and oiiotool
+// read. No image library: the benchmark then packs small enough for the 16-core machine
+// (tools/bundle-for-device.sh; OpenImageIO's dependencies alone are over 100 MB compressed).
 // Throws std::runtime_error on failure.
 void WriteImage(const Image& image, const std::string& path);
 

@@ -163,7 +163,14 @@ int main(int argc, char** argv) {
                  "0: every core")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--out", o.out, "write the image (e.g. eyelight.png)");
+  app.add_option("--out", o.out, "write the image as a binary PPM (e.g. eyelight.ppm)")
+      ->check([](const std::string& path) {
+        const std::string ext = ".ppm";
+        return path.size() > ext.size() &&
+                       path.compare(path.size() - ext.size(), ext.size(), ext) == 0
+                   ? std::string()
+                   : "--out writes a binary PPM: name the file *.ppm (got '" + path + "')";
+      });
   app.add_option("--module", o.module, "program module built from eyelight.cu")
       ->capture_default_str();
   app.add_option("--viewer", o.viewer, "Embree's viewer executable")->capture_default_str();

@@ -93,6 +93,12 @@ TEST_F(GatherCopyTest, OverlappingRunsLandInTheOrderTheyCame) {
 TEST_F(GatherCopyTest, RacesInLargeBatchesAreReported) {
   UseFakes(2);
   ASSERT_EQ(tesseraContextSetRaceCheck(ctx, 1), RT_SUCCESS);
+  // A GPU_LOCAL buffer keeps tile i on device i mod 2, so both devices get calls (dynamic
+  // assignment may hand every tile to one of two instant fakes).
+  RTbuffer pin = nullptr;
+  ASSERT_EQ(rtBufferCreate(ctx, RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, &pin), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetFormat(pin, RT_FORMAT_FLOAT), RT_SUCCESS);
+  ASSERT_EQ(rtBufferSetSize1D(pin, 1), RT_SUCCESS);
   const uint64_t id = Id(output);
   constexpr uint64_t kRaced = kFloats / 2 + 12345;
   for (int d = 0; d < 2; ++d) {
