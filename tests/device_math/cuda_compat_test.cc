@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <thread>
 #include <type_traits>
@@ -137,6 +139,48 @@ TEST(CudaIntrinsicsTest, FastMathMatchesLibm) {
     EXPECT_FLOAT_EQ(s, std::sin(x));
     EXPECT_FLOAT_EQ(c, std::cos(x));
   }
+}
+
+// The square root behind normalize, length, rsqrtf and __fsqrt_rn is sqrtss rather than a libm
+// call (no errno branch on the path): it must give libm's bits for every kind of input, since
+// outputs are bit-identical across devices, and leave errno alone, as CUDA does.
+TEST(CudaIntrinsicsTest, SquareRootIsLibmsBitsWithoutErrno) {
+  auto bits = [](float x) { return __float_as_int(x); };
+  std::vector<float> inputs = {0.0f,
+                               -0.0f,
+                               1.0f,
+                               2.0f,
+                               0.5f,
+                               3.0e38f,
+                               1.0e-38f,
+                               1.0e-45f,
+                               -1.0f,
+                               -1.0e-45f,
+                               std::numeric_limits<float>::infinity(),
+                               -std::numeric_limits<float>::infinity(),
+                               std::numeric_limits<float>::quiet_NaN(),
+                               std::numeric_limits<float>::max(),
+                               std::numeric_limits<float>::denorm_min()};
+  // A sweep over many exponents and mantissas, negative ones included.
+  for (uint32_t u = 0; u < 0xffffffffu - 0x01000193u; u += 0x01000193u) {
+    inputs.push_back(__int_as_float(static_cast<int>(u)));
+  }
+  for (float x : inputs) {
+    SCOPED_TRACE(::testing::Message() << "x = " << x << " (bits " << std::hex << bits(x) << ")");
+    const float libm = std::sqrt(x);
+    if (std::isnan(libm)) {
+      EXPECT_TRUE(std::isnan(__fsqrt_rn(x)));
+      EXPECT_TRUE(std::isnan(rsqrtf(x)));
+    } else {
+      EXPECT_EQ(bits(__fsqrt_rn(x)), bits(libm));
+      EXPECT_EQ(bits(rsqrtf(x)), bits(1.0f / libm));
+      EXPECT_EQ(bits(__frsqrt_rn(x)), bits(1.0f / libm));
+    }
+  }
+  errno = 0;
+  volatile float negative = -4.0f;
+  EXPECT_TRUE(std::isnan(__fsqrt_rn(negative)));
+  EXPECT_EQ(errno, 0);
 }
 
 // ---- Integer intrinsics ------------------------------------------------------------------------

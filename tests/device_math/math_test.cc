@@ -273,6 +273,16 @@ TEST(MathTest, DotLengthNormalize) {
   EXPECT_NEAR(length(normalize(make_float4(1.0f, 2.0f, 3.0f, 4.0f))), 1.0f, kEps);
   // A zero vector has no direction: NaN, not a made-up unit vector.
   EXPECT_TRUE(std::isnan(normalize(make_float3(0.0f)).x));
+  // The same bits as the IEEE formula with libm's root (outputs match across devices).
+  for (float s : {1e-20f, 0.3f, 1.0f, 7.25f, 1e18f}) {
+    const float3 v = make_float3(s, -2.5f * s, 0.75f * s);
+    const float inv = 1.0f / std::sqrt(dot(v, v));
+    const float3 u = normalize(v);
+    EXPECT_EQ(__float_as_int(length(v)), __float_as_int(std::sqrt(dot(v, v))));
+    EXPECT_EQ(__float_as_int(u.x), __float_as_int(v.x * inv));
+    EXPECT_EQ(__float_as_int(u.y), __float_as_int(v.y * inv));
+    EXPECT_EQ(__float_as_int(u.z), __float_as_int(v.z * inv));
+  }
 }
 
 TEST(MathTest, CrossIsRightHandedAndOrthogonal) {

@@ -123,7 +123,7 @@ class Aabb {
     const float3 outside = fmaxf(make_float3(0.0f), fmaxf(m_min - x, x - m_max));
     return dot(outside, outside);
   }
-  float distance(const float3& x) const { return std::sqrt(distance2(x)); }
+  float distance(const float3& x) const { return tessera_detail::Sqrt(distance2(x)); }
   // Like distance() outside the box; inside, minus the distance to the nearest face.
   float signedDistance(const float3& x) const {
     if (!contains(x)) return distance(x);

@@ -152,9 +152,9 @@ inline float smoothstep(float edge0, float edge1, float x) {
     return lerp(lerp(x00, x10, u), lerp(x01, x11, u), v);                                      \
   }                                                                                            \
   inline float dot(const V& a, const V& b) { return OPTIXU_SUM##N##_(OPTIXU_VV_, *); }         \
-  inline float length(const V& a) { return std::sqrt(dot(a, a)); }                             \
+  inline float length(const V& a) { return tessera_detail::Sqrt(dot(a, a)); }                 \
   /* A zero vector has no direction and normalizes to NaNs, as on the GPU. */                  \
-  inline V normalize(const V& a) { return a * (1.0f / std::sqrt(dot(a, a))); }                 \
+  inline V normalize(const V& a) { return a * (1.0f / tessera_detail::Sqrt(dot(a, a))); }     \
   /* Mirror direction of i about the plane with normal n (n unit length). */                   \
   inline V reflect(const V& i, const V& n) { return i - 2.0f * n * dot(n, i); }                \
   /* n where dot(i, nref) > 0, -n where it is < 0. Programs pass i = -ray.direction and the */ \
@@ -259,7 +259,8 @@ inline bool refract(float3& r, const float3& i, const float3& n, const float ior
     r = make_float3(0.0f, 0.0f, 0.0f);
     return false;
   }
-  r = normalize(eta * i + (eta * cos_i - std::sqrt(k)) * nn);  // Unit length, as in OptiX.
+  // Unit length, as in OptiX.
+  r = normalize(eta * i + (eta * cos_i - tessera_detail::Sqrt(k)) * nn);
   return true;
 }
 
@@ -288,10 +289,10 @@ inline float3 fresnel_schlick(float cos_theta, float exponent, const float3& min
 // A direction on the +z hemisphere with density proportional to cos(theta), from two uniform
 // numbers in [0, 1): a point of the unit disk (radius sqrt(u1), angle 2 pi u2) lifted onto it.
 inline void cosine_sample_hemisphere(float u1, float u2, float3& p) {
-  const float r = sqrtf(u1), phi = 2.0f * M_PIf * u2;
+  const float r = tessera_detail::Sqrt(u1), phi = 2.0f * M_PIf * u2;
   p.x = r * cosf(phi);
   p.y = r * sinf(phi);
-  p.z = sqrtf(optixu_detail::Fmaxf(0.0f, 1.0f - p.x * p.x - p.y * p.y));
+  p.z = tessera_detail::Sqrt(optixu_detail::Fmaxf(0.0f, 1.0f - p.x * p.x - p.y * p.y));
 }
 
 // Shirley and Chiu's concentric map from [0, 1)^2 to the unit disk: squares around the centre go

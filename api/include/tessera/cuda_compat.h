@@ -30,6 +30,9 @@
 #include <ctime>
 #include <limits>
 #include <memory>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 // ---- Qualifiers ---------------------------------------------------------------------------------
 // Host and device code are the same code here, so the execution-space and memory-space
@@ -193,9 +196,22 @@ inline float __fmul_rn(float x, float y) { return x * y; }
 inline float __fdiv_rn(float x, float y) { return x / y; }
 inline float __fmaf_rn(float x, float y, float z) { return std::fma(x, y, z); }
 inline float __frcp_rn(float x) { return 1.0f / x; }
-inline float __fsqrt_rn(float x) { return std::sqrt(x); }
-inline float __frsqrt_rn(float x) { return 1.0f / std::sqrt(x); }
-inline float rsqrtf(float x) { return 1.0f / std::sqrt(x); }
+namespace tessera_detail {
+// The IEEE square root, as sqrtf, without libm's errno path: g++ sets errno by default
+// (-fmath-errno), so each sqrtf carries a branch to a library call for negative arguments and
+// spills the registers live across it, on the path of every normalize. sqrtss is the same
+// correctly rounded operation (also for NaN and negative inputs), and CUDA's sqrtf sets no errno.
+inline float Sqrt(float x) {
+#if defined(__SSE__)
+  return _mm_cvtss_f32(_mm_sqrt_ss(_mm_set_ss(x)));
+#else
+  return std::sqrt(x);
+#endif
+}
+}  // namespace tessera_detail
+inline float __fsqrt_rn(float x) { return tessera_detail::Sqrt(x); }
+inline float __frsqrt_rn(float x) { return 1.0f / tessera_detail::Sqrt(x); }
+inline float rsqrtf(float x) { return 1.0f / tessera_detail::Sqrt(x); }
 inline double rsqrt(double x) { return 1.0 / std::sqrt(x); }
 inline float rcbrtf(float x) { return 1.0f / std::cbrt(x); }
 inline double rcbrt(double x) { return 1.0 / std::cbrt(x); }
