@@ -152,9 +152,9 @@ inline float smoothstep(float edge0, float edge1, float x) {
     return lerp(lerp(x00, x10, u), lerp(x01, x11, u), v);                                      \
   }                                                                                            \
   inline float dot(const V& a, const V& b) { return OPTIXU_SUM##N##_(OPTIXU_VV_, *); }         \
-  inline float length(const V& a) { return tessera_detail::Sqrt(dot(a, a)); }                 \
+  inline float length(const V& a) { return tessera_detail::Sqrt(dot(a, a)); }                  \
   /* A zero vector has no direction and normalizes to NaNs, as on the GPU. */                  \
-  inline V normalize(const V& a) { return a * (1.0f / tessera_detail::Sqrt(dot(a, a))); }     \
+  inline V normalize(const V& a) { return a * (1.0f / tessera_detail::Sqrt(dot(a, a))); }      \
   /* Mirror direction of i about the plane with normal n (n unit length). */                   \
   inline V reflect(const V& i, const V& n) { return i - 2.0f * n * dot(n, i); }                \
   /* n where dot(i, nref) > 0, -n where it is < 0. Programs pass i = -ray.direction and the */ \
