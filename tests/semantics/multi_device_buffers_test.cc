@@ -212,6 +212,32 @@ TEST_P(BufferRulesTest, OnlyWrittenElementsTravelBack) {
   EXPECT_EQ(Contents<unsigned>(out), want);
 }
 
+// A buffer of many 4096-element mark blocks: a device collects a call's last regions from groups
+// of blocks in parallel (Replica::TakeWrittenRegions). Scattered writes of every element, then
+// every other element: runs of one element across every group boundary, each exactly once.
+TEST_P(BufferRulesTest, LargeBuffersCollectExactlyTheWrittenElements) {
+  constexpr size_t kN =
+      300000;  // 74 blocks; not a multiple of 7919, so the scatter is a permutation
+  RTbuffer out = Buffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kN}, "scattered");
+  TileSize({kN / 4});  // few pieces: much of a call is left for its last collection
+  RayGen("scatter_writes");
+  SetUint("salt", 5);
+  Transfer before = Stats();
+  Launch1D(kN);
+  EXPECT_EQ((Stats() - before).received, kN * sizeof(unsigned));
+  std::vector<unsigned> want(kN);
+  for (size_t i = 0; i < kN; ++i) want[(i * 7919) % kN] = 3 * i + 5;
+  ASSERT_EQ(Contents<unsigned>(out), want);
+
+  RayGen("write_even_elements");
+  SetUint("salt", 100);
+  before = Stats();
+  Launch1D(kN);
+  EXPECT_EQ((Stats() - before).received, kN / 2 * sizeof(unsigned));
+  for (size_t i = 0; i < kN; i += 2) want[i] = i + 100;
+  EXPECT_EQ(Contents<unsigned>(out), want);
+}
+
 // ---- Rule 3: INPUT_OUTPUT ----------------------------------------------------------------------
 
 TEST_P(BufferRulesTest, InputOutputNextLaunchSeesTheMergeOnEveryDevice) {

@@ -210,11 +210,29 @@ class RegionPacker {
   std::vector<Region> regions_;
 };
 
+// Elements [begin, end) of one buffer.
+struct ElementRun {
+  size_t begin, end;
+};
+
+// Appends [begin, end) to `runs`, extending the last run when the two touch.
+void AppendRun(std::vector<ElementRun>& runs, size_t begin, size_t end) {
+  if (!runs.empty() && runs.back().end == begin) {
+    runs.back().end = end;
+  } else {
+    runs.push_back({begin, end});
+  }
+}
+
 }  // namespace
 
 void Replica::TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsigned char upto,
                                  bool last) {
   constexpr size_t kBlock = size_t{1} << TESSERA_WRITTEN_BLOCK_SHIFT;
+  // The final collection of a call ends it while every thread of the device is idle, and its
+  // serial scan was 0.9 ms of a 21 ms 16-thread launch (1M elements): groups of blocks are
+  // scanned in parallel then. Collections while the call traces stay serial, off the tracers.
+  constexpr size_t kBlocksPerGroup = 16;
   // Marks may be raised concurrently (never to an epoch in range unless `last`): read each once.
   auto load = [](const unsigned char* m) { return __atomic_load_n(m, __ATOMIC_RELAXED); };
   auto taken = [&](unsigned char m) { return m > after && (last || m <= upto); };
@@ -230,32 +248,41 @@ void Replica::TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsig
     auto changed = [&](size_t e) {
       return std::memcmp(b.data.data() + e * size, b.before.data() + e * size, size) != 0;
     };
-    RegionPacker packer(id, b, out);
     // Touched blocks first (a batch touches a small part of a large buffer), then runs of taken
     // elements inside them. A block's mark is its highest element's: one marked up to `after`
     // holds nothing new.
-    bool open = false;
-    size_t run_begin = 0, run_end = 0;  // the run being built, [begin, end)
-    for (size_t block = 0; block < b.written_blocks.size(); ++block) {
-      const unsigned char block_mark = load(blocks + block);
-      const size_t begin = block * kBlock, end = std::min(n, begin + kBlock);
-      if (block_mark > after) {
-        for (size_t e = begin; e < end; ++e) {
-          if (!taken(load(marks + e)) || (compare && !changed(e))) continue;
-          if (!open || run_end != e) {
-            if (open) packer.Add(run_begin, run_end);
-            run_begin = e;
-            open = true;
+    auto scan = [&](size_t first_block, size_t end_block, std::vector<ElementRun>& runs) {
+      for (size_t block = first_block; block < end_block; ++block) {
+        const unsigned char block_mark = load(blocks + block);
+        const size_t begin = block * kBlock, end = std::min(n, begin + kBlock);
+        if (block_mark > after) {
+          for (size_t e = begin; e < end; ++e) {
+            if (taken(load(marks + e)) && !(compare && !changed(e))) AppendRun(runs, e, e + 1);
           }
-          run_end = e + 1;
+        }
+        if (last && block_mark != 0) {
+          std::memset(marks + begin, 0, end - begin);
+          blocks[block] = 0;
         }
       }
-      if (last && block_mark != 0) {
-        std::memset(marks + begin, 0, end - begin);
-        blocks[block] = 0;
+    };
+    const size_t block_count = b.written_blocks.size();
+    std::vector<ElementRun> runs;
+    if (last && block_count >= 2 * kBlocksPerGroup) {
+      // Each group's runs in order, joined where they touch: the same runs as one serial scan.
+      std::vector<std::vector<ElementRun>> groups((block_count + kBlocksPerGroup - 1) /
+                                                  kBlocksPerGroup);
+      tbb::parallel_for(size_t{0}, groups.size(), [&](size_t g) {
+        scan(g * kBlocksPerGroup, std::min(block_count, (g + 1) * kBlocksPerGroup), groups[g]);
+      });
+      for (const std::vector<ElementRun>& group : groups) {
+        for (const ElementRun& r : group) AppendRun(runs, r.begin, r.end);
       }
+    } else {
+      scan(0, block_count, runs);
     }
-    if (open) packer.Add(run_begin, run_end);
+    RegionPacker packer(id, b, out);
+    for (const ElementRun& r : runs) packer.Add(r.begin, r.end);
     packer.Finish();
   }
 }
