@@ -257,7 +257,7 @@ void Replica::TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsig
         const size_t begin = block * kBlock, end = std::min(n, begin + kBlock);
         if (block_mark > after) {
           for (size_t e = begin; e < end; ++e) {
-            if (taken(load(marks + e)) && !(compare && !changed(e))) AppendRun(runs, e, e + 1);
+            if (taken(load(marks + e)) && (!compare || changed(e))) AppendRun(runs, e, e + 1);
           }
         }
         if (last && block_mark != 0) {
