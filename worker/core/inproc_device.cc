@@ -420,14 +420,14 @@ class InprocDevice : public Device {
       auto ms = [](std::chrono::steady_clock::duration d) {
         return std::chrono::duration<double, std::milli>(d).count();
       };
+      const auto ended = std::chrono::steady_clock::now();
       std::fprintf(stderr,
                    "tessera: device call of launch %llu: %d tiles %.1fms (%d threads ran pieces "
                    "for %.1fms in all), regions %.1fms; monotonic clock %.1f to %.1fms\n",
                    static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
                    ms(traced - started), threads,
-                   ms(std::chrono::steady_clock::duration(piece_ns.load())),
-                   ms(std::chrono::steady_clock::now() - traced), ms(started.time_since_epoch()),
-                   ms(std::chrono::steady_clock::now().time_since_epoch()));
+                   ms(std::chrono::steady_clock::duration(piece_ns.load())), ms(ended - traced),
+                   ms(started.time_since_epoch()), ms(ended.time_since_epoch()));
     }
     if (!failure.ok()) return failure;
     if (cancel.load()) return absl::CancelledError("launch cancelled");
