@@ -1,7 +1,7 @@
 // Programs for worker/core tests: a sphere, a camera, shading and exceptions.
 #include <optix.h>
-#include <unistd.h>
 #include <optixu/optixu_math_namespace.h>
+#include <unistd.h>
 
 using namespace optix;
 
