@@ -1,4 +1,4 @@
-# Shared build settings for project targets; see STYLE.md "CMake".
+# Shared build settings for project targets.
 
 # Program modules compile against the program-side headers only.
 set(TESSERA_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include CACHE INTERNAL "")

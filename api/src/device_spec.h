@@ -1,4 +1,4 @@
-// Device specs (DESIGN.md "Devices"): a comma-separated list, the same in --devices and
+// Device specs (docs/devices.md "Device specs"): a comma-separated list, the same in --devices and
 // TESSERA_DEVICES. `inproc` is a device inside the host process, `local:N` N worker processes the
 // host spawns, `HOST:PORT` a running worker, `unix:PATH` a worker on a Unix socket.
 #ifndef TESSERA_API_SRC_DEVICE_SPEC_H_

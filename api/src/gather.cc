@@ -291,7 +291,8 @@ void LaunchGather::ApplyRegion(size_t device, const v1::BufferRegion& region) {
     return;
   }
   auto* b = static_cast<Buffer*>(object);
-  // INPUT and GPU_LOCAL buffers never come back to the host (DESIGN.md buffer table).
+  // INPUT and GPU_LOCAL buffers never come back to the host (docs/devices.md "Buffers across
+  // devices").
   if (!b->gathers_content()) return;
   const absl::string_view data = region.data();
   if (region.run_offsets_size() == 0) {

@@ -336,7 +336,7 @@ absl::Status SyncDevicePointers(Context& context) {
 }
 
 // GPU_LOCAL buffers hold per-device state across launches (accumulation, RNG seeds): launches
-// then keep every launch index on the same device (DESIGN.md "Buffer semantics").
+// then keep every launch index on the same device (docs/devices.md "Buffers across devices").
 const Buffer* FirstGpuLocalBuffer(Context& context) {
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() == Kind::kBuffer && static_cast<Buffer*>(object)->gpu_local()) {

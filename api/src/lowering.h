@@ -1,5 +1,5 @@
 // Lowering: the host object graph becomes a v1::StateDelta for one device, carrying only what
-// changed since that device's last successful Apply (DESIGN.md "Data flow").
+// changed since that device's last successful Apply (docs/devices.md).
 #ifndef TESSERA_API_SRC_LOWERING_H_
 #define TESSERA_API_SRC_LOWERING_H_
 

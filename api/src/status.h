@@ -1,5 +1,5 @@
-// absl::Status inside, RTresult at the C boundary: one table maps between them (STYLE.md
-// "Internals"). Errors that must surface as a specific RTresult carry it as a payload.
+// absl::Status inside, RTresult at the C boundary: one table maps between them.
+// Errors that must surface as a specific RTresult carry it as a payload.
 #ifndef TESSERA_API_SRC_STATUS_H_
 #define TESSERA_API_SRC_STATUS_H_
 

@@ -1,5 +1,6 @@
-// A Device that is a `tessera-worker` process reached over gRPC (the transport adapter, DESIGN.md
-// "Data flow"). gRPC stays behind this header: callers see the Device interface and absl statuses.
+// A Device that is a `tessera-worker` process reached over gRPC (the transport adapter,
+// docs/devices.md). gRPC stays behind this header: callers see the Device interface and absl
+// statuses.
 #ifndef TESSERA_SCHEDULER_TRANSPORT_GRPC_DEVICE_H_
 #define TESSERA_SCHEDULER_TRANSPORT_GRPC_DEVICE_H_
 

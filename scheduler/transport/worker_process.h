@@ -1,6 +1,6 @@
-// A `tessera-worker` process the host spawns and reaps (device spec `local:N`, DESIGN.md
-// "Devices"). No orphans: the child gets PR_SET_PDEATHSIG(SIGKILL), so a host that crashes takes
-// its workers along, and destruction terminates and reaps the worker.
+// A `tessera-worker` process the host spawns and reaps (device spec `local:N`, docs/devices.md
+// "Device specs"). No orphans: the child gets PR_SET_PDEATHSIG(SIGKILL), so a host that crashes
+// takes its workers along, and destruction terminates and reaps the worker.
 #ifndef TESSERA_SCHEDULER_TRANSPORT_WORKER_PROCESS_H_
 #define TESSERA_SCHEDULER_TRANSPORT_WORKER_PROCESS_H_
 

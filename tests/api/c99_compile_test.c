@@ -1,5 +1,5 @@
 /* Compiles the public headers as C99 with -Wall -Wextra -pedantic -Werror and calls into
- * libtessera from C: the headers must stay usable from C applications (STYLE.md). */
+ * libtessera from C: the headers must stay usable from C applications. */
 #include <stdio.h>
 
 #include "tessera/rt.h"

@@ -1,4 +1,5 @@
-// Device spec parsing (DESIGN.md "Devices"), the device table and the rt_ext.h spec functions.
+// Device spec parsing (docs/devices.md "Device specs"), the device table and the rt_ext.h spec
+// functions.
 #include "device_spec.h"
 
 #include "api_test_util.h"

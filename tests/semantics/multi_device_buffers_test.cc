@@ -1,4 +1,4 @@
-// The buffer table of DESIGN.md "Buffer semantics across devices" (OptiX 3 guide §3.2, ch. 7) on
+// The buffer table of docs/devices.md "Buffers across devices" (OptiX 3 guide §3.2, ch. 7) on
 // inproc, local:1, local:2 and local:4: INPUT ships changed chunks only, OUTPUT brings back every
 // written element (scatter writes included) and nothing else, INPUT_OUTPUT merges across devices,
 // GPU_LOCAL copies stay per device and accumulate per launch index.

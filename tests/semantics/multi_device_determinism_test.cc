@@ -1,4 +1,4 @@
-// DESIGN.md "Invariants worth testing everywhere": for programs that depend only on their inputs
+// An invariant of docs/devices.md: for programs that depend only on their inputs
 // and launch index, every output buffer is bit-identical for 1..7 devices, in-process or worker
 // processes or both, for any tile size, and for 1D, 2D and 3D launches.
 #include <cmath>

@@ -93,8 +93,8 @@ class MultiDeviceFixture : public RtFixture {
   }
 
   // A context with a GPU_LOCAL buffer keeps tile i on device i mod N from launch to launch
-  // (DESIGN.md "Buffer semantics"): with tiles >= devices every device then runs some tile, and
-  // neighbouring tiles run on different devices whenever there are several.
+  // (docs/devices.md "Buffers across devices"): with tiles >= devices every device then runs some
+  // tile, and neighbouring tiles run on different devices whenever there are several.
   void PinTilesToDevices() {
     RTbuffer pin = nullptr;
     Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, &pin));

@@ -1,4 +1,4 @@
-// Programs for the multi-device semantics tests (DESIGN.md "Buffer semantics across devices"):
+// Programs for the multi-device semantics tests (docs/devices.md "Buffers across devices"):
 // each reads and writes buffers by launch index, so that a test can tell which writes reached the
 // host and which values every device saw, whichever device ran which tile.
 #include <optix_world.h>

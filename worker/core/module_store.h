@@ -1,8 +1,8 @@
 // The on-disk side of the module cache: program modules stored by content hash, so that a device
-// never needs the host's path (DESIGN.md "Programs": remote workers receive modules by content
-// hash and cache them). A module is the file `<directory>/<hash>.so`, written once through a
-// temporary file and a rename: a reader never sees a partial file, and workers that share a
-// directory (local:N) only race to store identical bytes.
+// never needs the host's path (docs/programs.md "How modules reach devices": remote workers receive
+// modules by content hash and cache them). A module is the file `<directory>/<hash>.so`, written
+// once through a temporary file and a rename: a reader never sees a partial file, and workers that
+// share a directory (local:N) only race to store identical bytes.
 #ifndef TESSERA_WORKER_CORE_MODULE_STORE_H_
 #define TESSERA_WORKER_CORE_MODULE_STORE_H_
 

@@ -1,5 +1,5 @@
 // The address a worker listens on: "HOST:PORT", "[IPV6]:PORT" or "unix:PATH" (the device-spec
-// spellings, DESIGN.md "Devices").
+// spellings, docs/devices.md "Device specs").
 #ifndef TESSERA_WORKER_SERVICE_LISTEN_ADDRESS_H_
 #define TESSERA_WORKER_SERVICE_LISTEN_ADDRESS_H_
 

@@ -1,4 +1,4 @@
-// tessera-worker: serves one Tessera device over gRPC (DESIGN.md "Devices").
+// tessera-worker: serves one Tessera device over gRPC (docs/devices.md "Device specs").
 //
 //   tessera-worker [--listen 127.0.0.1:0 | HOST:PORT | unix:PATH] [--threads N]
 //                  [--tls-cert FILE --tls-key FILE [--tls-client-ca FILE]] [--token-file FILE]

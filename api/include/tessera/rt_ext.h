@@ -10,8 +10,8 @@ extern "C" {
 #endif
 
 /* Replaces the context's device list with the devices `spec` names ("inproc", "local:N",
- * "HOST:PORT", "unix:PATH", comma-separated; see DESIGN.md "Devices") and selects all of them.
- * Devices that cannot be created in this release: RT_ERROR_NOT_SUPPORTED. */
+ * "HOST:PORT", "unix:PATH", comma-separated; see docs/devices.md "Device specs") and selects all of
+ * them. Devices that cannot be created in this release: RT_ERROR_NOT_SUPPORTED. */
 RTAPI RTresult tesseraContextSetDeviceSpec(RTcontext context, const char* spec);
 
 /* Checks the syntax of a device spec. On RT_ERROR_INVALID_VALUE, `*error` (if `error` is not

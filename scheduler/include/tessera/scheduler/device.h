@@ -1,6 +1,6 @@
 // The Device interface: what the scheduler drives. An in-process device (worker/core) and, later,
 // a gRPC client to a worker process implement it; both consume the same proto messages, so no
-// device code reaches into host objects (DESIGN.md "Data flow").
+// device code reaches into host objects (docs/devices.md).
 #ifndef TESSERA_SCHEDULER_DEVICE_H_
 #define TESSERA_SCHEDULER_DEVICE_H_
 

@@ -1,6 +1,7 @@
-// Runs one launch's tiles on a set of devices (DESIGN.md "scheduler/"): each device takes batches
-// of tiles, two calls in flight; a batch counts only when its device finished all of it, so a
-// device that is lost mid-batch costs time, not results: its unfinished tiles run on the others.
+// Runs one launch's tiles on a set of devices (docs/devices.md "Tiles and their assignment"): each
+// device takes batches of tiles, two calls in flight; a batch counts only when its device finished
+// all of it, so a device that is lost mid-batch costs time, not results: its unfinished tiles run
+// on the others.
 //
 // Assignment: dynamic (any device takes the next tiles: fast devices take more) unless the launch
 // needs stable ownership (GPU_LOCAL buffers: tile i stays on device i mod N for the same launch
