@@ -65,6 +65,9 @@ class Buffer : public Object {
   uint64_t byte_size() const { return data_.size(); }
 
   bool mapped() const { return mapped_; }
+  // rtBufferGetId: programs can now reach the buffer by id, bound to a variable or not.
+  void NoteIdTaken() { id_taken_ = true; }
+  bool id_taken() const { return id_taken_; }
   absl::StatusOr<void*> Map();
   absl::Status Unmap();
   // Treat the whole buffer as changed by the host (rtBufferMarkDirty).
@@ -137,6 +140,7 @@ class Buffer : public Object {
   std::vector<size_t> dims_;  // empty until a size is set
   std::vector<unsigned char> data_;
   bool mapped_ = false;
+  bool id_taken_ = false;
   ByteRanges changed_;  // not yet reflected in chunk_hashes_
   std::vector<uint64_t> chunk_hashes_;
   uint64_t host_write_epoch_ = 1;

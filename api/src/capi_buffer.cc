@@ -199,6 +199,7 @@ RTresult rtBufferGetId(RTbuffer buffer, int* buffer_id) {
       return RtError(RT_ERROR_INVALID_VALUE, "buffer id does not fit in an int");
     }
     *buffer_id = static_cast<int>(b.id());
+    b.NoteIdTaken();
     return absl::OkStatus();
   });
 }

@@ -65,6 +65,17 @@ std::string PerDeviceDataBuffers(Context& context) {
   return names;
 }
 
+// The context's GPU_LOCAL buffers, named: a lost device's copies of them are gone.
+std::string GpuLocalBuffers(Context& context) {
+  std::string names;
+  for (const auto& [id, object] : context.objects()) {
+    if (object->kind() != Kind::kBuffer) continue;
+    const auto& b = static_cast<const Buffer&>(*object);
+    if (b.gpu_local()) absl::StrAppend(&names, names.empty() ? "" : ", ", b.DescribeNamed());
+  }
+  return names;
+}
+
 // What became of a lost device's tiles.
 enum class LostTiles {
   kRanElsewhere,  // other devices ran (or will run) them
@@ -84,15 +95,17 @@ void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
           : absl::StrCat(" Its launch indices read another device's data of ", per_device,
                          " (device pointers for every device): this launch's output is not what "
                          "it would have been without the loss.");
-  std::fprintf(stderr,
-               "tessera: device '%s' (%s) was lost during launch %llu: %s. %s; its copies of "
-               "GPU_LOCAL buffers are gone.%s %s\n",
+  const std::string gpu_local = GpuLocalBuffers(context);
+  const std::string gone = gpu_local.empty() ? std::string()
+                                             : absl::StrCat("; its copies of GPU_LOCAL buffers (",
+                                                            gpu_local, ") are gone");
+  std::fprintf(stderr, "tessera: device '%s' (%s) was lost during launch %llu: %s. %s%s.%s %s\n",
                slot.desc.name.c_str(), slot.desc.address.c_str(),
                static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str(),
                others_took_over                    ? "Its tiles ran on the other devices"
                : tiles == LostTiles::kNoDeviceLeft ? "No other device was left to run its tiles"
                                                    : "The launch ended without its tiles",
-               moved.c_str(),
+               gone.c_str(), moved.c_str(),
                spawned ? "It is started again for the next launch."
                        : "The next launch connects to it again.");
 }
@@ -336,12 +349,20 @@ absl::Status SyncDevicePointers(Context& context) {
 }
 
 // GPU_LOCAL buffers hold per-device state across launches (accumulation, RNG seeds): launches
-// then keep every launch index on the same device (docs/devices.md "Buffers across devices").
+// that can reach one keep every launch index on the same device (docs/devices.md "Buffers across
+// devices"). Programs reach a buffer through a variable of an object the context reaches, or by
+// id once the application took its id; a GPU_LOCAL buffer reached neither way leaves launches
+// to dynamic assignment.
 const Buffer* FirstGpuLocalBuffer(Context& context) {
-  for (const auto& [id, object] : context.objects()) {
+  for (Object* object : context.Reachable()) {
     if (object->kind() == Kind::kBuffer && static_cast<Buffer*>(object)->gpu_local()) {
       return static_cast<Buffer*>(object);
     }
+  }
+  for (const auto& [id, object] : context.objects()) {
+    if (object->kind() != Kind::kBuffer) continue;
+    const auto* buffer = static_cast<const Buffer*>(object);
+    if (buffer->gpu_local() && buffer->id_taken()) return buffer;
   }
   return nullptr;
 }

@@ -48,6 +48,7 @@ Dispatcher::Dispatcher(std::vector<DispatchDevice> devices, std::vector<v1::Tile
   held_.resize(n);
   next_sequence_.assign(n, 1);
   in_flight_.assign(n, {});
+  alone_with_suspect_.assign(n, false);
   std::vector<size_t> live;
   for (size_t d = 0; d < n; ++d) {
     if (devices_[d].device == nullptr) {
@@ -188,9 +189,18 @@ std::vector<v1::Tile> Dispatcher::Take(size_t d) {
   std::vector<v1::Tile> tiles;
   tiles.reserve(batch);
   for (size_t i = 0; i < batch; ++i) {
+    // A tile that was in flight on a lost device runs alone (Requeue): should its device be lost
+    // too, that tile alone was running.
+    const bool suspect = tile_losses_[queue.front().index()] > 0;
+    if (suspect && !tiles.empty()) break;
     tiles.push_back(std::move(queue.front()));
     queue.pop_front();
+    if (suspect) break;
   }
+  // Whether the device now runs a suspect and nothing else: only then does its loss point at
+  // that tile (Requeue).
+  alone_with_suspect_[d] =
+      in_flight_[d].empty() && tiles.size() == 1 && tile_losses_[tiles.front().index()] > 0;
   return tiles;
 }
 
@@ -239,11 +249,16 @@ void Dispatcher::Requeue(size_t d, std::vector<v1::Tile> batch) {
     Fail(d, absl::UnavailableError(absl::StrCat("every device was lost (", reasons, ")", hint)));
     return;
   }
+  // Tiles of a lost device's calls become suspects and run one per call from then on (Take). A
+  // device lost while running a suspect and no other call points at that tile's programs: a program
+  // that kills workers without a crash report would otherwise take every device down. Independent
+  // losses (a worker killed, a machine gone) cost time only: their tiles run again elsewhere.
   for (const v1::Tile& t : batch) {
-    if (++tile_losses_[t.index()] >= 2) {
+    if (++tile_losses_[t.index()] >= 2 && batch.size() == 1 && alone_with_suspect_[d]) {
       Fail(d, absl::AbortedError(absl::StrCat(
-                  "tile ", t.index(), " was running on two devices that were lost (",
-                  devices_[d].name, " was the second): a program may be crashing them")));
+                  "tile ", t.index(), " was running alone on ", devices_[d].name,
+                  " when it was lost, after another device was lost running it: a program may "
+                  "be crashing them")));
       return;
     }
   }

@@ -31,6 +31,8 @@ class FakeDevice : public Device {
 
   DeviceInfo Info() const override { return {"fake", "fake", 1}; }
   int calls() const { return calls_; }
+  // How long a faulting call runs before it fails (the device dies while running it).
+  void set_fault_delay(std::chrono::milliseconds delay) { fault_delay_ = delay; }
   // The size of the batch each tile came in.
   std::map<uint32_t, int> batch_of_tile() const {
     std::lock_guard<std::mutex> lock(batches_mu_);
@@ -48,6 +50,7 @@ class FakeDevice : public Device {
     // could drain the queue before the others start.
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (fault_ != Fault::kNone && call >= fault_at_call_) {
+      std::this_thread::sleep_for(fault_delay_);
       switch (fault_) {
         case Fault::kUnavailable:
           return absl::UnavailableError("connection reset");
@@ -85,6 +88,7 @@ class FakeDevice : public Device {
  private:
   Fault fault_;
   int fault_at_call_;
+  std::chrono::milliseconds fault_delay_{0};
   std::atomic<int> calls_{0};
   mutable std::mutex batches_mu_;
   std::map<uint32_t, int> batch_of_tile_;
@@ -276,8 +280,30 @@ TEST(DispatcherTest, TileLosingTwoDevicesFailsTheLaunch) {
   while (!dispatcher.Wait(steady_clock::time_point::max(), &batches)) {
   }
   EXPECT_EQ(dispatcher.status().code(), absl::StatusCode::kAborted);
-  EXPECT_NE(dispatcher.status().message().find("two devices"), std::string::npos);
+  EXPECT_NE(dispatcher.status().message().find("tile 0 was running alone on"), std::string::npos)
+      << dispatcher.status();
   EXPECT_EQ(dispatcher.lost().size(), 2u);
+}
+
+// Two devices lost independently, each while running a batch of many tiles (two workers killed
+// in one launch): their tiles run on the others, one per call, and the launch succeeds.
+TEST(DispatcherTest, TwoIndependentLossesCostTimeNotTheLaunch) {
+  for (bool stable : {false, true}) {
+    FakeDevice a(FakeDevice::Fault::kUnavailable), b(FakeDevice::Fault::kUnavailable), c, d;
+    a.set_fault_delay(std::chrono::milliseconds(40));
+    b.set_fault_delay(std::chrono::milliseconds(40));
+    Outcome out = RunAll({&a, &b, &c, &d}, 200, stable);
+    ASSERT_TRUE(out.status.ok()) << out.status;
+    EXPECT_EQ(out.lost.size(), 2u);
+    EXPECT_EQ(out.device_of_tile.size(), 200u);
+    EXPECT_EQ(out.tile_reports, 200u);
+    // The lost batches' tiles ran one per call.
+    std::map<uint32_t, int> c_batches = c.batch_of_tile(), d_batches = d.batch_of_tile();
+    size_t solo = 0;
+    for (const auto& [tile, size] : c_batches) solo += size == 1;
+    for (const auto& [tile, size] : d_batches) solo += size == 1;
+    EXPECT_GT(solo, 0u);
+  }
 }
 
 // Runs its calls one at a time, numbering them, but takes a while to return every odd-numbered

@@ -99,6 +99,7 @@ TEST_F(GatherCopyTest, RacesInLargeBatchesAreReported) {
   ASSERT_EQ(rtBufferCreate(ctx, RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, &pin), RT_SUCCESS);
   ASSERT_EQ(rtBufferSetFormat(pin, RT_FORMAT_FLOAT), RT_SUCCESS);
   ASSERT_EQ(rtBufferSetSize1D(pin, 1), RT_SUCCESS);
+  BindObject(ctx_var("pin"), pin);
   const uint64_t id = Id(output);
   constexpr uint64_t kRaced = kFloats / 2 + 12345;
   for (int d = 0; d < 2; ++d) {

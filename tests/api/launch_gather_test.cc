@@ -470,21 +470,61 @@ TEST_F(LaunchTest, TileSizeCanBeSet) {
   EXPECT_EQ(tesseraContextSetTileSize(ctx, 0, nullptr), RT_SUCCESS);
 }
 
-TEST_F(LaunchTest, GpuLocalBuffersKeepTilesOnTheirDevice) {
-  UseFakes(3);
-  RTbuffer local;
-  ASSERT_EQ(rtBufferCreate(ctx, RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, &local), RT_SUCCESS);
-  ASSERT_EQ(rtBufferSetFormat(local, RT_FORMAT_FLOAT), RT_SUCCESS);
-  ASSERT_EQ(rtBufferSetSize1D(local, 1), RT_SUCCESS);
+// Three fakes, the middle one instant and the others slow (dynamic assignment gives the instant
+// one tiles of the others), a 64x64 launch in 8x8 tiles; returns whether every tile i ran on
+// device i mod 3, over two launches.
+bool TilesStayOnTheirDevices(RTcontext ctx,
+                             std::vector<std::shared_ptr<FakeDevice::Record>>& records) {
+  const RTsize tile[2] = {8, 8};
+  EXPECT_EQ(tesseraContextSetTileSize(ctx, 2, tile), RT_SUCCESS);
+  for (int d : {0, 2}) {
+    records[d]->answer = [](const v1::LaunchRequest&, const std::atomic<bool>&,
+                            const std::function<void(v1::TileResult &&)>&) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      return absl::OkStatus();
+    };
+  }
+  bool stayed = true;
   for (int l = 0; l < 2; ++l) {
     for (int d = 0; d < 3; ++d) records[d]->launches.clear();
-    ASSERT_EQ(Launch(), RT_SUCCESS);
+    EXPECT_EQ(rtContextLaunch2D(ctx, 0, 64, 64), RT_SUCCESS);
     for (int d = 0; d < 3; ++d) {
       for (const v1::LaunchRequest& r : records[d]->launches) {
-        for (const v1::Tile& t : r.tiles()) EXPECT_EQ(t.index() % 3, static_cast<uint32_t>(d));
+        for (const v1::Tile& t : r.tiles()) stayed &= t.index() % 3 == static_cast<uint32_t>(d);
       }
     }
   }
+  return stayed;
+}
+
+RTbuffer MakeGpuLocal(RTcontext ctx) {
+  RTbuffer local = nullptr;
+  EXPECT_EQ(rtBufferCreate(ctx, RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, &local), RT_SUCCESS);
+  EXPECT_EQ(rtBufferSetFormat(local, RT_FORMAT_FLOAT), RT_SUCCESS);
+  EXPECT_EQ(rtBufferSetSize1D(local, 1), RT_SUCCESS);
+  return local;
+}
+
+TEST_F(LaunchTest, GpuLocalBuffersKeepTilesOnTheirDevice) {
+  UseFakes(3);
+  BindObject(ctx_var("local"), MakeGpuLocal(ctx));
+  EXPECT_TRUE(TilesStayOnTheirDevices(ctx, records));
+}
+
+// Programs reach a buffer by id too: once the application took a GPU_LOCAL buffer's id, launches
+// keep their tiles on their devices even though no variable names the buffer.
+TEST_F(LaunchTest, AGpuLocalBufferReachedByIdKeepsTilesOnTheirDevice) {
+  UseFakes(3);
+  Id(MakeGpuLocal(ctx));
+  EXPECT_TRUE(TilesStayOnTheirDevices(ctx, records));
+}
+
+// A GPU_LOCAL buffer that no launch can reach (no variable names it, its id was never taken)
+// leaves launches to dynamic assignment: the instant device takes tiles of the slow ones.
+TEST_F(LaunchTest, AnUnreachableGpuLocalBufferLeavesTilesToDynamicAssignment) {
+  UseFakes(3);
+  MakeGpuLocal(ctx);
+  EXPECT_FALSE(TilesStayOnTheirDevices(ctx, records));
 }
 
 TEST_F(LaunchTest, LostDeviceTilesRunOnTheOthers) {
@@ -509,7 +549,8 @@ TEST_F(LaunchTest, LostDeviceTilesRunOnTheOthers) {
   std::string warning = testing::internal::GetCapturedStderr();
   EXPECT_NE(warning.find("fake1"), std::string::npos) << warning;
   EXPECT_NE(warning.find("went away"), std::string::npos) << warning;
-  EXPECT_NE(warning.find("GPU_LOCAL"), std::string::npos) << warning;
+  // No GPU_LOCAL buffer here, so none is said to be gone.
+  EXPECT_EQ(warning.find("GPU_LOCAL"), std::string::npos) << warning;
   EXPECT_EQ(WrongPixels(ReadFloats(output, width * height), width, height, 0), 0);
   // The lost device is gone for good here (a real one would be started again).
   EXPECT_TRUE(records[1]->destroyed);

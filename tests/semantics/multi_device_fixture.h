@@ -100,6 +100,10 @@ class MultiDeviceFixture : public RtFixture {
     Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, &pin));
     Ok(rtBufferSetFormat(pin, RT_FORMAT_INT));
     Ok(rtBufferSetSize1D(pin, 1));
+    // Reachable through a context variable: an unreachable GPU_LOCAL buffer pins nothing.
+    RTvariable v = nullptr;
+    Ok(rtContextDeclareVariable(ctx_, "tessera_test_pin", &v));
+    Ok(rtVariableSetObject(v, pin));
   }
 
   Transfer Stats() {

@@ -208,7 +208,9 @@ TEST_F(DeviceSetProbeTest, SurvivorsKeepTheirGpuLocalPixelsWhenAWorkerDiedBetwee
   ::testing::internal::CaptureStderr();
   Launch2D(kW, kH);
   const std::string warning = ::testing::internal::GetCapturedStderr();
-  EXPECT_NE(warning.find("GPU_LOCAL"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("its copies of GPU_LOCAL buffers (buffer #"), std::string::npos)
+      << warning;
+  EXPECT_NE(warning.find("('local_acc')) are gone"), std::string::npos) << warning;
   const size_t at = warning.find("Tessera local worker ");
   ASSERT_NE(at, std::string::npos) << warning;
   const unsigned lost = static_cast<unsigned>(warning[at + 21] - '0');

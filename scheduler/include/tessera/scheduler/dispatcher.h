@@ -143,6 +143,9 @@ class Dispatcher {
   // Per device: the batches of its calls in flight (owned by the threads making them), to tell
   // whether a device that died was running a tile that had taken another device down.
   std::vector<std::vector<const std::vector<v1::Tile>*>> in_flight_ ABSL_GUARDED_BY(mu_);
+  // Per device: whether its only call in flight runs one tile that was in flight on a lost
+  // device (a suspect), so that losing this device too points at that tile's programs.
+  std::vector<bool> alone_with_suspect_ ABSL_GUARDED_BY(mu_);
   uint64_t remaining_ ABSL_GUARDED_BY(mu_) = 0;  // tiles not yet finished
   size_t running_threads_ ABSL_GUARDED_BY(mu_) = 0;
   std::vector<FinishedBatch> finished_ ABSL_GUARDED_BY(mu_);
