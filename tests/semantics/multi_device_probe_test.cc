@@ -1,18 +1,16 @@
 // Probes of the multi-device buffer rules at their edges: pointers across device-set changes,
 // race checking without false positives, and GPU_LOCAL accumulation when a worker dies between
 // launches. (Probes of device pointers themselves are in multi_device_pointers_test.cc.)
-#include <dirent.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "multi_device_fixture.h"
+#include "worker_processes.h"
 
 namespace tessera::testing {
 namespace {
@@ -121,32 +119,6 @@ class DeviceSetProbeTest : public MultiDeviceFixture {
 };
 
 // ---- GPU_LOCAL when a worker dies between launches ---------------------------------------------
-
-std::vector<pid_t> WorkersOf(pid_t parent) {
-  std::vector<pid_t> workers;
-  DIR* proc = opendir("/proc");
-  if (proc == nullptr) return workers;
-  while (dirent* entry = readdir(proc)) {
-    char* end = nullptr;
-    const long pid = std::strtol(entry->d_name, &end, 10);
-    if (pid <= 0 || *end != '\0') continue;
-    std::ifstream in(std::string("/proc/") + entry->d_name + "/stat");
-    std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const size_t open = stat.find('('), close = stat.rfind(')');
-    if (open == std::string::npos || close == std::string::npos) continue;
-    std::istringstream fields(stat.substr(close + 1));
-    std::string state;
-    long ppid = 0;
-    fields >> state >> ppid;
-    if (ppid == parent && state != "Z" &&
-        stat.substr(open + 1, close - open - 1) == "tessera-worker") {
-      workers.push_back(static_cast<pid_t>(pid));
-    }
-  }
-  closedir(proc);
-  std::sort(workers.begin(), workers.end());
-  return workers;
-}
 
 // Selecting the set the context already runs on changes nothing: it used to restart every worker
 // and silently reset per-device accumulation.
