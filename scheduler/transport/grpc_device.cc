@@ -160,7 +160,7 @@ absl::StatusOr<WorkerHealth> GrpcDevice::Health(absl::Duration timeout) const {
 }
 
 absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
-  if (absl::Status s = CheckDeltaHeaderSize(delta); !s.ok()) {
+  if (absl::Status s = CheckDeltaMessageSizes(delta); !s.ok()) {
     return absl::Status(s.code(), absl::StrCat("not sent to worker ", address_, ": ", s.message()));
   }
   session_id_ = delta.session_id();

@@ -1,5 +1,7 @@
 #include "transport/worker_wire.h"
 
+#include <google/protobuf/io/coded_stream.h>
+
 #include <algorithm>
 #include <string>
 #include <utility>
@@ -8,64 +10,132 @@
 
 namespace tessera::transport {
 
-v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta) {
-  // Field by field, so the chunks (the bulk of a delta) are not copied only to be cleared.
-  // worker_wire_test fails when StateDelta gains a field, as a reminder to copy it here.
+namespace {
+
+using Variables = google::protobuf::RepeatedPtrField<v1::Variable>;
+
+// Bytes `object` adds to an ObjectBatch: its tag, its length and itself.
+size_t BatchedSize(const v1::Object& object) {
+  const size_t bytes = object.ByteSizeLong();
+  return 1 + google::protobuf::io::CodedOutputStream::VarintSize64(bytes) + bytes;
+}
+
+// Where the objects of `delta` are cut into batches of at most `max_bytes`: batch i ends before
+// object ends[i]. An object larger than `max_bytes` is a batch of its own.
+std::vector<int> ObjectBatchEnds(const v1::StateDelta& delta, size_t max_bytes) {
+  std::vector<int> ends;
+  size_t used = 0;  // bytes in the batch being filled
+  for (int i = 0; i < delta.objects_size(); ++i) {
+    const size_t bytes = BatchedSize(delta.objects(i));
+    if (used > 0 && used + bytes > max_bytes) {
+      ends.push_back(i);
+      used = 0;
+    }
+    used += bytes;
+  }
+  if (used > 0) ends.push_back(delta.objects_size());
+  return ends;
+}
+
+v1::ApplyChunk Header(const v1::StateDelta& delta, size_t object_batches) {
+  // Field by field, so the objects and chunks (the bulk of a delta) are not copied only to be
+  // cleared. worker_wire_test fails when StateDelta gains a field, as a reminder to copy it here.
   v1::ApplyChunk header;
   v1::StateDelta* out = header.mutable_delta();
   out->set_session_id(delta.session_id());
   out->set_sequence(delta.sequence());
   *out->mutable_context() = delta.context();
-  *out->mutable_objects() = delta.objects();
   *out->mutable_removed() = delta.removed();
-  header.set_following(static_cast<uint64_t>(delta.modules_size()) + delta.chunks_size());
+  header.set_following(object_batches + delta.modules_size() + delta.chunks_size());
   return header;
 }
 
-absl::Status CheckDeltaHeaderSize(const v1::StateDelta& delta) {
-  // Framing of the header message itself (tags, lengths, `following`) stays far below this.
-  constexpr size_t kSlack = 64 << 10;
-  size_t bytes = delta.context().ByteSizeLong();
-  for (const v1::Object& o : delta.objects()) bytes += o.ByteSizeLong();
-  bytes += delta.removed_size() * sizeof(uint64_t);
-  if (bytes + kSlack <= static_cast<size_t>(kMaxMessageBytes)) return absl::OkStatus();
-  std::string largest;
-  size_t largest_bytes = 0;
-  auto scan = [&](const auto& variables, const std::string& owner) {
-    for (const v1::Variable& v : variables) {
-      if (v.data().size() > largest_bytes) {
-        largest_bytes = v.data().size();
-        largest = absl::StrCat("variable '", v.name(), "' of ", owner);
-      }
+// How messages name `object` ("geometry #5"), and the variables it carries (null for kinds that
+// carry none).
+std::pair<std::string, const Variables*> Describe(const v1::Object& o) {
+  switch (o.kind_case()) {
+    case v1::Object::kProgram:
+      return {absl::StrCat("program #", o.program().id()), &o.program().variables()};
+    case v1::Object::kBuffer:
+      return {absl::StrCat("buffer #", o.buffer().id()), nullptr};
+    case v1::Object::kGeometry:
+      return {absl::StrCat("geometry #", o.geometry().id()), &o.geometry().variables()};
+    case v1::Object::kMaterial:
+      return {absl::StrCat("material #", o.material().id()), &o.material().variables()};
+    case v1::Object::kGeometryInstance:
+      return {absl::StrCat("geometry instance #", o.geometry_instance().id()),
+              &o.geometry_instance().variables()};
+    case v1::Object::kGeometryGroup:
+      return {absl::StrCat("geometry group #", o.geometry_group().id()), nullptr};
+    case v1::Object::kGroup:
+      return {absl::StrCat("group #", o.group().id()), nullptr};
+    case v1::Object::kTransform:
+      return {absl::StrCat("transform #", o.transform().id()), nullptr};
+    case v1::Object::kSelector:
+      return {absl::StrCat("selector #", o.selector().id()), &o.selector().variables()};
+    case v1::Object::kAcceleration:
+      return {absl::StrCat("acceleration #", o.acceleration().id()), nullptr};
+    case v1::Object::KIND_NOT_SET:
+      break;
+  }
+  return {"an empty object", nullptr};
+}
+
+absl::Status TooLargeForOneMessage(const std::string& owner, size_t bytes, size_t limit,
+                                   const Variables* variables) {
+  const v1::Variable* largest = nullptr;
+  if (variables != nullptr) {
+    for (const v1::Variable& v : *variables) {
+      if (largest == nullptr || v.data().size() > largest->data().size()) largest = &v;
     }
-  };
-  scan(delta.context().variables(), "the context");
-  for (const v1::Object& o : delta.objects()) {
-    if (o.has_program()) scan(o.program().variables(), absl::StrCat("program #", o.program().id()));
-    if (o.has_geometry()) {
-      scan(o.geometry().variables(), absl::StrCat("geometry #", o.geometry().id()));
-    }
-    if (o.has_material())
-      scan(o.material().variables(), absl::StrCat("material #", o.material().id()));
-    if (o.has_geometry_instance()) {
-      scan(o.geometry_instance().variables(),
-           absl::StrCat("geometry instance #", o.geometry_instance().id()));
-    }
-    if (o.has_selector())
-      scan(o.selector().variables(), absl::StrCat("selector #", o.selector().id()));
   }
   return absl::ResourceExhaustedError(absl::StrCat(
-      "the scene description (objects and variable values, buffer contents aside) takes ", bytes,
-      " bytes, more than the ", kMaxMessageBytes - kSlack, " a worker accepts in one update",
-      largest.empty() ? std::string()
-                      : absl::StrCat("; the largest value is ", largest, " (", largest_bytes,
-                                     " bytes): put large data in a buffer")));
+      "the description of ", owner, " (variable values included, buffer contents aside) takes ",
+      bytes, " bytes, more than the ", limit, " a worker accepts in one message",
+      largest == nullptr || largest->data().empty()
+          ? std::string()
+          : absl::StrCat("; the largest value is variable '", largest->name(), "' of ", owner, " (",
+                         largest->data().size(), " bytes): put large data in a buffer")));
+}
+
+}  // namespace
+
+v1::ApplyChunk DeltaHeader(const v1::StateDelta& delta) {
+  return Header(delta, ObjectBatchEnds(delta, kMaxRegionBytes).size());
+}
+
+absl::Status CheckDeltaMessageSizes(const v1::StateDelta& delta) {
+  // Framing of a message (tags, lengths, `following`) stays far below this.
+  constexpr size_t kSlack = 64 << 10;
+  constexpr size_t kLimit = kMaxMessageBytes - kSlack;
+  // The header: removed ids take at most 10 bytes each.
+  const size_t header = delta.context().ByteSizeLong() + delta.removed_size() * size_t{10};
+  if (header > kLimit) {
+    return TooLargeForOneMessage("the context", header, kLimit, &delta.context().variables());
+  }
+  // Objects are batched, but one object is never split.
+  for (const v1::Object& o : delta.objects()) {
+    const size_t bytes = o.ByteSizeLong();
+    if (bytes <= kLimit) continue;
+    auto [owner, variables] = Describe(o);
+    return TooLargeForOneMessage(owner, bytes, kLimit, variables);
+  }
+  return absl::OkStatus();
 }
 
 bool WriteApplyStream(const v1::StateDelta& delta,
-                      absl::FunctionRef<bool(const v1::ApplyChunk&)> write) {
-  if (!write(DeltaHeader(delta))) return false;
+                      absl::FunctionRef<bool(const v1::ApplyChunk&)> write,
+                      size_t object_batch_bytes) {
+  const std::vector<int> ends = ObjectBatchEnds(delta, object_batch_bytes);
+  if (!write(Header(delta, ends.size()))) return false;
   v1::ApplyChunk message;
+  int begin = 0;
+  for (int end : ends) {
+    v1::ObjectBatch* batch = message.mutable_objects();
+    batch->clear_objects();
+    for (; begin < end; ++begin) *batch->add_objects() = delta.objects(begin);
+    if (!write(message)) return false;
+  }
   for (const v1::ModuleChunk& module : delta.modules()) {
     *message.mutable_module() = module;
     if (!write(message)) return false;
@@ -78,9 +148,10 @@ bool WriteApplyStream(const v1::StateDelta& delta,
 }
 
 absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
-  bytes_ += part.has_chunk()    ? part.chunk().data().size()
-            : part.has_module() ? part.module().data().size()
-                                : 0;
+  bytes_ += part.has_chunk()     ? part.chunk().data().size()
+            : part.has_module()  ? part.module().data().size()
+            : part.has_objects() ? part.objects().ByteSizeLong()
+                                 : 0;
   if (bytes_ > max_bytes_) {
     return absl::ResourceExhaustedError(absl::StrCat("Apply stream carries more than ", max_bytes_,
                                                      " bytes, more than this device can hold"));
@@ -93,44 +164,52 @@ absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
             "Apply stream's delta carries buffer chunks or module slices inline; they travel as "
             "separate messages");
       }
+      // Objects inline (as hosts before ObjectBatch sent them) come first; batches append.
       delta_ = std::move(*part.mutable_delta());
       following_ = part.following();
       has_delta_ = true;
       return absl::OkStatus();
+    case v1::ApplyChunk::kObjects:
+      if (absl::Status s = Follow("an object batch"); !s.ok()) return s;
+      delta_.mutable_objects()->Reserve(delta_.objects_size() + part.objects().objects_size());
+      for (v1::Object& o : *part.mutable_objects()->mutable_objects()) {
+        *delta_.add_objects() = std::move(o);
+      }
+      return absl::OkStatus();
     case v1::ApplyChunk::kChunk:
-      if (!has_delta_) {
-        return absl::InvalidArgumentError("Apply stream starts with a buffer chunk, not a delta");
-      }
-      if (++received_ > following_) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "Apply stream carries more than the ", following_, " messages its delta announced"));
-      }
+      if (absl::Status s = Follow("a buffer chunk"); !s.ok()) return s;
       *delta_.add_chunks() = std::move(*part.mutable_chunk());
       return absl::OkStatus();
     case v1::ApplyChunk::kModule:
-      if (!has_delta_) {
-        return absl::InvalidArgumentError("Apply stream starts with a module slice, not a delta");
-      }
-      if (++received_ > following_) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "Apply stream carries more than the ", following_, " messages its delta announced"));
-      }
+      if (absl::Status s = Follow("a module slice"); !s.ok()) return s;
       *delta_.add_modules() = std::move(*part.mutable_module());
       return absl::OkStatus();
     case v1::ApplyChunk::PART_NOT_SET:
       break;
   }
   return absl::InvalidArgumentError(
-      "Apply stream message carries no delta, buffer chunk or module slice");
+      "Apply stream message carries no delta, object batch, buffer chunk or module slice");
+}
+
+absl::Status DeltaAssembler::Follow(absl::string_view what) {
+  if (!has_delta_) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("Apply stream starts with ", what, ", not a delta"));
+  }
+  if (++received_ > following_) {
+    return absl::InvalidArgumentError(absl::StrCat("Apply stream carries more than the ",
+                                                   following_, " messages its delta announced"));
+  }
+  return absl::OkStatus();
 }
 
 absl::StatusOr<v1::StateDelta> DeltaAssembler::Finish() && {
   if (!has_delta_) return absl::InvalidArgumentError("Apply stream ended without a state delta");
   if (received_ != following_) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "Apply stream ended after ", received_, " of the ", following_,
-        " chunk messages its delta announced (cut short, or a message was malformed or too "
-        "large); nothing was applied"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("Apply stream ended after ", received_, " of the ", following_,
+                     " messages its delta announced (cut short, or a message was malformed or too "
+                     "large); nothing was applied"));
   }
   return std::move(delta_);
 }

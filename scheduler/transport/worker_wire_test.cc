@@ -38,16 +38,19 @@ v1::StateDelta SampleDelta() {
   return delta;
 }
 
-TEST(WorkerWireTest, DeltaHeaderCopiesEveryFieldButChunksAndModules) {
+TEST(WorkerWireTest, DeltaHeaderCopiesEveryFieldButObjectsChunksAndModules) {
   // DeltaHeader copies StateDelta field by field: a new field must be added there too.
   EXPECT_EQ(v1::StateDelta::descriptor()->field_count(), 7)
       << "StateDelta changed: update DeltaHeader in worker_wire.cc";
   v1::StateDelta delta = SampleDelta();
   v1::ApplyChunk header = DeltaHeader(delta);
   ASSERT_TRUE(header.has_delta());
+  EXPECT_EQ(header.delta().objects_size(), 0);
   EXPECT_EQ(header.delta().chunks_size(), 0);
   EXPECT_EQ(header.delta().modules_size(), 0);
+  EXPECT_EQ(header.following(), 1u + 2u + 3u);  // one object batch, the slices, the chunks
   v1::StateDelta without_bulk = delta;
+  without_bulk.clear_objects();
   without_bulk.clear_chunks();
   without_bulk.clear_modules();
   EXPECT_EQ(header.delta().SerializeAsString(), without_bulk.SerializeAsString());
@@ -60,12 +63,15 @@ TEST(WorkerWireTest, ApplyStreamRoundTrip) {
     messages.push_back(m);
     return true;
   }));
-  // The header, then one message per module slice, then one per buffer chunk.
-  ASSERT_EQ(messages.size(), 6u);
+  // The header, then the objects in one batch, then one message per module slice, then one per
+  // buffer chunk.
+  ASSERT_EQ(messages.size(), 7u);
   EXPECT_TRUE(messages[0].has_delta());
-  EXPECT_TRUE(messages[1].has_module());
+  ASSERT_TRUE(messages[1].has_objects());
+  EXPECT_EQ(messages[1].objects().objects_size(), 2);
   EXPECT_TRUE(messages[2].has_module());
-  EXPECT_TRUE(messages[3].has_chunk());
+  EXPECT_TRUE(messages[3].has_module());
+  EXPECT_TRUE(messages[4].has_chunk());
   DeltaAssembler assembler;
   for (v1::ApplyChunk& m : messages) ASSERT_TRUE(assembler.Add(std::move(m)).ok());
   absl::StatusOr<v1::StateDelta> out = std::move(assembler).Finish();
@@ -120,6 +126,32 @@ TEST(WorkerWireTest, MalformedApplyStreamsAreRejected) {
     EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
     EXPECT_NE(s.message().find("starts with a module slice"), std::string::npos) << s;
   }
+  {
+    DeltaAssembler a;
+    v1::ApplyChunk objects;
+    objects.mutable_objects()->add_objects()->mutable_buffer()->set_id(3);
+    absl::Status s = a.Add(std::move(objects));
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(s.message().find("starts with an object batch"), std::string::npos) << s;
+  }
+}
+
+// Hosts before ObjectBatch sent the objects inside the delta: a worker still takes them, before
+// any batches.
+TEST(WorkerWireTest, ObjectsInsideTheDeltaComeBeforeBatchedOnes) {
+  v1::ApplyChunk header;
+  header.mutable_delta()->add_objects()->mutable_buffer()->set_id(1);
+  header.set_following(1);
+  v1::ApplyChunk batch;
+  batch.mutable_objects()->add_objects()->mutable_buffer()->set_id(2);
+  DeltaAssembler a;
+  ASSERT_TRUE(a.Add(std::move(header)).ok());
+  ASSERT_TRUE(a.Add(std::move(batch)).ok());
+  absl::StatusOr<v1::StateDelta> out = std::move(a).Finish();
+  ASSERT_TRUE(out.ok()) << out.status();
+  ASSERT_EQ(out->objects_size(), 2);
+  EXPECT_EQ(out->objects(0).buffer().id(), 1u);
+  EXPECT_EQ(out->objects(1).buffer().id(), 2u);
 }
 
 // gRPC ends a server's reads the same way at the end of a stream and at a message it could not
@@ -146,6 +178,15 @@ TEST(WorkerWireTest, ApplyStreamsCutShortOrPaddedAreRefused) {
     for (const v1::ApplyChunk& m : messages) ASSERT_TRUE(a.Add(v1::ApplyChunk(m)).ok());
     EXPECT_EQ(a.Add(v1::ApplyChunk(messages.back())).code(), absl::StatusCode::kInvalidArgument);
   }
+  {
+    // An object batch beyond the count is refused as well.
+    ASSERT_TRUE(messages[1].has_objects());
+    DeltaAssembler a;
+    for (const v1::ApplyChunk& m : messages) ASSERT_TRUE(a.Add(v1::ApplyChunk(m)).ok());
+    absl::Status s = a.Add(v1::ApplyChunk(messages[1]));
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(s.message().find("more than the 6 messages"), std::string::npos) << s;
+  }
 }
 
 // A stream larger than the device could ever hold is refused as it arrives, before it is held.
@@ -154,12 +195,16 @@ TEST(WorkerWireTest, ApplyStreamsBeyondTheByteLimitAreRefusedEarly) {
   size_t data_bytes = 0;
   for (const v1::BufferChunk& c : delta.chunks()) data_bytes += c.data().size();
   for (const v1::ModuleChunk& m : delta.modules()) data_bytes += m.data().size();
-  ASSERT_GT(data_bytes, 1u);
   std::vector<v1::ApplyChunk> messages;
   ASSERT_TRUE(WriteApplyStream(delta, [&](const v1::ApplyChunk& m) {
     messages.push_back(m);
     return true;
   }));
+  // The objects count as they travel.
+  for (const v1::ApplyChunk& m : messages) {
+    if (m.has_objects()) data_bytes += m.objects().ByteSizeLong();
+  }
+  ASSERT_GT(data_bytes, 1u);
   DeltaAssembler a(data_bytes - 1);
   absl::Status last;
   for (v1::ApplyChunk& m : messages) {
@@ -181,20 +226,121 @@ std::string Paint(const std::vector<v1::TileResult>& pieces, size_t size) {
   return image;
 }
 
-// The objects and variable values travel as one message: one too large for it is refused before
-// sending, naming the largest value (gRPC said only "Sent message larger than max").
+// Writes `delta` as an Apply stream straight into an assembler, checking that no message exceeds
+// `max_message_bytes`, and returns what the assembler rebuilt.
+absl::StatusOr<v1::StateDelta> RoundTrip(const v1::StateDelta& delta, size_t object_batch_bytes,
+                                         size_t max_message_bytes, int* messages) {
+  DeltaAssembler assembler;
+  absl::Status added;
+  *messages = 0;
+  EXPECT_TRUE(WriteApplyStream(
+      delta,
+      [&](const v1::ApplyChunk& m) {
+        ++*messages;
+        // One object larger than a batch travels alone.
+        if (!m.has_objects() || m.objects().objects_size() > 1) {
+          EXPECT_LE(m.ByteSizeLong(), max_message_bytes) << "message " << *messages;
+        }
+        added = assembler.Add(v1::ApplyChunk(m));
+        return added.ok();
+      },
+      object_batch_bytes));
+  if (!added.ok()) return added;
+  return std::move(assembler).Finish();
+}
+
+v1::Object InstanceWithValue(uint64_t id, size_t value_bytes) {
+  v1::Object o;
+  v1::GeometryInstance* gi = o.mutable_geometry_instance();
+  gi->set_id(id);
+  gi->set_version(1);
+  gi->set_geometry(1);
+  v1::Variable* v = gi->add_variables();
+  v->set_name("value");
+  v->set_data(std::string(value_bytes, static_cast<char>('a' + id % 26)));
+  return o;
+}
+
+// Objects travel in batches of a bounded size, in order; the header carries none of them.
+TEST(WorkerWireTest, ManyObjectsTravelInBoundedBatches) {
+  constexpr size_t kBatch = 1024;
+  constexpr size_t kFraming = 16;  // the ApplyChunk's tag and length, and slack
+  v1::StateDelta delta = SampleDelta();
+  for (uint64_t id = 100; id < 400; ++id) *delta.add_objects() = InstanceWithValue(id, id % 97);
+  *delta.add_objects() = InstanceWithValue(400, 3 * kBatch);  // larger than a batch
+  for (uint64_t id = 401; id < 450; ++id) *delta.add_objects() = InstanceWithValue(id, 10);
+
+  std::vector<v1::ApplyChunk> messages;
+  ASSERT_TRUE(WriteApplyStream(
+      delta,
+      [&](const v1::ApplyChunk& m) {
+        messages.push_back(m);
+        return true;
+      },
+      kBatch));
+  ASSERT_TRUE(messages[0].has_delta());
+  EXPECT_EQ(messages[0].delta().objects_size(), 0);
+  EXPECT_EQ(messages[0].following(), messages.size() - 1);
+  int batches = 0;
+  for (const v1::ApplyChunk& m : messages) {
+    if (!m.has_objects()) continue;
+    ++batches;
+    if (m.objects().objects_size() == 1 && m.objects().objects(0).ByteSizeLong() > kBatch) {
+      EXPECT_EQ(m.objects().objects(0).geometry_instance().id(), 400u);
+      continue;
+    }
+    EXPECT_LE(m.ByteSizeLong(), kBatch + kFraming);
+  }
+  EXPECT_GT(batches, 10);
+
+  int count = 0;
+  absl::StatusOr<v1::StateDelta> out = RoundTrip(delta, kBatch, kBatch + kFraming, &count);
+  ASSERT_TRUE(out.ok()) << out.status();
+  EXPECT_EQ(count, static_cast<int>(messages.size()));
+  EXPECT_EQ(out->SerializeAsString(), delta.SerializeAsString());
+}
+
+// A scene whose objects together exceed what one message may carry streams in batches of about
+// kMaxRegionBytes (before batching, the objects all travelled in the first message).
+TEST(WorkerWireTest, ObjectsTogetherLargerThanOneMessageStillTravel) {
+  v1::StateDelta delta = SampleDelta();
+  size_t total = 0;
+  for (uint64_t id = 100; total <= static_cast<size_t>(kMaxMessageBytes); ++id) {
+    *delta.add_objects() = InstanceWithValue(id, 64 << 10);
+    total += delta.objects(delta.objects_size() - 1).ByteSizeLong();
+  }
+  EXPECT_TRUE(CheckDeltaMessageSizes(delta).ok());
+  int messages = 0;
+  absl::StatusOr<v1::StateDelta> out =
+      RoundTrip(delta, kMaxRegionBytes, kMaxRegionBytes + 16, &messages);
+  ASSERT_TRUE(out.ok()) << out.status();
+  EXPECT_GT(messages, 16);
+  EXPECT_EQ(out->SerializeAsString(), delta.SerializeAsString());
+}
+
+// The context state travels in one message and each object in one: one too large for it is
+// refused before sending, naming the largest value (gRPC said only "Sent message larger than
+// max").
 TEST(WorkerWireTest, ASceneDescriptionTooLargeForOneMessageNamesItsLargestValue) {
   v1::StateDelta delta;
   v1::Variable* small = delta.mutable_context()->add_variables();
   small->set_name("small");
   small->set_data(std::string(16, 'a'));
-  EXPECT_TRUE(CheckDeltaHeaderSize(delta).ok());
+  EXPECT_TRUE(CheckDeltaMessageSizes(delta).ok());
   v1::Variable* big = delta.mutable_context()->add_variables();
   big->set_name("big");
   big->set_data(std::string(static_cast<size_t>(kMaxMessageBytes), 'b'));
-  absl::Status s = CheckDeltaHeaderSize(delta);
+  absl::Status s = CheckDeltaMessageSizes(delta);
   EXPECT_EQ(s.code(), absl::StatusCode::kResourceExhausted) << s;
   EXPECT_NE(s.message().find("variable 'big' of the context"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("put large data in a buffer"), std::string::npos) << s;
+
+  // The same value on one object.
+  delta.mutable_context()->mutable_variables()->RemoveLast();
+  *delta.add_objects() = InstanceWithValue(9, kMaxMessageBytes);
+  s = CheckDeltaMessageSizes(delta);
+  EXPECT_EQ(s.code(), absl::StatusCode::kResourceExhausted) << s;
+  EXPECT_NE(s.message().find("variable 'value' of geometry instance #9"), std::string::npos) << s;
   EXPECT_NE(s.message().find("put large data in a buffer"), std::string::npos) << s;
 }
 

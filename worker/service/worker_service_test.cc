@@ -203,6 +203,34 @@ TEST_F(WorkerServiceTest, AnApplyStreamCutShortChangesNothing) {
   ExpectIndices(FinalOutput(results), 6, 6);
 }
 
+// A scene of many small objects, together more than a few MiB, travels in bounded batches and is
+// applied whole (before batching, every object travelled in the stream's first message).
+TEST_F(WorkerServiceTest, ManySmallObjectsTravelInBoundedMessagesAndAreApplied) {
+  v1::StateDelta delta = WriteIndexDelta(14, 1, 4, 4);
+  for (uint64_t id = 1000; id < 201000; ++id) {
+    v1::Material* m = delta.add_objects()->mutable_material();
+    m->set_id(id);
+    m->set_version(1);
+    v1::Variable* v = m->add_variables();
+    v->set_name("transform");
+    v->set_type(RT_OBJECTTYPE_MATRIX_FLOAT4x4);
+    v->set_data(std::string(64, static_cast<char>(id)));
+  }
+  size_t object_bytes = 0;
+  for (const v1::Object& o : delta.objects()) object_bytes += o.ByteSizeLong();
+  ASSERT_GT(object_bytes, size_t{16} << 20);
+  std::vector<v1::ApplyChunk> messages;
+  transport::WriteApplyStream(delta, [&](const v1::ApplyChunk& m) {
+    EXPECT_LE(m.ByteSizeLong(), transport::kMaxRegionBytes + 1024);
+    messages.push_back(m);
+    return true;
+  });
+  ASSERT_TRUE(Apply(messages).ok());
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(14, 4, 4, &results).ok());
+  ExpectIndices(FinalOutput(results), 4, 4);
+}
+
 // A host done with a session ends it, and the worker lets go of its replica.
 TEST_F(WorkerServiceTest, EndSessionDropsTheReplica) {
   ASSERT_TRUE(Apply(WriteIndexDelta(12, 1, 4, 4)).ok());
