@@ -1,8 +1,11 @@
 // A host application for the end-to-end tests: renders the e2e scene through the C API on the
 // devices of --spec, prints each launch's time, then `ready` and, with --wait, sleeps until it is
-// killed (the orphan test kills it with SIGKILL and watches its workers).
+// killed (the orphan test kills it with SIGKILL and watches its workers). With --keep-context it
+// returns from main without destroying its context, as applications that leave cleanup to the
+// exit do.
 //
 //   e2e_host [--spec local:2] [--size W H] [--launches N] [--iterations K] [--wait]
+//            [--keep-context]
 //
 // --iterations K launches entry point 1 instead (K traces per launch index: a compute-bound load).
 #include <unistd.h>
@@ -22,6 +25,7 @@ int main(int argc, char** argv) {
   int launches = 1;
   int iterations = 0;
   bool wait = false;
+  bool keep_context = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--spec") && i + 1 < argc) {
       spec = argv[++i];
@@ -34,9 +38,12 @@ int main(int argc, char** argv) {
       iterations = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--wait")) {
       wait = true;
+    } else if (!std::strcmp(argv[i], "--keep-context")) {
+      keep_context = true;
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--spec S] [--size W H] [--launches N] [--iterations K] [--wait]\n",
+                   "usage: %s [--spec S] [--size W H] [--launches N] [--iterations K] [--wait] "
+                   "[--keep-context]\n",
                    argv[0]);
       return 2;
     }
@@ -70,6 +77,6 @@ int main(int argc, char** argv) {
   std::printf("ready\n");
   std::fflush(stdout);
   while (wait) pause();
-  rtContextDestroy(ctx);
+  if (!keep_context) rtContextDestroy(ctx);
   return 0;
 }

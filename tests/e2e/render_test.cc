@@ -104,6 +104,75 @@ TEST_F(RenderTest, DestroyingTheContextReapsItsWorkers) {
   EXPECT_TRUE(ChildrenNamed(getpid(), kWorker).empty());
 }
 
+// rtContextSetDevices on a subset of worker processes: the others are not started, and the image
+// is the one every device set renders.
+TEST_F(RenderTest, ASubsetOfWorkerProcessesRendersTheSameImage) {
+  constexpr unsigned kW = 64, kH = 48;
+  Create("inproc", kW, kH);
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
+  const std::string reference = ReadBytes(scene_.image);
+  const size_t before = ChildrenNamed(getpid(), kWorker).size();
+  Create("local:3", kW, kH);
+  const int subset[] = {0, 2};
+  Ok(rtContextSetDevices(ctx_, 2, subset));
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
+  unsigned count = 0;
+  Ok(rtContextGetDeviceCount(ctx_, &count));
+  EXPECT_EQ(count, 2u);
+  EXPECT_EQ(ChildrenNamed(getpid(), kWorker).size(), before + 2);
+  EXPECT_TRUE(ReadBytes(scene_.image) == reference);
+}
+
+// Reads `fd` until it closes or `deadline`.
+std::string ReadAll(int fd, Clock::time_point deadline) {
+  std::string output;
+  while (Clock::now() < deadline) {
+    pollfd p{fd, POLLIN, 0};
+    if (poll(&p, 1, 100) <= 0) continue;
+    char buf[256];
+    ssize_t n = read(fd, buf, sizeof(buf));
+    if (n <= 0) break;
+    output.append(buf, static_cast<size_t>(n));
+  }
+  return output;
+}
+
+// A host that returns from main without destroying its context leaves no worker behind.
+TEST(HostExitTest, WorkersEndWhenTheirHostExitsWithoutDestroyingItsContext) {
+  // Orphans are re-parented to this process, so it sees (and reaps) any worker that outlives its
+  // host.
+  ASSERT_EQ(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
+  ASSERT_TRUE(ChildrenNamed(getpid(), kWorker).empty());
+  int out[2];
+  ASSERT_EQ(pipe2(out, O_CLOEXEC), 0);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+  std::string host = TESSERA_E2E_HOST;
+  char* argv[] = {host.data(), const_cast<char*>("--spec"), const_cast<char*>("local:2"),
+                  const_cast<char*>("--keep-context"), nullptr};
+  pid_t host_pid = 0;
+  ASSERT_EQ(posix_spawn(&host_pid, argv[0], &actions, nullptr, argv, environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  close(out[1]);
+  const std::string output = ReadAll(out[0], Clock::now() + std::chrono::seconds(20));
+  close(out[0]);
+  int status = 0;
+  ASSERT_TRUE(WaitForExit(host_pid, std::chrono::seconds(10), &status));
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status << output;
+  ASSERT_NE(output.find("launch 0 local:2"), std::string::npos) << output;  // it had workers
+  // Reap what ends; fail if a worker is still alive after the deadline.
+  const auto deadline = Clock::now() + std::chrono::seconds(10);
+  while (!ChildrenNamed(getpid(), kWorker).empty() && Clock::now() < deadline) {
+    while (waitpid(-1, &status, WNOHANG) > 0) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_TRUE(ChildrenNamed(getpid(), kWorker).empty()) << "a worker outlived its host";
+  while (waitpid(-1, &status, WNOHANG) > 0) {
+  }
+}
+
 TEST(HostCrashTest, WorkersDieWithTheirHost) {
   // Orphans are re-parented to this process, so it can reap them and see how they ended.
   ASSERT_EQ(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
