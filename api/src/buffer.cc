@@ -180,9 +180,11 @@ absl::StatusOr<void*> Buffer::GetDevicePointer(int ordinal) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat(Describe(), " needs a format and a size before a device pointer"));
   }
+  const bool first = views_.empty();
   auto [it, inserted] = views_.try_emplace(ordinal);
   if (inserted) it->second.owned = data_;
   ++views_dirty_;
+  if (first) ViewsBegan();
   static unsigned char empty_buffer_storage[16];
   return data_.empty() ? static_cast<void*>(empty_buffer_storage)
                        : static_cast<void*>(it->second.data());
@@ -193,11 +195,25 @@ absl::Status Buffer::SetDevicePointer(int ordinal, void* pointer) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat(Describe(), " needs a format and a size before a device pointer"));
   }
+  const bool first = views_.empty();
   View& view = views_[ordinal];
   view.owned.clear();
   view.application = pointer;
   ++views_dirty_;
+  if (first) ViewsBegan();
   return absl::OkStatus();
+}
+
+void Buffer::ViewsBegan() {
+  // Devices learn from the buffer's description that their writes to it travel back
+  // (returns_device_writes); a device takes a description as a new buffer and is sent every chunk.
+  if (gpu_local()) Touch();
+}
+
+void Buffer::CopyToDeviceView(int ordinal, uint64_t offset, absl::string_view bytes) {
+  auto it = views_.find(ordinal);
+  if (it == views_.end() || bytes.empty()) return;
+  std::memcpy(it->second.data() + offset, bytes.data(), bytes.size());
 }
 
 std::string Buffer::VariableName() const {

@@ -127,6 +127,7 @@ LaunchGather::LaunchGather(Context& context)
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() != Kind::kBuffer) continue;
     auto* b = static_cast<Buffer*>(object);
+    if (b->returns_device_writes()) layouts_[id] = LayoutOf(*b);
     if (!b->gathers_content()) continue;
     layouts_[id] = LayoutOf(*b);
     host_epochs_[id] = b->host_write_epoch();
@@ -292,8 +293,8 @@ void LaunchGather::ApplyRegion(size_t device, const v1::BufferRegion& region) {
   }
   auto* b = static_cast<Buffer*>(object);
   // INPUT and GPU_LOCAL buffers never come back to the host (docs/devices.md "Buffers across
-  // devices").
-  if (!b->gathers_content()) return;
+  // devices"), except into the views of GPU_LOCAL buffers with device pointers.
+  if (!b->gathers_content() && !b->returns_device_writes()) return;
   const absl::string_view data = region.data();
   if (region.run_offsets_size() == 0) {
     ApplyRun(device, *b, region.offset(), data);
@@ -323,6 +324,12 @@ void LaunchGather::ApplyRun(size_t device, Buffer& b, uint64_t offset, absl::str
     return;
   }
   if (data.empty()) return;
+  if (b.returns_device_writes()) {
+    // One device's own copy: nothing to merge or race-check.
+    b.CopyToDeviceView(slots_[device]->sync.ordinal, offset, data);
+    context_.CountReceived(data.size());
+    return;
+  }
   // Runs hold exactly the elements the device's programs touched: applying them in any order
   // merges the devices' work (two devices writing one element is a race, as in OptiX). Their
   // bytes are copied once the batch's runs are known (CopyRuns).

@@ -80,6 +80,7 @@ void LowerObject(const Context& c, Object& o, v1::Object* out) {
       m->set_format(static_cast<uint32_t>(b.format()));
       m->set_element_size(b.element_size());
       for (size_t d : b.dims()) m->add_dims(d);
+      m->set_return_writes(b.returns_device_writes());
       break;
     }
     case Kind::kGeometry: {

@@ -236,18 +236,80 @@ TEST_P(DevicePointerTest, InputOutputPointerKeepsWhatTheLaunchDidNotWrite) {
 }
 
 // One pointer of a GPU_LOCAL buffer without COPY_ON_DIRTY reaches every device at every launch, as
-// the guide says, also when the devices' own copies have diverged from it since the last one.
+// the guide says, also when the devices' own copies have diverged from it since the last one. The
+// pointer is device 0's copy: it shows device 0's writes, which the other devices then receive.
 TEST_P(DevicePointerTest, GpuLocalPointerIsCopiedToEveryDeviceAtEveryLaunch) {
   RayGen("bump_and_copy");
   RTbuffer b = Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_UNSIGNED_INT,
                       {kCount}, "from_pointer");
   void* p = nullptr;
   Ok(rtBufferGetDevicePointer(b, 0, &p));
-  const std::vector<unsigned> start = Values(100), bumped = Values(101);
+  const unsigned* view = static_cast<const unsigned*>(p);
+  const std::vector<unsigned> start = Values(100);
   std::copy(start.begin(), start.end(), static_cast<unsigned*>(p));
-  for (int launch = 0; launch < 3; ++launch) {
+  for (unsigned launch = 1; launch <= 3; ++launch) {
     Launch1D(kCount);
-    EXPECT_EQ(Contents<unsigned>(copied_), bumped) << "launch " << launch;
+    std::vector<unsigned> seen = Contents<unsigned>(copied_);
+    for (RTsize i = 0; i < kCount; ++i) {
+      // Device 0 accumulates on its own copy; the others start from it (where device 0 never
+      // writes) at every launch.
+      const bool device0 = (i / kTile) % devices() == 0;
+      EXPECT_EQ(seen[i], device0 ? start[i] + launch : start[i] + 1)
+          << "launch " << launch << ", element " << i;
+      EXPECT_EQ(view[i], device0 ? start[i] + launch : start[i])
+          << "launch " << launch << ", element " << i;
+    }
+  }
+}
+
+// A GPU_LOCAL buffer's pointer for every device is that device's copy: after each launch it shows
+// what its device wrote (tile t on device t mod N), and the next launch goes on from there.
+TEST_P(DevicePointerTest, GpuLocalPointersShowWhatTheirDeviceWrote) {
+  RayGen("bump_and_copy");
+  RTbuffer b = Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_UNSIGNED_INT,
+                      {kCount}, "from_pointer");
+  std::vector<unsigned*> views;
+  for (unsigned d = 0; d < devices(); ++d) {
+    void* p = nullptr;
+    Ok(rtBufferGetDevicePointer(b, d, &p));
+    views.push_back(static_cast<unsigned*>(p));
+    const std::vector<unsigned> values = Values(1000 * (d + 1));
+    std::copy(values.begin(), values.end(), views.back());
+  }
+  for (unsigned launch = 1; launch <= 3; ++launch) {
+    Launch1D(kCount);
+    std::vector<unsigned> seen = Contents<unsigned>(copied_);
+    for (unsigned d = 0; d < devices(); ++d) {
+      for (RTsize i = 0; i < kCount; ++i) {
+        const bool own = (i / kTile) % devices() == d;
+        const unsigned start = 1000 * (d + 1) + static_cast<unsigned>(i);
+        EXPECT_EQ(views[d][i], own ? start + launch : start)
+            << "launch " << launch << ", device " << d << ", element " << i;
+        if (own) {
+          EXPECT_EQ(seen[i], start + launch) << "launch " << launch << ", element " << i;
+        }
+      }
+    }
+  }
+}
+
+// One COPY_ON_DIRTY pointer of a GPU_LOCAL buffer: every device starts from it, then runs on its
+// own copy; the pointer shows its device's copy as that device's programs change it.
+TEST_P(DevicePointerTest, GpuLocalCopyOnDirtyPointerFollowsItsDevice) {
+  RayGen("bump_and_copy");
+  unsigned* view =
+      PointerOnDevice0(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL | RT_BUFFER_COPY_ON_DIRTY);
+  const std::vector<unsigned> start = Values(100);
+  std::copy(start.begin(), start.end(), view);
+  for (unsigned launch = 1; launch <= 2; ++launch) {
+    Launch1D(kCount);
+    std::vector<unsigned> seen = Contents<unsigned>(copied_);
+    for (RTsize i = 0; i < kCount; ++i) {
+      const bool device0 = (i / kTile) % devices() == 0;
+      EXPECT_EQ(view[i], device0 ? start[i] + launch : start[i])
+          << "launch " << launch << ", element " << i;
+      EXPECT_EQ(seen[i], start[i] + launch) << "launch " << launch << ", element " << i;
+    }
   }
 }
 

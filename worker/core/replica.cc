@@ -125,7 +125,7 @@ struct Replica::StagedBuffer {
 };
 
 bool BufferRec::Gathered() const {
-  return (desc & RT_BUFFER_OUTPUT) != 0 && (desc & RT_BUFFER_GPU_LOCAL) == 0;
+  return (desc & RT_BUFFER_OUTPUT) != 0 && ((desc & RT_BUFFER_GPU_LOCAL) == 0 || return_writes);
 }
 
 void Replica::SnapshotForLaunch() {
@@ -402,6 +402,7 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
     BufferRec& from = staged_buffer.rec;
     BufferRec& r = buffers[id];
     r.desc = from.desc;
+    r.return_writes = from.return_writes;
     r.format = from.format;
     r.element_size = from.element_size;
     r.ndims = from.ndims;
@@ -536,6 +537,7 @@ void Replica::Stage(const v1::Buffer& b, bool removed,
     auto held = buffers.find(b.id());
     if (held != buffers.end() && !removed) {
       r.desc = held->second.desc;
+      r.return_writes = held->second.return_writes;
       r.format = held->second.format;
       r.element_size = held->second.element_size;
       r.ndims = held->second.ndims;
@@ -544,6 +546,7 @@ void Replica::Stage(const v1::Buffer& b, bool removed,
     }
   }
   r.desc = b.desc();
+  r.return_writes = b.return_writes();
   r.format = b.format();
   r.element_size = b.element_size();
   r.ndims = b.dims_size();

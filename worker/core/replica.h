@@ -37,9 +37,11 @@ struct BufferRec {
   std::array<uint64_t, 3> dims{0, 1, 1};
   unsigned ndims = 0;
   std::vector<unsigned char> data;
-  // Gathered buffers (OUTPUT or INPUT_OUTPUT, not GPU_LOCAL): one byte per element, the write
-  // epoch in which programs last accessed it (TesseraBufferView::written), 0 for none since the
-  // last call; TakeWrittenRegions collects them.
+  // GPU_LOCAL whose device pointers the host reads (v1::Buffer.return_writes): gathered too.
+  bool return_writes = false;
+  // Gathered buffers (OUTPUT or INPUT_OUTPUT, not GPU_LOCAL unless return_writes): one byte per
+  // element, the write epoch in which programs last accessed it (TesseraBufferView::written), 0
+  // for none since the last call; TakeWrittenRegions collects them.
   std::vector<unsigned char> written;
   std::vector<unsigned char> written_blocks;  // per 2^TESSERA_WRITTEN_BLOCK_SHIFT elements
   // INPUT_OUTPUT: the contents when the launch began, then as last sent to the host. Programs
