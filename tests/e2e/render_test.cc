@@ -1,7 +1,7 @@
 // The C API on worker processes: the same scene gives bit-identical buffers on inproc, local:1,
-// local:2 and a mixed inproc + worker set; a context's workers end with it, and with its process if
-// that crashes; the timeout callback cancels workers promptly; an unreachable worker is
-// RT_ERROR_CONNECTION_FAILED.
+// local:2, a mixed inproc + worker set and running workers on 127.0.0.1 ports; a context's workers
+// end with it, and with its process if that crashes; the timeout callback cancels workers promptly;
+// an unreachable worker is RT_ERROR_CONNECTION_FAILED.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <poll.h>
@@ -14,6 +14,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -21,6 +22,7 @@
 #include "e2e_scene.h"
 #include "process_util.h"
 #include "tessera/rt_ext.h"
+#include "transport/worker_process.h"
 
 extern char** environ;
 
@@ -57,10 +59,23 @@ struct Output {
 
 TEST_F(RenderTest, SameBuffersInprocAndOnWorkerProcesses) {
   constexpr unsigned kW = 640, kH = 480;  // 4.7 MiB per float4 buffer: more than one message
+  // Two running workers on ephemeral TCP ports of 127.0.0.1, as remote ones are reached.
+  std::vector<std::unique_ptr<transport::WorkerProcess>> tcp_workers;
+  std::string tcp;
+  for (int i = 0; i < 2; ++i) {
+    transport::WorkerProcess::Options options;
+    options.listen = "127.0.0.1:0";
+    options.index = i;
+    auto worker = transport::WorkerProcess::Spawn(options);
+    ASSERT_TRUE(worker.ok()) << worker.status();
+    tcp += (tcp.empty() ? "" : ",") + (*worker)->address();
+    tcp_workers.push_back(*std::move(worker));
+  }
   std::vector<Output> outputs;
-  for (const char* spec : {"inproc", "local:1", "local:2", "inproc,local:1"}) {
+  for (const std::string& spec :
+       std::vector<std::string>{"inproc", "local:1", "local:2", "inproc,local:1", tcp}) {
     SCOPED_TRACE(spec);
-    Create(spec, kW, kH);
+    Create(spec.c_str(), kW, kH);
     Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
     // Change part of an INPUT buffer between launches: only changed chunks travel, and the
     // INPUT_OUTPUT accumulator must carry the merged first launch into the second.
@@ -71,7 +86,7 @@ TEST_F(RenderTest, SameBuffersInprocAndOnWorkerProcesses) {
     auto start = Clock::now();
     Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
     double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-    std::printf("[ info ] %s: second %ux%u launch %.1f ms\n", spec, kW, kH, ms);
+    std::printf("[ info ] %s: second %ux%u launch %.1f ms\n", spec.c_str(), kW, kH, ms);
     outputs.push_back({ReadBytes(scene_.image), ReadBytes(scene_.accum)});
   }
   const Output& inproc = outputs[0];
