@@ -138,10 +138,11 @@ TEST_F(RenderTest, ASubsetOfWorkerProcessesRendersTheSameImage) {
   EXPECT_TRUE(ReadBytes(scene_.image) == reference);
 }
 
-// Reads `fd` until it closes or `deadline`.
-std::string ReadAll(int fd, Clock::time_point deadline) {
+// Reads `fd` until `text` appeared (empty: until it closes) or 20 s passed.
+std::string ReadUntil(int fd, const std::string& text) {
   std::string output;
-  while (Clock::now() < deadline) {
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while ((text.empty() || output.find(text) == std::string::npos) && Clock::now() < deadline) {
     pollfd p{fd, POLLIN, 0};
     if (poll(&p, 1, 100) <= 0) continue;
     char buf[256];
@@ -152,26 +153,36 @@ std::string ReadAll(int fd, Clock::time_point deadline) {
   return output;
 }
 
+// Starts e2e_host on local:2 with `flag` (--wait, --keep-context); returns its pid (0 on failure)
+// and the read end of its stdout in `out_fd`.
+pid_t SpawnHost(const char* flag, int* out_fd) {
+  int out[2];
+  if (pipe2(out, O_CLOEXEC) != 0) return 0;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+  std::string host = TESSERA_E2E_HOST;
+  char* argv[] = {host.data(), const_cast<char*>("--spec"), const_cast<char*>("local:2"),
+                  const_cast<char*>(flag), nullptr};
+  pid_t pid = 0;
+  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv, environ) != 0) pid = 0;
+  posix_spawn_file_actions_destroy(&actions);
+  close(out[1]);
+  *out_fd = out[0];
+  return pid;
+}
+
 // A host that returns from main without destroying its context leaves no worker behind.
 TEST(HostExitTest, WorkersEndWhenTheirHostExitsWithoutDestroyingItsContext) {
   // Orphans are re-parented to this process, so it sees (and reaps) any worker that outlives its
   // host.
   ASSERT_EQ(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
   ASSERT_TRUE(ChildrenNamed(getpid(), kWorker).empty());
-  int out[2];
-  ASSERT_EQ(pipe2(out, O_CLOEXEC), 0);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-  std::string host = TESSERA_E2E_HOST;
-  char* argv[] = {host.data(), const_cast<char*>("--spec"), const_cast<char*>("local:2"),
-                  const_cast<char*>("--keep-context"), nullptr};
-  pid_t host_pid = 0;
-  ASSERT_EQ(posix_spawn(&host_pid, argv[0], &actions, nullptr, argv, environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
-  close(out[1]);
-  const std::string output = ReadAll(out[0], Clock::now() + std::chrono::seconds(20));
-  close(out[0]);
+  int out = -1;
+  const pid_t host_pid = SpawnHost("--keep-context", &out);
+  ASSERT_NE(host_pid, 0);
+  const std::string output = ReadUntil(out, "");
+  close(out);
   int status = 0;
   ASSERT_TRUE(WaitForExit(host_pid, std::chrono::seconds(10), &status));
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status << output;
@@ -191,30 +202,11 @@ TEST(HostExitTest, WorkersEndWhenTheirHostExitsWithoutDestroyingItsContext) {
 TEST(HostCrashTest, WorkersDieWithTheirHost) {
   // Orphans are re-parented to this process, so it can reap them and see how they ended.
   ASSERT_EQ(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
-  int out[2];
-  ASSERT_EQ(pipe2(out, O_CLOEXEC), 0);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-  std::string host = TESSERA_E2E_HOST;
-  char* argv[] = {host.data(), const_cast<char*>("--spec"), const_cast<char*>("local:2"),
-                  const_cast<char*>("--wait"), nullptr};
-  pid_t host_pid = 0;
-  ASSERT_EQ(posix_spawn(&host_pid, argv[0], &actions, nullptr, argv, environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
-  close(out[1]);
-
-  std::string output;
-  auto deadline = Clock::now() + std::chrono::seconds(20);
-  while (output.find("ready\n") == std::string::npos && Clock::now() < deadline) {
-    pollfd p{out[0], POLLIN, 0};
-    if (poll(&p, 1, 100) <= 0) continue;
-    char buf[256];
-    ssize_t n = read(out[0], buf, sizeof(buf));
-    if (n <= 0) break;
-    output.append(buf, static_cast<size_t>(n));
-  }
-  close(out[0]);
+  int out = -1;
+  const pid_t host_pid = SpawnHost("--wait", &out);
+  ASSERT_NE(host_pid, 0);
+  const std::string output = ReadUntil(out, "ready\n");
+  close(out);
   ASSERT_NE(output.find("ready\n"), std::string::npos) << "host said: " << output;
   std::vector<pid_t> workers = ChildrenNamed(host_pid, kWorker);
   ASSERT_EQ(workers.size(), 2u);

@@ -35,6 +35,18 @@ class DevicePointerTest : public MultiDeviceParamTest {
     EXPECT_EQ(rtBufferGetDevicePointer(input_, 0, &p), RT_SUCCESS);
     return static_cast<unsigned*>(p);
   }
+  // A pointer of `b` for every device, device d's filled with Values(1000 * (d + 1)).
+  std::vector<unsigned*> PointersForEveryDevice(RTbuffer b) {
+    std::vector<unsigned*> views;
+    for (unsigned d = 0; d < devices(); ++d) {
+      void* p = nullptr;
+      EXPECT_EQ(rtBufferGetDevicePointer(b, d, &p), RT_SUCCESS);
+      views.push_back(static_cast<unsigned*>(p));
+      const std::vector<unsigned> values = Values(1000 * (d + 1));
+      if (p != nullptr) std::copy(values.begin(), values.end(), views.back());
+    }
+    return views;
+  }
   RTbuffer copied_ = nullptr;
   RTbuffer input_ = nullptr;
 };
@@ -93,12 +105,7 @@ TEST_P(DevicePointerTest, CopyOnDirtyCopiesOnlyAfterThePointerOrMarkDirty) {
 TEST_P(DevicePointerTest, PointersForEveryDeviceGiveEachItsOwnData) {
   input_ = Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_UNSIGNED_INT, {kCount},
                   "from_pointer");
-  for (unsigned d = 0; d < devices(); ++d) {
-    void* p = nullptr;
-    Ok(rtBufferGetDevicePointer(input_, d, &p));
-    const std::vector<unsigned> values = Values(1000 * (d + 1));
-    std::copy(values.begin(), values.end(), static_cast<unsigned*>(p));
-  }
+  PointersForEveryDevice(input_);
   Launch1D(kCount);  // GPU_LOCAL: tile t stays on device t mod N
   std::vector<unsigned> seen = Contents<unsigned>(copied_);
   for (RTsize i = 0; i < kCount; ++i) {
@@ -268,14 +275,7 @@ TEST_P(DevicePointerTest, GpuLocalPointersShowWhatTheirDeviceWrote) {
   RayGen("bump_and_copy");
   RTbuffer b = Buffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_UNSIGNED_INT,
                       {kCount}, "from_pointer");
-  std::vector<unsigned*> views;
-  for (unsigned d = 0; d < devices(); ++d) {
-    void* p = nullptr;
-    Ok(rtBufferGetDevicePointer(b, d, &p));
-    views.push_back(static_cast<unsigned*>(p));
-    const std::vector<unsigned> values = Values(1000 * (d + 1));
-    std::copy(values.begin(), values.end(), views.back());
-  }
+  std::vector<unsigned*> views = PointersForEveryDevice(b);
   for (unsigned launch = 1; launch <= 3; ++launch) {
     Launch1D(kCount);
     std::vector<unsigned> seen = Contents<unsigned>(copied_);
@@ -335,14 +335,7 @@ TEST_P(DevicePointerTest, InputOutputPointerShowsWhatDevicesWrote) {
 TEST_P(DevicePointerTest, InputOutputPointersForEveryDeviceKeepTheirOwnData) {
   PinTilesToDevices();
   RTbuffer b = Buffer(RT_BUFFER_INPUT_OUTPUT, RT_FORMAT_UNSIGNED_INT, {kCount}, "from_pointer");
-  std::vector<unsigned*> views;
-  for (unsigned d = 0; d < devices(); ++d) {
-    void* p = nullptr;
-    Ok(rtBufferGetDevicePointer(b, d, &p));
-    views.push_back(static_cast<unsigned*>(p));
-    const std::vector<unsigned> values = Values(1000 * (d + 1));
-    std::copy(values.begin(), values.end(), views.back());
-  }
+  std::vector<unsigned*> views = PointersForEveryDevice(b);
   Launch1D(kCount);
   std::vector<unsigned> seen = Contents<unsigned>(copied_);
   for (RTsize i = 0; i < kCount; ++i) {
