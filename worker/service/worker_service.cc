@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
+#include <future>
 #include <mutex>
 #include <new>
 #include <thread>
@@ -255,7 +256,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
 
   std::atomic<bool> cancel{false};
   ResultQueue results;
-  std::thread runner([&] {
+  std::future<void> ran = session->calls.Post([&] {
     absl::Status status;
     try {
       status = device.Launch(*request, cancel,
@@ -297,7 +298,7 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
       }
     }
   }
-  runner.join();
+  ran.wait();
   timing.Report(*request);
   if (cancel.load() || context->IsCancelled()) {
     return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");

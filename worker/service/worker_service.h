@@ -15,6 +15,7 @@
 #include "absl/base/thread_annotations.h"
 #include "absl/container/flat_hash_map.h"
 #include "absl/synchronization/mutex.h"
+#include "call_thread.h"
 #include "tessera/scheduler/device.h"
 #include "tessera/v1/worker.grpc.pb.h"
 #include "transport/result_arena.h"
@@ -59,6 +60,7 @@ class WorkerService final : public v1::Worker::Service {
     // heartbeats, so the host sees a hung worker after TESSERA_WORKER_TIMEOUT instead of
     // waiting forever.
     std::atomic<bool> holder_cancelled{false};
+    CallThread calls;  // runs the session's launch calls, one after the other
     void Release() {
       holder_cancelled = false;
       mu.Unlock();
