@@ -37,6 +37,16 @@ std::vector<int> ObjectBatchEnds(const v1::StateDelta& delta, size_t max_bytes) 
   return ends;
 }
 
+// Removed ids per message: at most 10 bytes each as varints, so a message of them stays within
+// kMaxRegionBytes. The header carries the first this many, ObjectBatches the rest.
+constexpr int kRemovedPerMessage = static_cast<int>(kMaxRegionBytes / 10);
+
+// The messages after the header that carry removed ids.
+size_t RemovedBatches(const v1::StateDelta& delta) {
+  const int rest = std::max(0, delta.removed_size() - kRemovedPerMessage);
+  return static_cast<size_t>((rest + kRemovedPerMessage - 1) / kRemovedPerMessage);
+}
+
 v1::ApplyChunk Header(const v1::StateDelta& delta, size_t object_batches) {
   // Field by field, so the objects and chunks (the bulk of a delta) are not copied only to be
   // cleared. worker_wire_test fails when StateDelta gains a field, as a reminder to copy it here.
@@ -45,8 +55,10 @@ v1::ApplyChunk Header(const v1::StateDelta& delta, size_t object_batches) {
   out->set_session_id(delta.session_id());
   out->set_sequence(delta.sequence());
   *out->mutable_context() = delta.context();
-  *out->mutable_removed() = delta.removed();
-  header.set_following(object_batches + delta.modules_size() + delta.chunks_size());
+  const int removed = std::min(delta.removed_size(), kRemovedPerMessage);
+  out->mutable_removed()->Add(delta.removed().begin(), delta.removed().begin() + removed);
+  header.set_following(object_batches + RemovedBatches(delta) + delta.modules_size() +
+                       delta.chunks_size());
   return header;
 }
 
@@ -108,8 +120,9 @@ absl::Status CheckDeltaMessageSizes(const v1::StateDelta& delta) {
   // Framing of a message (tags, lengths, `following`) stays far below this.
   constexpr size_t kSlack = 64 << 10;
   constexpr size_t kLimit = kMaxMessageBytes - kSlack;
-  // The header: removed ids take at most 10 bytes each.
-  const size_t header = delta.context().ByteSizeLong() + delta.removed_size() * size_t{10};
+  // The header: removed ids (as many as it carries) take at most 10 bytes each.
+  const size_t header = delta.context().ByteSizeLong() +
+                        std::min(delta.removed_size(), kRemovedPerMessage) * size_t{10};
   if (header > kLimit) {
     return TooLargeForOneMessage("the context", header, kLimit, &delta.context().variables());
   }
@@ -134,6 +147,14 @@ bool WriteApplyStream(const v1::StateDelta& delta,
     v1::ObjectBatch* batch = message.mutable_objects();
     batch->clear_objects();
     for (; begin < end; ++begin) *batch->add_objects() = delta.objects(begin);
+    if (!write(message)) return false;
+  }
+  for (int at = kRemovedPerMessage; at < delta.removed_size(); at += kRemovedPerMessage) {
+    v1::ObjectBatch* batch = message.mutable_objects();
+    batch->clear_objects();
+    batch->clear_removed();
+    const int end = std::min(delta.removed_size(), at + kRemovedPerMessage);
+    batch->mutable_removed()->Add(delta.removed().begin() + at, delta.removed().begin() + end);
     if (!write(message)) return false;
   }
   for (const v1::ModuleChunk& module : delta.modules()) {
@@ -175,6 +196,8 @@ absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
       for (v1::Object& o : *part.mutable_objects()->mutable_objects()) {
         *delta_.add_objects() = std::move(o);
       }
+      delta_.mutable_removed()->Add(part.objects().removed().begin(),
+                                    part.objects().removed().end());
       return absl::OkStatus();
     case v1::ApplyChunk::kChunk:
       if (absl::Status s = Follow("a buffer chunk"); !s.ok()) return s;

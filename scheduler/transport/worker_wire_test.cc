@@ -238,7 +238,7 @@ absl::StatusOr<v1::StateDelta> RoundTrip(const v1::StateDelta& delta, size_t obj
       [&](const v1::ApplyChunk& m) {
         ++*messages;
         // One object larger than a batch travels alone.
-        if (!m.has_objects() || m.objects().objects_size() > 1) {
+        if (!m.has_objects() || m.objects().objects_size() != 1) {
           EXPECT_LE(m.ByteSizeLong(), max_message_bytes) << "message " << *messages;
         }
         added = assembler.Add(v1::ApplyChunk(m));
@@ -315,6 +315,20 @@ TEST(WorkerWireTest, ObjectsTogetherLargerThanOneMessageStillTravel) {
       RoundTrip(delta, kMaxRegionBytes, kMaxRegionBytes + 16, &messages);
   ASSERT_TRUE(out.ok()) << out.status();
   EXPECT_GT(messages, 16);
+  EXPECT_EQ(out->SerializeAsString(), delta.SerializeAsString());
+}
+
+// Removing a million objects at once: the ids beyond what the first message holds follow in
+// bounded batches, in their order.
+TEST(WorkerWireTest, ManyRemovedIdsTravelInBoundedMessages) {
+  v1::StateDelta delta = SampleDelta();
+  for (uint64_t id = 1000; id < 1001000; ++id) delta.add_removed(id * 7919);
+  EXPECT_TRUE(CheckDeltaMessageSizes(delta).ok());
+  int messages = 0;
+  absl::StatusOr<v1::StateDelta> out =
+      RoundTrip(delta, kMaxRegionBytes, kMaxRegionBytes + (64 << 10), &messages);
+  ASSERT_TRUE(out.ok()) << out.status();
+  EXPECT_EQ(messages, 1 + 1 + 2 + 2 + 3);  // header, objects, removed ids, modules, chunks
   EXPECT_EQ(out->SerializeAsString(), delta.SerializeAsString());
 }
 
