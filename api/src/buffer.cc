@@ -180,11 +180,10 @@ absl::StatusOr<void*> Buffer::GetDevicePointer(int ordinal) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat(Describe(), " needs a format and a size before a device pointer"));
   }
-  const bool first = views_.empty();
   auto [it, inserted] = views_.try_emplace(ordinal);
   if (inserted) it->second.owned = data_;
   ++views_dirty_;
-  if (first) ViewsBegan();
+  if (inserted) ViewAdded();
   static unsigned char empty_buffer_storage[16];
   return data_.empty() ? static_cast<void*>(empty_buffer_storage)
                        : static_cast<void*>(it->second.data());
@@ -195,17 +194,17 @@ absl::Status Buffer::SetDevicePointer(int ordinal, void* pointer) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat(Describe(), " needs a format and a size before a device pointer"));
   }
-  const bool first = views_.empty();
+  const bool added = views_.find(ordinal) == views_.end();
   View& view = views_[ordinal];
   view.owned.clear();
   view.application = pointer;
   ++views_dirty_;
-  if (first) ViewsBegan();
+  if (added) ViewAdded();
   return absl::OkStatus();
 }
 
-void Buffer::ViewsBegan() {
-  // Devices learn from the buffer's description that their writes to it travel back
+void Buffer::ViewAdded() {
+  // A device learns from the buffer's description that its writes to it travel back
   // (returns_device_writes); a device takes a description as a new buffer and is sent every chunk.
   if (gpu_local()) Touch();
 }

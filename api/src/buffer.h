@@ -47,9 +47,11 @@ class Buffer : public Object {
   std::string DescribeNamed() const;
   // Whether devices send contents back: OUTPUT and INPUT_OUTPUT buffers, unless GPU_LOCAL.
   bool gathers_content() const { return is_output() && !gpu_local(); }
-  // GPU_LOCAL with device pointers: devices send their writes back too, each device's into its own
-  // view (CopyToDeviceView), never into the host contents.
-  bool returns_device_writes() const { return gpu_local() && !views_.empty(); }
+  // GPU_LOCAL with a device pointer for device `ordinal`: that device sends its writes back too,
+  // into its view (CopyToDeviceView), never into the host contents.
+  bool returns_device_writes(int ordinal) const {
+    return gpu_local() && views_.find(ordinal) != views_.end();
+  }
   // Bytes device `ordinal` wrote, into its view; dropped when it has none (with a pointer for one
   // device, the others' writes stay on them). The caller checked the range against byte_size().
   void CopyToDeviceView(int ordinal, uint64_t offset, absl::string_view bytes);
@@ -139,8 +141,8 @@ class Buffer : public Object {
   absl::Status Reallocate(const std::vector<size_t>& dims, RTformat format,
                           size_t user_element_size);
   void HostWrote(uint64_t begin, uint64_t end);
-  // The first device pointer was taken or set.
-  void ViewsBegan();
+  // A device got its first pointer (taken or set).
+  void ViewAdded();
 
   const unsigned desc_;
   RTformat format_ = RT_FORMAT_UNKNOWN;

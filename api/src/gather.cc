@@ -127,7 +127,7 @@ LaunchGather::LaunchGather(Context& context)
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() != Kind::kBuffer) continue;
     auto* b = static_cast<Buffer*>(object);
-    if (b->returns_device_writes()) layouts_[id] = LayoutOf(*b);
+    if (b->gpu_local()) layouts_[id] = LayoutOf(*b);
     if (!b->gathers_content()) continue;
     layouts_[id] = LayoutOf(*b);
     host_epochs_[id] = b->host_write_epoch();
@@ -294,7 +294,7 @@ void LaunchGather::ApplyRegion(size_t device, const v1::BufferRegion& region) {
   auto* b = static_cast<Buffer*>(object);
   // INPUT and GPU_LOCAL buffers never come back to the host (docs/devices.md "Buffers across
   // devices"), except into the views of GPU_LOCAL buffers with device pointers.
-  if (!b->gathers_content() && !b->returns_device_writes()) return;
+  if (!b->gathers_content() && !b->gpu_local()) return;
   const absl::string_view data = region.data();
   if (region.run_offsets_size() == 0) {
     ApplyRun(device, *b, region.offset(), data);
@@ -324,8 +324,8 @@ void LaunchGather::ApplyRun(size_t device, Buffer& b, uint64_t offset, absl::str
     return;
   }
   if (data.empty()) return;
-  if (b.returns_device_writes()) {
-    // One device's own copy: nothing to merge or race-check.
+  if (b.gpu_local()) {
+    // One device's own copy (it has a pointer): nothing to merge or race-check.
     b.CopyToDeviceView(slots_[device]->sync.ordinal, offset, data);
     context_.CountReceived(data.size());
     return;

@@ -58,7 +58,8 @@ void LowerContext(const Context& c, v1::ContextState* out) {
   out->set_num_threads(c.num_threads_set() ? static_cast<uint32_t>(c.num_threads()) : 0);
 }
 
-void LowerObject(const Context& c, Object& o, v1::Object* out) {
+// `ordinal`: the device the delta is for.
+void LowerObject(const Context& c, Object& o, int ordinal, v1::Object* out) {
   switch (o.kind()) {
     case Kind::kProgram: {
       auto& p = static_cast<Program&>(o);
@@ -80,7 +81,7 @@ void LowerObject(const Context& c, Object& o, v1::Object* out) {
       m->set_format(static_cast<uint32_t>(b.format()));
       m->set_element_size(b.element_size());
       for (size_t d : b.dims()) m->add_dims(d);
-      m->set_return_writes(b.returns_device_writes());
+      m->set_return_writes(b.returns_device_writes(ordinal));
       break;
     }
     case Kind::kGeometry: {
@@ -288,7 +289,7 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
   for (Object* o : objects) {
     const bool relowered = !seen_at_version(o);
     if (relowered) {
-      LowerObject(context, *o, delta.add_objects());
+      LowerObject(context, *o, sync.ordinal, delta.add_objects());
       out.versions.emplace_back(o->id(), o->version());
       if (o->kind() == Kind::kProgram) LowerModule(static_cast<Program&>(*o), sync, &out);
     }

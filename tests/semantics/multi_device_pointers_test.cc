@@ -301,8 +301,15 @@ TEST_P(DevicePointerTest, GpuLocalCopyOnDirtyPointerFollowsItsDevice) {
       PointerOnDevice0(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL | RT_BUFFER_COPY_ON_DIRTY);
   const std::vector<unsigned> start = Values(100);
   std::copy(start.begin(), start.end(), view);
+  RTsize device0_elements = 0;
+  for (RTsize i = 0; i < kCount; ++i) device0_elements += (i / kTile) % devices() == 0;
   for (unsigned launch = 1; launch <= 2; ++launch) {
+    const Transfer before = Stats();
     Launch1D(kCount);
+    // Back come `copied` and what device 0 wrote to its copy: the other devices have no pointer,
+    // so their writes stay with them.
+    EXPECT_EQ((Stats() - before).received, (kCount + device0_elements) * sizeof(unsigned))
+        << "launch " << launch;
     std::vector<unsigned> seen = Contents<unsigned>(copied_);
     for (RTsize i = 0; i < kCount; ++i) {
       const bool device0 = (i / kTile) % devices() == 0;
