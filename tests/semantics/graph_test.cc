@@ -2,6 +2,7 @@
 // accelerations are rebuilt.
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "rt_fixture.h"
 
@@ -281,6 +282,46 @@ TEST_F(GraphTest, AccelerationsRebuildOnlyWhenDirty) {
   Ok(rtAccelerationMarkDirty(a));
   EXPECT_EQ(Hits(s.group), Only({0}));
   EXPECT_EQ(count(), 2u);
+}
+
+// Two geometry groups, each counting its bounding-box runs in its own element of a context
+// buffer: marking one acceleration dirty rebuilds that one alone, in the engine and in a worker
+// process; an unchanged launch rebuilds nothing.
+TEST_F(GraphTest, OnlyTheAccelerationThatChangedIsRebuilt) {
+  for (const char* spec : {"inproc", "local:1"}) {
+    SCOPED_TRACE(spec);
+    Ok(tesseraContextSetDeviceSpec(ctx_, spec));
+    RTbuffer calls = nullptr;
+    Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT_OUTPUT, &calls));
+    Ok(rtBufferSetFormat(calls, RT_FORMAT_UNSIGNED_INT));
+    Ok(rtBufferSetSize1D(calls, 2));
+    Ok(rtVariableSetObject(ContextVar("bounds_calls"), calls));
+    auto counts = [&] {
+      void* p = nullptr;
+      EXPECT_EQ(rtBufferMap(calls, &p), RT_SUCCESS);
+      std::vector<unsigned> n(static_cast<unsigned*>(p), static_cast<unsigned*>(p) + 2);
+      EXPECT_EQ(rtBufferUnmap(calls), RT_SUCCESS);
+      return n;
+    };
+    Instance a = SmallSphere("slot_counted_sphere_bounds");
+    Instance b = SmallSphere("slot_counted_sphere_bounds");
+    unsigned slot = 0;
+    for (RTgeometry g : {a.geometry, b.geometry}) {
+      RTvariable v = nullptr;
+      Ok(rtGeometryDeclareVariable(g, "bounds_slot", &v));
+      Ok(rtVariableSet1ui(v, slot++));
+    }
+    RTgroup top = Group({Translate(a.group, 3.f), Translate(b.group, 7.f)});
+    EXPECT_EQ(Hits(top), Only({3, 7}));
+    EXPECT_EQ(counts(), (std::vector<unsigned>{1, 1}));
+    EXPECT_EQ(Hits(top), Only({3, 7}));
+    EXPECT_EQ(counts(), (std::vector<unsigned>{1, 1}));  // unchanged: no rebuild
+    RTacceleration accel = nullptr;
+    Ok(rtGeometryGroupGetAcceleration(b.group, &accel));
+    Ok(rtAccelerationMarkDirty(accel));
+    EXPECT_EQ(Hits(top), Only({3, 7}));
+    EXPECT_EQ(counts(), (std::vector<unsigned>{1, 2}));  // b's alone
+  }
 }
 
 }  // namespace
