@@ -12,6 +12,7 @@
 #include <mutex>
 #include <utility>
 
+#include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "tessera/scheduler/result_pool.h"
@@ -122,6 +123,15 @@ absl::Status GrpcDevice::Open(absl::Duration timeout) {
     if (health.status().code() == absl::StatusCode::kDeadlineExceeded) {
       return absl::UnavailableError(absl::StrCat("worker ", address_, " did not answer within ",
                                                  absl::FormatDuration(timeout)));
+    }
+    // A worker serving TLS closes a plain connection at once; gRPC says only "Socket closed".
+    const char* ca = std::getenv(kTlsCaEnv);
+    if (health.status().code() == absl::StatusCode::kUnavailable &&
+        absl::StrContains(health.status().message(), "Socket closed") &&
+        !absl::StartsWith(address_, "unix:") && (ca == nullptr || *ca == '\0')) {
+      return absl::UnavailableError(absl::StrCat(
+          health.status().message(), " (a worker that serves TLS closes plain connections: set ",
+          kTlsCaEnv, " to the CA that signed its certificate, docs/security.md)"));
     }
     return health.status();
   }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "absl/strings/match.h"
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "transport/grpc_device.h"
@@ -155,6 +156,9 @@ TEST_F(SecurityTest, AHostWithoutTlsFailsWithinItsTimeout) {
   ASSERT_FALSE(device.ok());
   EXPECT_EQ(device.status().code(), absl::StatusCode::kUnavailable) << device.status();
   EXPECT_LT(took, absl::Seconds(4)) << "the connection attempt outlived its timeout";
+  // The message says what to set, not only gRPC's "Socket closed".
+  EXPECT_TRUE(absl::StrContains(device.status().message(), "set TESSERA_TLS_CA"))
+      << device.status();
 }
 
 TEST_F(SecurityTest, AWorkerCertificateFromAnotherCaIsRejected) {
