@@ -127,9 +127,9 @@ LaunchGather::LaunchGather(Context& context)
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() != Kind::kBuffer) continue;
     auto* b = static_cast<Buffer*>(object);
-    if (b->gpu_local()) layouts_[id] = LayoutOf(*b);
+    // GPU_LOCAL: writes of devices with a pointer come back into it.
+    if (b->gathers_content() || b->gpu_local()) layouts_[id] = LayoutOf(*b);
     if (!b->gathers_content()) continue;
-    layouts_[id] = LayoutOf(*b);
     host_epochs_[id] = b->host_write_epoch();
     if (!check_races_ || b->element_size() == 0) continue;
     RaceState& state = race_state_[id];

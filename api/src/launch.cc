@@ -12,6 +12,7 @@
 #include <system_error>
 #include <thread>
 
+#include "absl/functional/function_ref.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
@@ -49,31 +50,25 @@ bool IsDeviceLoss(const absl::Status& status) {
          status.code() == absl::StatusCode::kDeadlineExceeded;
 }
 
-// Buffers whose devices each run on their own data (device pointers for every device of the
-// context): launch indices of a lost device that run elsewhere read another device's data.
-std::string PerDeviceDataBuffers(Context& context) {
-  const size_t devices = context.device_slots().size();
+// The context's buffers that `pick` accepts, named and comma-separated, for a lost device's line.
+std::string BufferNames(Context& context, absl::FunctionRef<bool(const Buffer&)> pick) {
   std::string names;
-  if (devices < 2) return names;
   for (const auto& [id, object] : context.objects()) {
     if (object->kind() != Kind::kBuffer) continue;
     const auto& b = static_cast<const Buffer&>(*object);
-    if (b.ships_content() && b.device_pointer_count() == devices) {
-      absl::StrAppend(&names, names.empty() ? "" : ", ", b.DescribeNamed());
-    }
+    if (pick(b)) absl::StrAppend(&names, names.empty() ? "" : ", ", b.DescribeNamed());
   }
   return names;
 }
 
-// The context's GPU_LOCAL buffers, named: a lost device's copies of them are gone.
-std::string GpuLocalBuffers(Context& context) {
-  std::string names;
-  for (const auto& [id, object] : context.objects()) {
-    if (object->kind() != Kind::kBuffer) continue;
-    const auto& b = static_cast<const Buffer&>(*object);
-    if (b.gpu_local()) absl::StrAppend(&names, names.empty() ? "" : ", ", b.DescribeNamed());
-  }
-  return names;
+// Buffers whose devices each run on their own data (device pointers for every device of the
+// context): launch indices of a lost device that run elsewhere read another device's data.
+std::string PerDeviceDataBuffers(Context& context) {
+  const size_t devices = context.device_slots().size();
+  if (devices < 2) return "";
+  return BufferNames(context, [&](const Buffer& b) {
+    return b.ships_content() && b.device_pointer_count() == devices;
+  });
 }
 
 // What became of a lost device's tiles.
@@ -95,7 +90,8 @@ void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
           : absl::StrCat(" Its launch indices read another device's data of ", per_device,
                          " (device pointers for every device): this launch's output is not what "
                          "it would have been without the loss.");
-  const std::string gpu_local = GpuLocalBuffers(context);
+  // A lost device's copies of GPU_LOCAL buffers are gone.
+  const std::string gpu_local = BufferNames(context, [](const Buffer& b) { return b.gpu_local(); });
   const std::string gone = gpu_local.empty() ? std::string()
                                              : absl::StrCat("; its copies of GPU_LOCAL buffers (",
                                                             gpu_local, ") are gone");

@@ -7,12 +7,12 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_replace.h"
+#include "tessera/v1/object_fields.h"
 
 namespace tessera::transport {
 
 namespace {
-
-using Variables = google::protobuf::RepeatedPtrField<v1::Variable>;
 
 // Bytes `object` adds to an ObjectBatch: its tag, its length and itself.
 size_t BatchedSize(const v1::Object& object) {
@@ -62,45 +62,25 @@ v1::ApplyChunk Header(const v1::StateDelta& delta, size_t object_batches) {
   return header;
 }
 
-// How messages name `object` ("geometry #5"), and the variables it carries (null for kinds that
-// carry none).
-std::pair<std::string, const Variables*> Describe(const v1::Object& o) {
-  switch (o.kind_case()) {
-    case v1::Object::kProgram:
-      return {absl::StrCat("program #", o.program().id()), &o.program().variables()};
-    case v1::Object::kBuffer:
-      return {absl::StrCat("buffer #", o.buffer().id()), nullptr};
-    case v1::Object::kGeometry:
-      return {absl::StrCat("geometry #", o.geometry().id()), &o.geometry().variables()};
-    case v1::Object::kMaterial:
-      return {absl::StrCat("material #", o.material().id()), &o.material().variables()};
-    case v1::Object::kGeometryInstance:
-      return {absl::StrCat("geometry instance #", o.geometry_instance().id()),
-              &o.geometry_instance().variables()};
-    case v1::Object::kGeometryGroup:
-      return {absl::StrCat("geometry group #", o.geometry_group().id()), nullptr};
-    case v1::Object::kGroup:
-      return {absl::StrCat("group #", o.group().id()), nullptr};
-    case v1::Object::kTransform:
-      return {absl::StrCat("transform #", o.transform().id()), nullptr};
-    case v1::Object::kSelector:
-      return {absl::StrCat("selector #", o.selector().id()), &o.selector().variables()};
-    case v1::Object::kAcceleration:
-      return {absl::StrCat("acceleration #", o.acceleration().id()), nullptr};
-    case v1::Object::KIND_NOT_SET:
-      break;
+// The largest variable value `scope` (a ContextState, or the message inside an Object) carries;
+// null when it carries none. Only on the way to an error, so reflection will do.
+const v1::Variable* LargestVariable(const google::protobuf::Message& scope) {
+  const auto* field = scope.GetDescriptor()->FindFieldByName("variables");
+  if (field == nullptr || field->message_type() != v1::Variable::descriptor()) return nullptr;
+  const google::protobuf::Reflection* reflection = scope.GetReflection();
+  const v1::Variable* largest = nullptr;
+  for (int i = 0; i < reflection->FieldSize(scope, field); ++i) {
+    const auto& v =
+        static_cast<const v1::Variable&>(reflection->GetRepeatedMessage(scope, field, i));
+    if (largest == nullptr || v.data().size() > largest->data().size()) largest = &v;
   }
-  return {"an empty object", nullptr};
+  return largest;
 }
 
-absl::Status TooLargeForOneMessage(const std::string& owner, size_t bytes, size_t limit,
-                                   const Variables* variables) {
-  const v1::Variable* largest = nullptr;
-  if (variables != nullptr) {
-    for (const v1::Variable& v : *variables) {
-      if (largest == nullptr || v.data().size() > largest->data().size()) largest = &v;
-    }
-  }
+// RESOURCE_EXHAUSTED: `owner`'s description (`scope`) takes `bytes`, more than `limit`.
+absl::Status TooLargeForOneMessage(const std::string& owner, const google::protobuf::Message& scope,
+                                   size_t bytes, size_t limit) {
+  const v1::Variable* largest = LargestVariable(scope);
   return absl::ResourceExhaustedError(absl::StrCat(
       "the description of ", owner, " (variable values included, buffer contents aside) takes ",
       bytes, " bytes, more than the ", limit, " a worker accepts in one message",
@@ -124,14 +104,19 @@ absl::Status CheckDeltaMessageSizes(const v1::StateDelta& delta) {
   const size_t header = delta.context().ByteSizeLong() +
                         std::min(delta.removed_size(), kRemovedPerMessage) * size_t{10};
   if (header > kLimit) {
-    return TooLargeForOneMessage("the context", header, kLimit, &delta.context().variables());
+    return TooLargeForOneMessage("the context", delta.context(), header, kLimit);
   }
   // Objects are batched, but one object is never split.
   for (const v1::Object& o : delta.objects()) {
     const size_t bytes = o.ByteSizeLong();
     if (bytes <= kLimit) continue;
-    auto [owner, variables] = Describe(o);
-    return TooLargeForOneMessage(owner, bytes, kLimit, variables);
+    // The message inside the object's kind (a GeometryInstance, say) holds its variables.
+    const auto* kind = v1::Object::descriptor()->FindFieldByNumber(o.kind_case());
+    const std::string owner =
+        absl::StrCat(absl::StrReplaceAll(v1::ObjectKindName(o.kind_case()), {{"_", " "}}), " #",
+                     v1::ObjectId(o));
+    return TooLargeForOneMessage(owner, kind ? o.GetReflection()->GetMessage(o, kind) : o, bytes,
+                                 kLimit);
   }
   return absl::OkStatus();
 }

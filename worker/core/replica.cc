@@ -14,6 +14,7 @@
 #include "tessera/detail/module_abi.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
+#include "tessera/v1/object_fields.h"
 
 namespace tessera::worker {
 namespace {
@@ -29,40 +30,6 @@ NodeRef ToRef(const v1::NodeRef& r) { return NodeRef{r.id(), r.type()}; }
 template <typename T>
 std::vector<T> ToVector(const google::protobuf::RepeatedField<T>& f) {
   return std::vector<T>(f.begin(), f.end());
-}
-
-uint64_t ObjectId(const v1::Object& o) {
-  switch (o.kind_case()) {
-    case v1::Object::kProgram:
-      return o.program().id();
-    case v1::Object::kBuffer:
-      return o.buffer().id();
-    case v1::Object::kGeometry:
-      return o.geometry().id();
-    case v1::Object::kMaterial:
-      return o.material().id();
-    case v1::Object::kGeometryInstance:
-      return o.geometry_instance().id();
-    case v1::Object::kGeometryGroup:
-      return o.geometry_group().id();
-    case v1::Object::kGroup:
-      return o.group().id();
-    case v1::Object::kTransform:
-      return o.transform().id();
-    case v1::Object::kSelector:
-      return o.selector().id();
-    case v1::Object::kAcceleration:
-      return o.acceleration().id();
-    case v1::Object::KIND_NOT_SET:
-      break;
-  }
-  return 0;
-}
-
-// "geometry_instance" for messages.
-std::string KindName(v1::Object::KindCase kind) {
-  const auto* field = v1::Object::descriptor()->FindFieldByNumber(kind);
-  return field != nullptr ? field->name() : "object";
 }
 
 // Bytes of memory this machine has: a buffer larger than that cannot be held, and allocating it
@@ -310,16 +277,17 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
     }
     // An id names one object: lookups by id (references, removals, graph nodes) must not find
     // two of different kinds.
-    const uint64_t id = ObjectId(o);
+    const uint64_t id = v1::ObjectId(o);
     if (id == 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("state delta holds a ", KindName(o.kind_case()), " with id 0 (none)"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "state delta holds a ", v1::ObjectKindName(o.kind_case()), " with id 0 (none)"));
     }
     v1::Object::KindCase held = kinds.emplace(id, o.kind_case()).first->second;
     if (held == o.kind_case() && removed.count(id) == 0) held = KindOf(id);
     if (held != o.kind_case() && held != v1::Object::KIND_NOT_SET) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(KindName(o.kind_case()), " #", id, " has the id of a ", KindName(held)));
+      return absl::InvalidArgumentError(absl::StrCat(v1::ObjectKindName(o.kind_case()), " #", id,
+                                                     " has the id of a ",
+                                                     v1::ObjectKindName(held)));
     }
     if (o.has_buffer()) {
       if (absl::Status s = CheckBuffer(o.buffer()); !s.ok()) return s;
@@ -537,7 +505,6 @@ void Replica::Stage(const v1::Buffer& b, bool removed,
     auto held = buffers.find(b.id());
     if (held != buffers.end() && !removed) {
       r.desc = held->second.desc;
-      r.return_writes = held->second.return_writes;
       r.format = held->second.format;
       r.element_size = held->second.element_size;
       r.ndims = held->second.ndims;
