@@ -1,7 +1,11 @@
 // Context device selection: which devices of the context's list a launch uses.
 #include <cstdio>
 #include <cstdlib>
+#include <new>
 #include <string>
+#include <system_error>
+#include <thread>
+#include <vector>
 
 #include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
@@ -81,42 +85,92 @@ void Context::UseDevicesForTesting(std::vector<std::unique_ptr<Device>> devices)
   injected_devices_ = true;
 }
 
+namespace {
+
+// Creates the devices of `slots` at once, each on a thread of its own: a worker that is slow to
+// start (or stopped while starting, which costs its start deadline) then delays the launch by its
+// own start only, not by the sum of all. Exceptions become statuses, as at the C boundary.
+std::vector<absl::StatusOr<std::unique_ptr<Device>>> CreateDevices(
+    const std::vector<DeviceSlot*>& slots, int num_threads) {
+  std::vector<absl::StatusOr<std::unique_ptr<Device>>> created(slots.size());
+  auto create = [&](size_t i) {
+    try {
+      created[i] = CreateDevice(slots[i]->desc, num_threads);
+    } catch (const std::bad_alloc&) {
+      created[i] = RtError(RT_ERROR_MEMORY_ALLOCATION_FAILED, "out of memory");
+    } catch (const std::system_error& e) {
+      created[i] = RtError(RT_ERROR_MEMORY_ALLOCATION_FAILED,
+                           absl::StrCat("could not start a thread: ", e.what()));
+    } catch (const std::exception& e) {
+      created[i] = absl::InternalError(absl::StrCat("threw: ", e.what()));
+    }
+  };
+  if (slots.size() == 1) {
+    create(0);
+    return created;
+  }
+  std::vector<std::thread> threads;
+  for (size_t i = 0; i < slots.size(); ++i) {
+    try {
+      threads.emplace_back(create, i);
+    } catch (const std::system_error&) {
+      create(i);  // no thread to be had: this one starts here
+    }
+  }
+  for (std::thread& t : threads) t.join();
+  return created;
+}
+
+}  // namespace
+
 absl::Status Context::EnsureDevices() {
   if (slots_.empty()) return RtError(RT_ERROR_NO_DEVICE, "the context has no devices");
-  size_t available = 0;
-  std::string failures;
+  std::vector<DeviceSlot*> missing;
   for (DeviceSlot& slot : slots_) {
-    if (slot.device != nullptr) {
-      ++available;
-      continue;
-    }
-    if (injected_devices_) continue;  // a lost test device stays lost
-    auto device = CreateDevice(slot.desc, num_threads_);
-    if (!device.ok()) {
-      // A device that never worked is a configuration error; one that was lost is left out.
-      if (!slot.lost) {
-        return RtError(ToRtResult(device.status()),
-                       absl::StrCat("device '", slot.desc.name, "' (", slot.desc.address,
-                                    ") could not be started: ", device.status().message()));
-      }
-      std::fprintf(stderr, "tessera: device '%s' (%s) could not be started again: %s\n",
-                   slot.desc.name.c_str(), slot.desc.address.c_str(),
-                   std::string(device.status().message()).c_str());
-      absl::StrAppend(&failures, failures.empty() ? "" : "; ", slot.desc.name, ": ",
-                      device.status().message());
-      continue;
-    }
-    slot.device = *std::move(device);
-    slot.lost = false;
-    ++available;
+    // A lost test device stays lost.
+    if (slot.device == nullptr && !injected_devices_) missing.push_back(&slot);
   }
-  if (available == 0) {
-    return RtError(
-        RT_ERROR_CONNECTION_FAILED,
-        absl::StrCat("every device was lost and none could be started again",
-                     failures.empty() ? "" : " (", failures, failures.empty() ? "" : ")"));
+  std::vector<absl::StatusOr<std::unique_ptr<Device>>> created =
+      CreateDevices(missing, num_threads_);
+  for (size_t i = 0; i < missing.size(); ++i) {
+    if (!created[i].ok()) continue;
+    missing[i]->device = *std::move(created[i]);
+    missing[i]->lost = false;
+    missing[i]->start_failure_said = false;
   }
-  return absl::OkStatus();
+  size_t available = 0;
+  for (const DeviceSlot& slot : slots_) available += slot.device != nullptr ? 1 : 0;
+  // A device that cannot be started (a worker killed or stopped while starting, a remote worker
+  // not up yet) is a lost device: while another is left the launch runs without it, said once
+  // until it starts again, and every launch tries it again. Only with no device left does the
+  // launch fail: a device that never worked names why (a configuration error keeps its code).
+  std::string failures;
+  absl::Status first_never_started;
+  for (size_t i = 0; i < missing.size(); ++i) {
+    if (created[i].ok()) continue;
+    DeviceSlot& slot = *missing[i];
+    const absl::Status& why = created[i].status();
+    absl::StrAppend(&failures, failures.empty() ? "" : "; ", slot.desc.name, ": ", why.message());
+    if (!slot.lost && first_never_started.ok()) {
+      first_never_started = RtError(
+          ToRtResult(why), absl::StrCat("device '", slot.desc.name, "' (", slot.desc.address,
+                                        ") could not be started: ", why.message()));
+    }
+    if (available > 0 && !slot.start_failure_said) {
+      std::fprintf(stderr,
+                   "tessera: device '%s' (%s) could not be started%s: %s. Launches run on the "
+                   "other devices and try it again each time (said once until it starts).\n",
+                   slot.desc.name.c_str(), slot.desc.address.c_str(), slot.lost ? " again" : "",
+                   std::string(why.message()).c_str());
+      slot.start_failure_said = true;
+    }
+    slot.lost = true;
+  }
+  if (available > 0) return absl::OkStatus();
+  if (!first_never_started.ok()) return first_never_started;
+  return RtError(RT_ERROR_CONNECTION_FAILED,
+                 absl::StrCat("every device was lost and none could be started again",
+                              failures.empty() ? "" : " (", failures, failures.empty() ? "" : ")"));
 }
 
 void Context::LoseDevice(DeviceSlot& slot) {

@@ -38,7 +38,8 @@ struct DeviceSlot {
   DeviceDesc desc;
   std::unique_ptr<Device> device;  // null until created, and after it was lost
   DeviceSync sync;
-  bool lost = false;  // lost during a launch: created again, or left out, at the next one
+  bool lost = false;  // lost (or never started): created again, or left out, at the next launch
+  bool start_failure_said = false;  // a failure to start was said on stderr; reset once it starts
   // The device's threads when it last existed: a device gone at a launch with stable tile
   // ownership still counts toward the tile size, so that the other devices keep their tiles.
   int threads = 0;

@@ -76,6 +76,7 @@ enum class LostTiles {
   kRanElsewhere,  // other devices ran (or will run) them
   kNoDeviceLeft,  // the launch fails for want of any device
   kLaunchEnded,   // the launch failed for another reason (a crash) or was cancelled
+  kStartedAgain,  // every device was lost taking the state: the launch starts them again once
 };
 
 // Only local:N workers are started again; the host reconnects to others.
@@ -100,10 +101,13 @@ void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
                static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str(),
                others_took_over                    ? "Its tiles ran on the other devices"
                : tiles == LostTiles::kNoDeviceLeft ? "No other device was left to run its tiles"
-                                                   : "The launch ended without its tiles",
+               : tiles == LostTiles::kStartedAgain
+                   ? "No device was left: the launch starts its devices again once"
+                   : "The launch ended without its tiles",
                gone.c_str(), moved.c_str(),
-               spawned ? "It is started again for the next launch."
-                       : "The next launch connects to it again.");
+               tiles == LostTiles::kStartedAgain ? ""
+               : spawned                         ? "It is started again for the next launch."
+                                                 : "The next launch connects to it again.");
 }
 
 // TESSERA_LAUNCH_TIMING=1: one line per launch on stderr with where the host's time went, to tell
@@ -216,7 +220,10 @@ bool NothingNew(const v1::StateDelta& delta, const DeviceSync& sync,
          context_bytes == sync.last_context;
 }
 
-absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& poller) {
+// `retry`: when every device is lost taking its update, say so as the launch starting them again
+// (the caller's second try) instead of failing.
+absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& poller,
+                         bool retry = false) {
   size_t alive = 0;
   std::string lost;
   std::vector<std::pair<DeviceSlot*, absl::Status>> warn;  // said once it is known who is left
@@ -318,9 +325,13 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& po
     ++alive;
   }
   if (!rejected.ok()) return rejected;
-  for (const auto& [slot, status] : warn)
+  const bool again = alive == 0 && retry;
+  for (const auto& [slot, status] : warn) {
     WarnLost(context, *slot, launch_id, status,
-             alive > 0 ? LostTiles::kRanElsewhere : LostTiles::kNoDeviceLeft);
+             alive > 0 ? LostTiles::kRanElsewhere
+             : again   ? LostTiles::kStartedAgain
+                       : LostTiles::kNoDeviceLeft);
+  }
   if (alive == 0) {
     return RtError(RT_ERROR_CONNECTION_FAILED, absl::StrCat("every device was lost (", lost, ")"));
   }
@@ -467,7 +478,19 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   // What devices will hold is what ships now: buffer layouts and host writes are taken before the
   // timeout callback can change them.
   LaunchGather gather(*this);
-  TS_RETURN_IF_ERROR(ApplyDeltas(*this, launch_id, poller));
+  {
+    // Every device lost while taking its update (a worker's session dropped while the host was
+    // idle, or all workers killed at that moment): the devices start again, with the whole state,
+    // once, before the launch gives up. A device lost at any other moment is replaced at the next
+    // launch, as before.
+    absl::Status shipped = ApplyDeltas(*this, launch_id, poller, /*retry=*/true);
+    if (shipped.ok() || ToRtResult(shipped) != RT_ERROR_CONNECTION_FAILED || poller.cancelled()) {
+      TS_RETURN_IF_ERROR(shipped);
+    } else {
+      TS_RETURN_IF_ERROR(EnsureDevices());  // device pointers are in the host's copies already
+      TS_RETURN_IF_ERROR(ApplyDeltas(*this, launch_id, poller));
+    }
+  }
   for (const auto& [id, object] : objects()) {
     if (object->kind() == Kind::kBuffer) static_cast<Buffer*>(object)->DevicePointersShipped();
   }

@@ -27,9 +27,13 @@ absl::StatusOr<std::unique_ptr<Device>> MakeWorkerDevice(const DeviceDesc& devic
     transport::WorkerProcess::Options options;
     options.threads = std::max(1, HardwareThreads() / std::max(1, device.local_count));
     options.index = device.local_index;
+    // A worker stopped or hung while starting is a lost device like one silent in a launch:
+    // dropped after the same deadline (a healthy one starts in a fraction of a second).
+    options.start_timeout = transport::SilenceDeadline();
     auto process = transport::WorkerProcess::Spawn(std::move(options));
     if (!process.ok()) return process.status();
-    auto connected = transport::GrpcDevice::Connect(*std::move(process));
+    auto connected =
+        transport::GrpcDevice::Connect(*std::move(process), transport::SilenceDeadline());
     if (!connected.ok()) return connected.status();
     return std::unique_ptr<Device>(*std::move(connected));
   }

@@ -214,7 +214,7 @@ void Dispatcher::Fail(size_t d, absl::Status status) {
   work_cv_.notify_all();
 }
 
-void Dispatcher::Requeue(size_t d, std::vector<v1::Tile> batch) {
+void Dispatcher::Requeue(size_t d, std::vector<v1::Tile> batch, bool ran_suspect) {
   std::vector<size_t> survivors;
   for (size_t i = 0; i < devices_.size(); ++i) {
     if (!lost_[i]) survivors.push_back(i);
@@ -250,11 +250,14 @@ void Dispatcher::Requeue(size_t d, std::vector<v1::Tile> batch) {
     return;
   }
   // Tiles of a lost device's calls become suspects and run one per call from then on (Take). A
-  // device lost while running a suspect and no other call points at that tile's programs: a program
-  // that kills workers without a crash report would otherwise take every device down. Independent
-  // losses (a worker killed, a machine gone) cost time only: their tiles run again elsewhere.
+  // device lost after it said it started running a suspect, with no other call, points at that
+  // tile's programs: a program that kills workers without a crash report would otherwise take
+  // every device down. A device lost before it said so may have been dead already when it was
+  // given the tile (two workers killed at one moment): no evidence. Independent losses (workers
+  // killed, a machine gone) cost time only: their tiles run again elsewhere.
   for (const v1::Tile& t : batch) {
-    if (++tile_losses_[t.index()] >= 2 && batch.size() == 1 && alone_with_suspect_[d]) {
+    if (++tile_losses_[t.index()] >= 2 && batch.size() == 1 && ran_suspect &&
+        alone_with_suspect_[d]) {
       Fail(d, absl::AbortedError(absl::StrCat(
                   "tile ", t.index(), " was running alone on ", devices_[d].name,
                   " when it was lost, after another device was lost running it: a program may "
@@ -311,21 +314,27 @@ bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
   batch = Take(d);
   if (batch.empty() && !build_only_) return true;
   in_flight_[d].push_back(&batch);
+  // A suspect alone: the device says when it starts running it, so that only a loss after that
+  // counts against the tile (Requeue).
+  const bool watch_start = alone_with_suspect_[d];
   lock.unlock();
 
   const auto taken = std::chrono::steady_clock::now();
   v1::LaunchRequest request = device.header;
   for (const v1::Tile& t : batch) *request.add_tiles() = t;
+  request.set_report_start(watch_start);
   FinishedBatch finished;
   finished.device = d;
   finished.tiles = batch.size();
   std::mutex results_mu;  // devices call back from their own threads
   uint64_t reported = 0;  // tiles of this call the device said it finished (progress)
+  bool started = false;   // the device said it began running the call (report_start)
   absl::Status status;
   try {
     status = device.device->Launch(request, stop_, [&](v1::TileResult&& result) {
       std::lock_guard<std::mutex> results_lock(results_mu);
       if (result.tile_index() == kHeartbeatTileIndex) {
+        if (result.started()) started = true;
         const uint64_t done = std::min<uint64_t>(result.tiles_done(), batch.size());
         if (done > reported) AddProgress(done - reported);
         reported = std::max(reported, done);
@@ -378,7 +387,7 @@ bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
       --remaining_;
       if (std::count(lost_.begin(), lost_.end(), false) == 0) Requeue(d, {});
     } else {
-      Requeue(d, std::move(batch));
+      Requeue(d, std::move(batch), watch_start && started);
     }
     return false;
   }

@@ -33,6 +33,9 @@ class FakeDevice : public Device {
   int calls() const { return calls_; }
   // How long a faulting call runs before it fails (the device dies while running it).
   void set_fault_delay(std::chrono::milliseconds delay) { fault_delay_ = delay; }
+  // Dead before any call reaches it (a worker killed at the same moment as another): its faulting
+  // calls fail without saying they started, even when the request asks (report_start).
+  void set_dead_before_start() { dead_before_start_ = true; }
   // The size of the batch each tile came in.
   std::map<uint32_t, int> batch_of_tile() const {
     std::lock_guard<std::mutex> lock(batches_mu_);
@@ -49,7 +52,14 @@ class FakeDevice : public Device {
     // A little time per call, as real devices take: with instant calls, one device's thread
     // could drain the queue before the others start.
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    if (fault_ != Fault::kNone && call >= fault_at_call_) {
+    const bool faulting = fault_ != Fault::kNone && call >= fault_at_call_;
+    if (request.report_start() && !(faulting && dead_before_start_)) {
+      v1::TileResult started;
+      started.set_tile_index(kHeartbeatTileIndex);
+      started.set_started(true);
+      on_result(std::move(started));
+    }
+    if (faulting) {
       std::this_thread::sleep_for(fault_delay_);
       switch (fault_) {
         case Fault::kUnavailable:
@@ -89,6 +99,7 @@ class FakeDevice : public Device {
   Fault fault_;
   int fault_at_call_;
   std::chrono::milliseconds fault_delay_{0};
+  bool dead_before_start_ = false;
   std::atomic<int> calls_{0};
   mutable std::mutex batches_mu_;
   std::map<uint32_t, int> batch_of_tile_;
@@ -283,6 +294,36 @@ TEST(DispatcherTest, TileLosingTwoDevicesFailsTheLaunch) {
   EXPECT_NE(dispatcher.status().message().find("tile 0 was running alone on"), std::string::npos)
       << dispatcher.status();
   EXPECT_EQ(dispatcher.lost().size(), 2u);
+}
+
+// Two or three workers killed at one moment: the first loss makes its tile a suspect, and the
+// next device takes it alone but is already dead (it never says it started the call). That is no
+// evidence against the tile: it runs on the device that is left and the launch succeeds.
+TEST(DispatcherTest, SimultaneousLossesNeverBlameATile) {
+  for (int dead : {2, 3}) {
+    FakeDevice a(FakeDevice::Fault::kUnavailable), b(FakeDevice::Fault::kUnavailable),
+        c(FakeDevice::Fault::kUnavailable), d;
+    for (FakeDevice* f : {&a, &b, &c}) f->set_dead_before_start();
+    std::vector<FakeDevice*> fakes = {&a, &b};
+    if (dead == 3) fakes.push_back(&c);
+    fakes.push_back(&d);
+    for (size_t tiles : {size_t{1}, size_t{40}}) {
+      for (bool stable : {false, true}) {
+        Outcome out = RunAll(fakes, tiles, stable);
+        ASSERT_TRUE(out.status.ok()) << dead << " dead, " << tiles << " tiles: " << out.status;
+        // With stable ownership tile 0 starts on the first dead device and its suspect moves to
+        // the next by index, so every dead device gets it; shared queues may give it to the
+        // healthy one first.
+        if (stable) {
+          EXPECT_EQ(out.lost.size(), static_cast<size_t>(dead));
+        }
+        EXPECT_EQ(out.device_of_tile.size(), tiles);
+        for (const auto& [tile, device] : out.device_of_tile) {
+          EXPECT_EQ(device, fakes.size() - 1) << "tile " << tile;
+        }
+      }
+    }
+  }
 }
 
 // Two devices lost independently, each while running a batch of many tiles (two workers killed

@@ -177,8 +177,11 @@ bool IsLocalAddress(absl::string_view address) {
   return false;
 }
 
-absl::StatusOr<std::shared_ptr<grpc::Channel>> CreateWorkerChannel(const std::string& address,
-                                                                   grpc::ChannelArguments args) {
+namespace {
+
+// CreateWorkerChannel, with every problem of the host's settings as FAILED_PRECONDITION.
+absl::StatusOr<std::shared_ptr<grpc::Channel>> CreateChannel(const std::string& address,
+                                                             grpc::ChannelArguments args) {
   absl::StatusOr<std::string> token = TokenFromEnvironment();
   if (!token.ok()) return token.status();
   const std::string ca_file = Env(kTlsCaEnv);
@@ -243,6 +246,21 @@ absl::StatusOr<std::shared_ptr<grpc::Channel>> CreateWorkerChannel(const std::st
         grpc::CompositeChannelCredentials(credentials, grpc::AccessTokenCredentials(*token));
   }
   return grpc::CreateCustomChannel(address, credentials, args);
+}
+
+}  // namespace
+
+absl::StatusOr<std::shared_ptr<grpc::Channel>> CreateWorkerChannel(const std::string& address,
+                                                                   grpc::ChannelArguments args) {
+  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = CreateChannel(address, std::move(args));
+  // The host lacks credentials it needs for this worker (TLS and a token off this machine), or
+  // cannot use the ones it was given: UNAUTHENTICATED, as a worker refusing a missing or wrong
+  // token answers, which the C API reports as RT_ERROR_AUTHENTICATION_FAILED. (FAILED_PRECONDITION
+  // read as RT_ERROR_INVALID_CONTEXT, which sends the user looking at the context.)
+  if (!channel.ok() && channel.status().code() == absl::StatusCode::kFailedPrecondition) {
+    return absl::UnauthenticatedError(channel.status().message());
+  }
+  return channel;
 }
 
 }  // namespace tessera::transport

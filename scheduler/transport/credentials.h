@@ -56,8 +56,9 @@ bool IsLocalAddress(absl::string_view address);
 //   worker's certificate against $TESSERA_TLS_SERVER_NAME instead of the host part when set;
 // - unix sockets, and loopback TCP without $TESSERA_TLS_CA, are plain;
 // - $TESSERA_TOKEN, or the first line of $TESSERA_TOKEN_FILE, goes with every call when set.
-// FAILED_PRECONDITION, before anything connects, for an address off this machine without TLS and
-// a token (the message names the address and what to set), or for settings that cannot be used.
+// UNAUTHENTICATED (RT_ERROR_AUTHENTICATION_FAILED in the C API), before anything connects, for an
+// address off this machine without TLS and a token (the message names the address and what to
+// set), or for settings that cannot be used (naming the setting and its file).
 absl::StatusOr<std::shared_ptr<grpc::Channel>> CreateWorkerChannel(const std::string& address,
                                                                    grpc::ChannelArguments args);
 

@@ -17,6 +17,7 @@
 #include "absl/strings/str_cat.h"
 #include "tessera/scheduler/result_pool.h"
 #include "tessera/v1/worker.grpc.pb.h"
+#include "transport/apply_call.h"
 #include "transport/call_watchdog.h"
 #include "transport/credentials.h"
 #include "transport/result_arena.h"
@@ -140,6 +141,7 @@ absl::Status GrpcDevice::Open(absl::Duration timeout) {
 }
 
 GrpcDevice::~GrpcDevice() {
+  if (process_ != nullptr && lost_.load()) process_->Kill();
   // A worker someone else runs outlives this host: without this it would keep the session's
   // replica (every buffer) until it restarts. Best effort, briefly: a lost worker holds nothing.
   if (stub_ == nullptr || session_id_ == 0 || process_ != nullptr) return;
@@ -174,48 +176,46 @@ absl::Status GrpcDevice::Apply(const v1::StateDelta& delta) {
     return absl::Status(s.code(), absl::StrCat("not sent to worker ", address_, ": ", s.message()));
   }
   session_id_ = delta.session_id();
-  grpc::ClientContext context;
-  v1::ApplyReply reply;
-  std::unique_ptr<grpc::ClientWriter<v1::ApplyChunk>> writer =
-      stub_->worker->Apply(&context, &reply);
-  grpc::Status status;
-  bool silent = false;
   uint64_t bytes = 0;
   for (const v1::BufferChunk& chunk : delta.chunks()) bytes += chunk.data().size();
-  {
-    // A worker that stops answering while it takes a delta (stopped, hung, its machine gone)
-    // must not hold the launch for gRPC's keepalive (about 50 s): the same silence deadline as
-    // during a launch, counted from the last chunk it accepted.
-    static const std::atomic<bool> kNotCancelled{false};
-    WatchedCall watcher(&context, kNotCancelled, SilenceDeadline());
-    // A failed Write means the call is over (the worker rejected the delta early, or the
-    // connection dropped); Finish says why.
-    if (WriteApplyStream(delta, [&](const v1::ApplyChunk& m) {
-          const bool written = writer->Write(m);
-          watcher.Heard();
-          return written;
-        })) {
-      writer->WritesDone();
-      // Every chunk is out: the worker now builds its replica from them and says nothing until
-      // it is done, which takes seconds for a delta of gigabytes. Allow for that at a slow
-      // machine's pace (kApplyBytesPerSecond) before taking its silence for a hang.
-      constexpr double kApplyBytesPerSecond = 50e6;
-      watcher.Expect(absl::Seconds(static_cast<double>(bytes) / kApplyBytesPerSecond));
-    }
-    status = writer->Finish();
-    silent = watcher.silent();
-  }
-  if (silent) {
+  // A worker that stops answering while it takes a delta (stopped, hung, its machine gone) must
+  // not hold the launch for gRPC's keepalive (about 50 s), nor for ever when it stops reading: the
+  // same silence deadline as during a launch, counted from the last message it accepted
+  // (apply_call.h waits on its own deadline instead of inside a blocking write).
+  const absl::Duration silence = SilenceDeadline();
+  ApplyCall call(stub_->worker.get());
+  // A failed Write means the call is over (the worker rejected the delta early, the connection
+  // dropped, or the worker stopped taking messages); Finish says why.
+  const bool sent =
+      WriteApplyStream(delta, [&](const v1::ApplyChunk& m) { return call.Write(m, silence); });
+  // Every message is out: the worker now builds its replica from them and says nothing until it
+  // is done, which takes seconds for a delta of gigabytes. Allow for that at a slow machine's
+  // pace (kApplyBytesPerSecond) before taking its silence for a hang.
+  constexpr double kApplyBytesPerSecond = 50e6;
+  const grpc::Status status = call.Finish(
+      sent ? silence + absl::Seconds(static_cast<double>(bytes) / kApplyBytesPerSecond) : silence);
+  if (call.silent()) {
+    lost_ = true;
     return absl::DeadlineExceededError(
         absl::StrCat("worker ", address_, " did not take the state update within ",
-                     absl::FormatDuration(SilenceDeadline()),
+                     absl::FormatDuration(silence),
                      " (hung or unreachable; TESSERA_WORKER_TIMEOUT sets the limit)"));
   }
   absl::Status result = FromGrpcStatus(status, address_);
-  // A connection that dropped: a spawned worker that died says how (killed between launches, or
-  // crashed loading a module); a worker that rejected the update is alive and says why itself.
-  if (result.code() == absl::StatusCode::kUnavailable) return LostOrFailed(std::move(result));
-  return result;
+  // A worker without room for this update (a shared worker at its session limit, one short of
+  // memory) cannot serve this launch, though others may: it is unavailable to this host now, and
+  // the host leaves it out as it would a lost one (the message says why).
+  if (result.code() == absl::StatusCode::kResourceExhausted) {
+    lost_ = true;
+    return absl::UnavailableError(result.message());
+  }
+  // A connection that dropped: a spawned worker that died says how (killed between launches or
+  // while taking this update, or crashed loading a module); a worker that rejected the update is
+  // alive and says why itself. A worker killed mid-stream ends the call with whatever gRPC saw
+  // first (UNAVAILABLE, or UNKNOWN/INTERNAL/CANCELLED for a stream cut short): LostOrFailed looks
+  // at the process for each of them.
+  if (result.ok()) return result;
+  return LostOrFailed(std::move(result));
 }
 
 absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
@@ -231,13 +231,15 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
     leased.set_arena_token(lease.token);
   }
   grpc::ClientContext context;
-  std::unique_ptr<grpc::ClientReader<v1::TileResult>> reader =
-      stub_->worker->Launch(&context, lease.slot >= 0 ? leased : request);
   grpc::Status status;
   absl::Status restored;
   bool silent = false;
   {
+    // Watched from before the call starts: sending the request can wait on a worker that stopped
+    // reading, and a cancel of a call not yet started cancels it as it starts.
     WatchedCall watcher(&context, cancel, SilenceDeadline());
+    std::unique_ptr<grpc::ClientReader<v1::TileResult>> reader =
+        stub_->worker->Launch(&context, lease.slot >= 0 ? leased : request);
     // Parsed into messages that held results before (result_pool.h): their buffers are reused.
     v1::TileResult result = scheduler::TakeTileResult();
     while (reader->Read(&result)) {
@@ -246,7 +248,7 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
       // progress). The written regions come as several results with kFinalTileIndex; whoever
       // called collects the whole call before applying any of it.
       const bool heartbeat = result.tile_index() == kHeartbeatTileIndex;
-      if (heartbeat && result.tiles_done() == 0) continue;
+      if (heartbeat && result.tiles_done() == 0 && !result.started()) continue;
       if (!heartbeat) {
         restored = ResultArena::Restore(arena, lease, &result);
         if (!restored.ok()) {
@@ -269,6 +271,7 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
   }
   if (cancel.load()) return absl::CancelledError("launch cancelled");
   if (silent) {
+    lost_ = true;
     return absl::DeadlineExceededError(absl::StrCat(
         "worker ", address_, " sent nothing for ", absl::FormatDuration(SilenceDeadline()),
         " (hung or unreachable; TESSERA_WORKER_TIMEOUT sets the limit)"));
@@ -278,6 +281,7 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
 }
 
 absl::Status GrpcDevice::LostOrFailed(absl::Status status) {
+  if (status.code() == absl::StatusCode::kUnavailable) lost_ = true;
   if (process_ != nullptr) {
     // A spawned worker that died: a crash (a program's fault: say which program) or a kill. A
     // broken connection can come before the process is reaped, so it gets a moment; an error
@@ -298,6 +302,7 @@ absl::Status GrpcDevice::LostOrFailed(absl::Status status) {
         line = line.substr(0, line.find('\n'));
         return absl::AbortedError(absl::StrCat("worker process ", address_, " crashed: ", line));
       }
+      lost_ = true;
       return absl::UnavailableError(absl::StrCat("worker process ", address_, " ", exit));
     }
   }

@@ -4,6 +4,7 @@
 #ifndef TESSERA_SCHEDULER_TRANSPORT_GRPC_DEVICE_H_
 #define TESSERA_SCHEDULER_TRANSPORT_GRPC_DEVICE_H_
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -76,6 +77,9 @@ class GrpcDevice : public Device {
   std::unique_ptr<Stub> stub_;
   WorkerHealth health_;
   uint64_t session_id_ = 0;  // of the deltas applied, ended when the device goes
+  // A call found the spawned worker gone or silent: it is killed when the device goes, rather
+  // than asked to stop (a stopped worker would spend the whole grace).
+  std::atomic<bool> lost_{false};
 };
 
 }  // namespace tessera::transport

@@ -566,6 +566,16 @@ std::string WorkerProcess::WaitForExit(absl::Duration timeout, bool* crashed) {
   return exit_;
 }
 
+void WorkerProcess::Kill() {
+  if (getpid() != host_pid_) return;  // a forked child's copy: the worker is the parent's
+  {
+    std::lock_guard<std::mutex> lock(exit_mu_);
+    if (pid_ > 0) kill(pid_, SIGKILL);
+  }
+  bool crashed = false;
+  WaitForExit(absl::InfiniteDuration(), &crashed);  // SIGKILL cannot be held off: it ends soon
+}
+
 WorkerProcess::~WorkerProcess() {
   // In a process forked from the host the worker and its directory are the parent's: leave them.
   if (getpid() != host_pid_) return;

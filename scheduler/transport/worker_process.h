@@ -65,6 +65,11 @@ class WorkerProcess {
   // from several threads (both calls in flight of a device see it go): all see the same answer.
   std::string WaitForExit(absl::Duration timeout, bool* crashed);
 
+  // Ends a worker the host gave up on (silent past its deadline, or its connection lost) at
+  // once: SIGKILL and reap, without the grace a clean stop gets, which a stopped or hung worker
+  // would only spend. Safe with WaitForExit on other threads.
+  void Kill();
+
   // The memory the worker shares for written regions; null when there is none.
   ResultArena* result_arena() const { return arena_.get(); }
 

@@ -221,7 +221,7 @@ TEST_F(SecurityTest, TheHostReachesAnotherMachineOnlyWithTlsAndAToken) {
   auto plain = GrpcDevice::Connect("192.0.2.1:7000", absl::Seconds(30));
   EXPECT_LT(absl::Now() - start, absl::Seconds(5)) << "refused only after trying to connect";
   ASSERT_FALSE(plain.ok());
-  EXPECT_EQ(plain.status().code(), absl::StatusCode::kFailedPrecondition) << plain.status();
+  EXPECT_EQ(plain.status().code(), absl::StatusCode::kUnauthenticated) << plain.status();
   for (const char* part : {"192.0.2.1:7000", "TESSERA_TLS_CA", "TESSERA_TOKEN",
                            "TESSERA_TOKEN_FILE", "docs/security.md"}) {
     EXPECT_NE(plain.status().message().find(part), std::string::npos)
@@ -231,7 +231,7 @@ TEST_F(SecurityTest, TheHostReachesAnotherMachineOnlyWithTlsAndAToken) {
   setenv("TESSERA_TLS_CA", Path("ca.pem").c_str(), 1);
   auto no_token = GrpcDevice::Connect("192.0.2.1:7000", absl::Seconds(30));
   ASSERT_FALSE(no_token.ok());
-  EXPECT_EQ(no_token.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(no_token.status().code(), absl::StatusCode::kUnauthenticated);
   EXPECT_NE(no_token.status().message().find("TESSERA_TOKEN"), std::string::npos);
   EXPECT_EQ(no_token.status().message().find("set TESSERA_TLS_CA"), std::string::npos)
       << no_token.status();
@@ -242,7 +242,7 @@ TEST_F(SecurityTest, UnusableHostSettingsAreReportedBeforeConnecting) {
   setenv("TESSERA_TOKEN", kToken, 1);
   auto missing_ca = GrpcDevice::Connect("127.0.0.1:1", absl::Seconds(30));
   ASSERT_FALSE(missing_ca.ok());
-  EXPECT_EQ(missing_ca.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(missing_ca.status().code(), absl::StatusCode::kUnauthenticated);
   EXPECT_NE(missing_ca.status().message().find(Path("missing.pem")), std::string::npos)
       << missing_ca.status();
 

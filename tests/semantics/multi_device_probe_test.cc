@@ -155,9 +155,18 @@ TEST_F(DeviceSetProbeTest, CopyOnDirtyPointerStaysDirtyThroughAFailedLaunch) {
   SetUint("salt", 1);  // a state update for every device, which finds them gone
   for (pid_t worker : WorkersOf(getpid())) ASSERT_EQ(kill(worker, SIGKILL), 0);
   usleep(100 * 1000);
+  // Nor can they be started again within the launch (which tries once when it lost them all).
+  const char* worker_env = std::getenv("TESSERA_WORKER");
+  const std::string saved_worker = worker_env != nullptr ? worker_env : "";
+  setenv("TESSERA_WORKER", "/nonexistent/tessera-worker", 1);
   ::testing::internal::CaptureStderr();
   RTresult r = rtContextLaunch1D(ctx_, 0, kCount);
   ::testing::internal::GetCapturedStderr();
+  if (worker_env != nullptr) {
+    setenv("TESSERA_WORKER", saved_worker.c_str(), 1);
+  } else {
+    unsetenv("TESSERA_WORKER");
+  }
   EXPECT_EQ(r, RT_ERROR_CONNECTION_FAILED) << Error(r);
   std::vector<unsigned> values(kCount);
   for (RTsize i = 0; i < kCount; ++i) values[i] = 1000 + static_cast<unsigned>(i);

@@ -3,7 +3,11 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
 
 #include "thread_state.h"
 
@@ -12,6 +16,16 @@ namespace {
 
 // CrashContext's text: a plain pointer in initial-exec TLS, readable from a signal handler.
 __thread const char* t_crash_context __attribute__((tls_model("initial-exec"))) = nullptr;
+
+// The program this thread last ran, kept when its ThreadState went (KeepProgramForExitReport):
+// exit() destroys the calling thread's thread_local objects, the state among them, before its
+// atexit handlers run. A plain initial-exec pointer that no destructor touches. The program it
+// points to lives in its launch plan, which a program calling exit() is still running.
+__thread const worker::BoundProgram* t_exit_program __attribute__((tls_model("initial-exec"))) =
+    nullptr;
+
+// Set by InstallCrashReporter: only a worker process gives its threads alternate signal stacks.
+std::atomic<bool> g_installed{false};
 
 // Async-signal-safe appends into a fixed buffer.
 struct Line {
@@ -57,7 +71,8 @@ void OnFatalSignal(int sig) {
   line.Add(" (");
   line.Add(SignalName(sig));
   line.Add(")");
-  // The thread's state is a plain initial-exec TLS pointer: reading it allocates nothing.
+  // The thread's state is a plain initial-exec TLS pointer: reading it allocates nothing. It is
+  // null again once the state was freed (~ThreadState).
   const worker::ThreadState* ts = worker::t_state;
   if (ts != nullptr && ts->current != nullptr) {
     line.Add(" in ");
@@ -81,12 +96,16 @@ void OnFatalSignal(int sig) {
 // tiles again on the others, and the program would end them all ("every device was lost").
 // Reported as a crash naming the program, and ended with SIGABRT so that the host reads it.
 void OnExitInProgram() {
+  // exit() has destroyed this thread's thread_local objects by now, its ThreadState among them,
+  // whose destructor cleared t_state and kept the running program in t_exit_program;
+  // quick_exit() destroys none, so the state is still there. Either way nothing freed is read.
   const worker::ThreadState* ts = worker::t_state;
-  if (ts == nullptr || ts->current == nullptr) return;  // the worker's own exit
+  const worker::BoundProgram* program = ts != nullptr ? ts->current : t_exit_program;
+  if (program == nullptr) return;  // the worker's own exit, or a thread that never ran a program
   Line line;
   line.Add(kCrashReportPrefix);
   line.Add("exit() called in ");
-  line.Add(ts->current->name.c_str());
+  line.Add(program->name.c_str());
   line.Add("\n");
   ssize_t ignored = write(STDERR_FILENO, line.text, line.size);
   (void)ignored;
@@ -94,23 +113,89 @@ void OnExitInProgram() {
   abort();
 }
 
+// A thread's alternate signal stack, with a guard page below it (a handler that overflows it
+// faults instead of writing over other memory), removed and unmapped when the thread ends.
+class AltSignalStack {
+ public:
+  AltSignalStack() {
+    stack_t current{};
+    // A thread that has one (an application's, a sanitizer's) keeps it.
+    if (sigaltstack(nullptr, &current) != 0 || (current.ss_flags & SS_DISABLE) == 0) return;
+    page_ = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+    const size_t wanted = std::max<size_t>(kAltSignalStackBytes, 4 * static_cast<size_t>(SIGSTKSZ));
+    size_ = (wanted + page_ - 1) / page_ * page_;
+    void* mapping = mmap(nullptr, page_ + size_, PROT_READ | PROT_WRITE,
+                         MAP_PRIVATE | MAP_ANONYMOUS | MAP_STACK | MAP_NORESERVE, -1, 0);
+    if (mapping == MAP_FAILED) return;  // no report on overflow, as before; nothing else changes
+    if (mprotect(mapping, page_, PROT_NONE) != 0) {
+      munmap(mapping, page_ + size_);
+      return;
+    }
+    stack_t stack{};
+    stack.ss_sp = static_cast<char*>(mapping) + page_;
+    stack.ss_size = size_;
+    if (sigaltstack(&stack, nullptr) != 0) {
+      munmap(mapping, page_ + size_);
+      return;
+    }
+    mapping_ = mapping;
+  }
+  ~AltSignalStack() {
+    if (mapping_ == nullptr) return;
+    stack_t current{};
+    if (sigaltstack(nullptr, &current) == 0 && (current.ss_flags & SS_DISABLE) == 0 &&
+        current.ss_sp == static_cast<char*>(mapping_) + page_) {
+      stack_t off{};
+      off.ss_flags = SS_DISABLE;
+      // Fails only while running on it (never in a destructor at thread exit): keep the memory
+      // then rather than pull the stack from under a handler.
+      if (sigaltstack(&off, nullptr) != 0) return;
+    }
+    munmap(mapping_, page_ + size_);
+  }
+  AltSignalStack(const AltSignalStack&) = delete;
+  AltSignalStack& operator=(const AltSignalStack&) = delete;
+
+ private:
+  void* mapping_ = nullptr;
+  size_t page_ = 0;
+  size_t size_ = 0;
+};
+
 }  // namespace
 
 CrashContext::CrashContext(const char* what) : previous_(t_crash_context) {
+  // A module's static constructors run here, on whichever thread loads it.
+  EnsureAltSignalStack();
   t_crash_context = what;
 }
 
 CrashContext::~CrashContext() { t_crash_context = previous_; }
 
+void EnsureAltSignalStack() {
+  if (!g_installed.load(std::memory_order_relaxed)) return;
+  // Constructed at the thread's first call, destroyed when the thread ends.
+  thread_local AltSignalStack stack;
+  (void)stack;
+}
+
 void InstallCrashReporter() {
+  g_installed.store(true, std::memory_order_relaxed);
   atexit(&OnExitInProgram);
   at_quick_exit(&OnExitInProgram);
   struct sigaction action;
   memset(&action, 0, sizeof(action));
   action.sa_handler = &OnFatalSignal;
-  action.sa_flags = SA_RESETHAND | SA_NODEFER;
+  // SA_ONSTACK: on the thread's alternate stack where it has one (EnsureAltSignalStack), the only
+  // stack left to a thread whose program overflowed its own; elsewhere on the thread's stack.
+  action.sa_flags = SA_RESETHAND | SA_NODEFER | SA_ONSTACK;
   sigemptyset(&action.sa_mask);
   for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) sigaction(sig, &action, nullptr);
 }
 
+namespace worker {
+
+void KeepProgramForExitReport(const BoundProgram* program) { t_exit_program = program; }
+
+}  // namespace worker
 }  // namespace tessera

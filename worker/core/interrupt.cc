@@ -147,6 +147,12 @@ void InstallHandler() {
   action.sa_sigaction = &OnInterrupt;
   // SA_NODEFER: the handler leaves by siglongjmp to a sigsetjmp that saved no mask; the signal
   // must not stay blocked after it.
+  // Not SA_ONSTACK, unlike the crash reporter's handlers (crash_report.cc): this one runs on the
+  // thread's own stack, where its siglongjmp lands (the tile's frame), so the jump never leaves
+  // an alternate stack behind; in a host process the thread's alternate stack, if any, is the
+  // application's (Rust gives every thread a small one), not this handler's to use; and the one
+  // thread whose stack has no room for the handler's frame is one whose program is overflowing
+  // its stack, where the kernel's SIGSEGV then gets the crash report on the alternate stack.
   action.sa_flags = SA_SIGINFO | SA_RESTART | SA_NODEFER;
   sigemptyset(&action.sa_mask);
   sigaction(InterruptSignal(), &action, &g_previous);

@@ -514,6 +514,9 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
   struct ClearOut {  // prints after the tile (say from a bounds program) have nowhere to go
     ThreadState& ts;
     ~ClearOut() {
+      // No program runs any more: a crash in the engine or Embree, or the worker's own exit, must
+      // not be reported as the tile's last program's (crash_report.cc reads `current`).
+      ts.current = nullptr;
       ts.out = nullptr;
       ts.out_dropped_prints = nullptr;
       ts.out_reports_not_sent = nullptr;
@@ -539,6 +542,10 @@ void RunBoundsProgram(const LaunchPlan& plan, const BoundProgram& program, unsig
   LimitStack(ts, __builtin_frame_address(0));
   ts.out = nullptr;
   ts.depth = 0;
+  struct Left {  // as at a tile's end: no program runs once this one returned (or threw)
+    ThreadState& ts;
+    ~Left() { ts.current = nullptr; }
+  } left{ts};
   try {
     Enter(ts, program);
     reinterpret_cast<void (*)(int, float*)>(program.function)(static_cast<int>(primitive), result);

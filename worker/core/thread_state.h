@@ -18,6 +18,7 @@
 #include "absl/status/status.h"
 #include "plan.h"
 #include "runtime.h"
+#include "tessera/worker/crash_report.h"
 
 namespace tessera::worker {
 
@@ -120,6 +121,16 @@ struct ModuleState {
 };
 
 struct ThreadState {
+  // A thread that runs programs gets an alternate signal stack: a program that overflows the
+  // thread's stack still leaves its crash report (crash_report.h). A member rather than a
+  // constructor of ThreadState: one without a user-provided constructor is zeroed by
+  // value-initialization (make_unique), members without initializers included.
+  struct AltSignalStackOfThread {
+    AltSignalStackOfThread() { EnsureAltSignalStack(); }
+  } alt_signal_stack;
+  // Defined below t_state.
+  ~ThreadState();
+
   const LaunchPlan* plan = nullptr;
   uint64_t plan_serial = 0;
   Index3 index{}, dims{};
@@ -186,6 +197,20 @@ struct ThreadState {
 // dynamic initializer before every access.
 extern __thread ThreadState* t_state __attribute__((tls_model("initial-exec")));
 ThreadState& CreateThreadState();
+
+// Keeps `program` (the calling thread's last) for the report of a program that calls exit(),
+// which runs after exit() destroyed the thread's thread_local objects (crash_report.cc).
+void KeepProgramForExitReport(const BoundProgram* program);
+
+// exit() destroys the calling thread's thread_local objects, this state's owner among them,
+// before its atexit handlers: the exit report must not read the state afterwards. So t_state
+// forgets it (a crash report would read freed memory too), and the running program goes where
+// that report finds it. Only the pointer is copied: at a thread's normal end `current` may name a
+// program whose plan is gone.
+inline ThreadState::~ThreadState() {
+  if (t_state == this) t_state = nullptr;
+  KeepProgramForExitReport(current);
+}
 
 // The running program's buffer views, which modules read at a fixed offset from the thread
 // pointer (TesseraRuntime::buffer_table_offset): set whenever control passes to a program.

@@ -2,6 +2,7 @@
 //
 //   tessera-worker [--listen 127.0.0.1:0 | HOST:PORT | unix:PATH] [--threads N]
 //                  [--tls-cert FILE --tls-key FILE [--tls-client-ca FILE]] [--token-file FILE]
+//                  [--session-idle-timeout SECONDS] [--max-sessions N]
 //
 // A non-loopback address needs TLS and a token (docs/security.md); the token may also come from
 // $TESSERA_WORKER_TOKEN. --allow-remote is still accepted but allows nothing by itself.
@@ -14,9 +15,11 @@
 #include <grpcpp/grpcpp.h>
 #include <malloc.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -24,6 +27,7 @@
 
 #include "auth.h"
 #include "listen_address.h"
+#include "server_options.h"
 #include "tessera/scheduler/module_cache_files.h"
 #include "tessera/worker/crash_report.h"
 #include "tessera/worker/module_cache.h"
@@ -33,11 +37,9 @@
 
 namespace {
 
-// Pings from clients' keepalive (scheduler/transport/grpc_device.cc) must not count as abuse.
-constexpr int kMinPingIntervalMs = 10000;
-
 int Serve(const std::string& listen, int threads, tessera::transport::ResultArena* arena,
-          const tessera::worker::SecurityOptions& security) {
+          const tessera::worker::SecurityOptions& security,
+          const tessera::worker::SessionLimits& limits) {
   absl::Status address = tessera::worker::CheckListenAddress(listen);
   if (address.ok()) address = tessera::worker::CheckUnixSocketNotInUse(listen);
   if (address.ok()) address = tessera::worker::CheckCanBind(listen);
@@ -72,7 +74,7 @@ int Serve(const std::string& listen, int threads, tessera::transport::ResultAren
   // program module must not kill the worker.
   signal(SIGPIPE, SIG_IGN);
 
-  tessera::worker::WorkerService service(threads, arena);
+  tessera::worker::WorkerService service(threads, arena, limits);
   // One line per refused call on stderr, where the host's log of a spawned worker also goes.
   tessera::worker::AuthenticatedWorker authenticated(&service, *token, [](const std::string& line) {
     std::fprintf(stderr, "%s\n", line.c_str());
@@ -85,14 +87,8 @@ int Serve(const std::string& listen, int threads, tessera::transport::ResultAren
   } else {
     builder.RegisterService(&authenticated);
   }
-  builder.SetMaxReceiveMessageSize(tessera::transport::kMaxMessageBytes);
-  builder.SetMaxSendMessageSize(tessera::transport::kMaxMessageBytes);
-  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
-                             kMinPingIntervalMs);
-  builder.AddChannelArgument(GRPC_ARG_HTTP2_MAX_PING_STRIKES, 0);
-  // gRPC sets SO_REUSEPORT by default: a second worker on a taken port would share it and receive
-  // half of the connections (and so half of a host's sessions). Taken means taken.
-  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  // Message sizes, keepalive and ping policy, and the calls and threads the server takes on.
+  tessera::worker::ConfigureServer(&builder, limits.max_sessions);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (server == nullptr || port == 0) {
     std::fprintf(stderr, "tessera-worker: cannot listen on %s (address in use or not allowed%s?)\n",
@@ -177,7 +173,46 @@ int main(int argc, char** argv) {
                  "directory of the program modules hosts send, by content hash (default: "
                  "$TESSERA_MODULE_CACHE, else $TESSERA_CACHE_DIR, else "
                  "$XDG_CACHE_HOME/tessera/modules, else ~/.cache/tessera/modules)");
-  CLI11_PARSE(app, argc, argv);
+  // A worker its host spawned (local:N) dies with that host (PR_SET_PDEATHSIG, which survives
+  // exec): its sessions end with the host, and one idle for long (an interactive application
+  // between renders) must not cost a resend of its whole state.
+  int parent_death_signal = 0;
+  const bool dies_with_parent =
+      prctl(PR_GET_PDEATHSIG, &parent_death_signal) == 0 && parent_death_signal != 0;
+  double idle_timeout_seconds = 600;
+  constexpr double kMaxIdleTimeoutSeconds = 365.0 * 24 * 3600;
+  CLI::Option* idle_option =
+      app.add_option("--session-idle-timeout", idle_timeout_seconds,
+                     "drop a host session that made no call for this many seconds, freeing its "
+                     "memory (0: never); a host that comes back starts afresh. A worker a host "
+                     "spawned for local:N dies with that host and drops none unless given this")
+          ->check(CLI::Validator(
+              [](const std::string& text) -> std::string {
+                // CLI::Range lets "nan" through: it compares false with both ends.
+                const double v = std::strtod(text.c_str(), nullptr);
+                return std::isfinite(v) ? "" : "not a number of seconds";
+              },
+              "", "finite"))
+          ->check(CLI::Range(0.0, kMaxIdleTimeoutSeconds))
+          ->capture_default_str();
+  int max_sessions = 64;
+  app.add_option("--max-sessions", max_sessions,
+                 "host sessions held at once (one per host context); another is refused, after "
+                 "dropping those idle past --session-idle-timeout (0: no limit)")
+      ->check(CLI::Range(0, 1 << 20))
+      ->capture_default_str();
+  app.footer(
+      "Examples:\n"
+      "  tessera-worker --listen unix:/run/tessera/w0.sock --threads 16\n"
+      "  tessera-worker --listen 0.0.0.0:7000 --tls-cert worker.pem --tls-key worker.key \\\n"
+      "      --token-file tessera.token --session-idle-timeout 300 --max-sessions 16\n"
+      "See docs/devices.md and docs/security.md.");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // CLI11 says which flag and why; a usage error exits 2, as the address checks do (--help: 0).
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   tessera::SetModuleCacheDirectory(module_cache);
   // Resolved now, so that falling back to a temporary directory or ignoring a malformed bound is
   // reported at startup, where a host that spawned this worker passes it on.
@@ -196,5 +231,10 @@ int main(int argc, char** argv) {
       arena->CloseFd();  // the mapping stays
     }
   }
-  return Serve(listen, threads, arena.get(), security);
+  tessera::worker::SessionLimits limits;
+  limits.max_sessions = max_sessions;
+  limits.idle_timeout = idle_option->count() == 0 && dies_with_parent
+                            ? absl::ZeroDuration()
+                            : absl::Seconds(idle_timeout_seconds);
+  return Serve(listen, threads, arena.get(), security, limits);
 }

@@ -1,7 +1,9 @@
 #include "worker_service.h"
 
+#include <malloc.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -15,6 +17,7 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "tessera/scheduler/launch_timing.h"
 #include "tessera/scheduler/system_info.h"
 #include "tessera/worker/inproc_device.h"
@@ -36,6 +39,9 @@ constexpr std::chrono::milliseconds kCancelPoll{20};
 // How often a running launch says it is alive when no tile finished; well below the host's
 // silence deadline (GrpcDevice, TESSERA_WORKER_TIMEOUT).
 constexpr std::chrono::milliseconds kHeartbeatInterval{500};
+
+// How many dropped sessions a worker remembers, to tell their hosts why (16 bytes each).
+constexpr size_t kMaxDropped = 4096;
 
 v1::TileResult Heartbeat(const v1::LaunchRequest& request) {
   v1::TileResult heartbeat;
@@ -132,19 +138,82 @@ class ResultQueue {
 
 }  // namespace
 
-WorkerService::WorkerService(int threads, transport::ResultArena* arena)
-    : threads_(ResolveThreads(threads)), name_(DeviceName()), arena_(arena) {}
+WorkerService::WorkerService(int threads, transport::ResultArena* arena, SessionLimits limits)
+    : threads_(ResolveThreads(threads)), name_(DeviceName()), arena_(arena), limits_(limits) {
+  if (limits_.idle_timeout > absl::ZeroDuration()) reaper_ = std::thread([this] { ReapLoop(); });
+}
 
-WorkerService::~WorkerService() = default;
+WorkerService::~WorkerService() {
+  {
+    absl::MutexLock lock(&mu_);
+    stopping_ = true;
+  }
+  reap_cv_.Signal();
+  if (reaper_.joinable()) reaper_.join();
+}
 
-std::shared_ptr<WorkerService::Session> WorkerService::FindSession(uint64_t id, bool create) {
+void WorkerService::Use::End() {
+  if (session_ == nullptr) return;
+  {
+    absl::MutexLock lock(&service_->mu_);
+    if (--session_->calls == 0) session_->idle_since = Clock::now();
+  }
+  session_.reset();
+}
+
+absl::Status WorkerService::Missing(uint64_t id, absl::string_view what) {
+  auto dropped = dropped_.find(id);
+  if (dropped == dropped_.end()) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("no state for session ", id, " on this worker: ", what));
+  }
+  // A device loss to the host (UNAVAILABLE): it starts a new session from the whole state.
+  return absl::UnavailableError(absl::StrFormat(
+      "%s dropped session %d after %.0f s without a call (--session-idle-timeout %g): its state "
+      "is gone, and the host starts the session afresh",
+      name_, id, absl::ToDoubleSeconds(dropped->second),
+      absl::ToDoubleSeconds(limits_.idle_timeout)));
+}
+
+WorkerService::Use WorkerService::UseExisting(uint64_t id) {
   absl::MutexLock lock(&mu_);
   auto it = sessions_.find(id);
-  if (it != sessions_.end()) return it->second;
-  if (!create) return nullptr;
-  auto session = std::make_shared<Session>();
+  if (it == sessions_.end()) return Use();
+  ++it->second->calls;
+  return Use(this, it->second);
+}
+
+absl::StatusOr<WorkerService::Use> WorkerService::UseForDelta(uint64_t id, uint64_t sequence) {
+  std::vector<std::shared_ptr<Session>> dropped;  // destroyed after mu_ is released
+  absl::MutexLock lock(&mu_);
+  auto it = sessions_.find(id);
+  if (it != sessions_.end()) {
+    ++it->second->calls;
+    return Use(this, it->second);
+  }
+  if (sequence != 1) {
+    return Missing(id, absl::StrCat("state delta ", sequence, " out of order (expected 1)"));
+  }
+  const Clock::time_point now = Clock::now();
+  if (limits_.max_sessions > 0 && sessions_.size() >= static_cast<size_t>(limits_.max_sessions)) {
+    TakeIdleLocked(now, &dropped);
+    if (sessions_.size() >= static_cast<size_t>(limits_.max_sessions)) {
+      return absl::ResourceExhaustedError(absl::StrCat(
+          name_, " (pid ", getpid(), ") already holds ", sessions_.size(),
+          " sessions, as many as its --max-sessions ", limits_.max_sessions,
+          " allows: a host context holds one until it is destroyed",
+          limits_.idle_timeout > absl::ZeroDuration()
+              ? absl::StrCat(" or has made no call for --session-idle-timeout ",
+                             absl::ToDoubleSeconds(limits_.idle_timeout), " s")
+              : std::string(),
+          ". Destroy contexts that are done, or start the worker with a higher --max-sessions"));
+    }
+  }
+  dropped_.erase(id);  // a host starting afresh with an id it used before
+  auto session = std::make_shared<Session>(now);
+  session->calls = 1;
   sessions_.emplace(id, session);
-  return session;
+  return Use(this, std::move(session));
 }
 
 bool WorkerService::IsCurrent(uint64_t id, const std::shared_ptr<Session>& session) {
@@ -157,6 +226,65 @@ void WorkerService::ForgetIfEmpty(uint64_t id, const std::shared_ptr<Session>& s
   absl::MutexLock lock(&mu_);
   auto it = sessions_.find(id);
   if (it != sessions_.end() && it->second == session) sessions_.erase(it);
+}
+
+WorkerService::Clock::time_point WorkerService::TakeIdleLocked(
+    Clock::time_point now, std::vector<std::shared_ptr<Session>>* dropped) {
+  Clock::time_point next = Clock::time_point::max();
+  if (limits_.idle_timeout <= absl::ZeroDuration()) return next;
+  const auto timeout = absl::ToChronoNanoseconds(limits_.idle_timeout);
+  for (auto it = sessions_.begin(); it != sessions_.end();) {
+    auto current = it++;
+    Session& session = *current->second;
+    if (session.calls > 0) continue;  // its call's end starts its idle time afresh
+    if (now - session.idle_since < timeout) {
+      next = std::min(next, session.idle_since + timeout);
+      continue;
+    }
+    const uint64_t id = current->first;
+    dropped_[id] = absl::FromChrono(now - session.idle_since);
+    dropped_order_.push_back(id);
+    while (dropped_order_.size() > kMaxDropped) {
+      dropped_.erase(dropped_order_.front());
+      dropped_order_.pop_front();
+    }
+    dropped->push_back(std::move(current->second));
+    sessions_.erase(current);
+  }
+  return next;
+}
+
+void WorkerService::ReapLoop() {
+  // The loop sleeps until the earliest idle session is due, and an eighth of the timeout more, so
+  // that sessions that went idle together (a host that vanished) are dropped, and logged, together.
+  // A session in use has no due time yet (its idle time starts when its last call ends), so the
+  // loop also looks again after a quarter of the timeout: a session is dropped within 1.25
+  // timeouts of its last call.
+  const auto period = absl::ToChronoNanoseconds(limits_.idle_timeout / 4);
+  const auto slack = absl::ToChronoNanoseconds(limits_.idle_timeout / 8);
+  for (;;) {
+    std::vector<std::shared_ptr<Session>> dropped;
+    {
+      absl::MutexLock lock(&mu_);
+      if (stopping_) return;
+      const Clock::time_point now = Clock::now();
+      Clock::time_point next = TakeIdleLocked(now, &dropped);
+      next = next == Clock::time_point::max() ? now + period : std::min(next + slack, now + period);
+      if (dropped.empty()) {
+        reap_cv_.WaitWithTimeout(&mu_, absl::FromChrono(next - now));
+        continue;
+      }
+    }
+    std::fprintf(stderr,
+                 "tessera-worker: dropped %zu session(s) without a call for %g s "
+                 "(--session-idle-timeout); %s\n",
+                 dropped.size(), absl::ToDoubleSeconds(limits_.idle_timeout),
+                 "their hosts, should they come back, are told so and start afresh");
+    dropped.clear();  // the devices, replicas and plans go here, outside mu_
+    // Give what they held back to the system: the worker keeps freed memory in its heap
+    // otherwise (worker_main.cc raises glibc's trim threshold for its calls' messages).
+    malloc_trim(0);
+  }
 }
 
 grpc::Status WorkerService::Apply(grpc::ServerContext* context,
@@ -178,47 +306,69 @@ grpc::Status WorkerService::ApplyStream(grpc::ServerContext* context,
   DeltaAssembler assembler(scheduler::TotalSystemMemory() > 0 ? scheduler::TotalSystemMemory()
                                                               : ~uint64_t{0});
   v1::ApplyChunk part;
+  // The session is known from the first message: it is in use from then on (not dropped while a
+  // large update arrives), and a session the worker cannot take is refused before the rest comes.
+  Use use;
+  uint64_t id = 0, sequence = 0;
   while (reader->Read(&part)) {
+    if (!use && part.has_delta()) {
+      id = part.delta().session_id();
+      sequence = part.delta().sequence();
+      absl::StatusOr<Use> found = UseForDelta(id, sequence);
+      if (!found.ok()) return ToGrpcStatus(found.status());
+      use = *std::move(found);
+    }
     if (absl::Status s = assembler.Add(std::move(part)); !s.ok()) return ToGrpcStatus(s);
     part.Clear();
   }
   if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "Apply cancelled");
   absl::StatusOr<v1::StateDelta> delta = std::move(assembler).Finish();
   if (!delta.ok()) return ToGrpcStatus(delta.status());
-
-  const uint64_t id = delta->session_id();
-  std::shared_ptr<Session> session;
-  while (true) {
-    session = FindSession(id, /*create=*/true);
-    session->mu.Lock();
-    // A failed first delta may have dropped the session while this call waited for it.
-    if (IsCurrent(id, session)) break;
-    session->Release();
+  if (!use) {  // the assembler takes no stream without its header; kept from a null session
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "state update without its header");
   }
-  Held held{session.get()};
+
+  while (true) {
+    use.get()->mu.Lock();
+    // EndSession, or a failed first delta, may have dropped the session while this call waited
+    // for it: a delta with sequence 1 starts a new one, any other finds none.
+    if (IsCurrent(id, use.shared())) break;
+    use.get()->Release();
+    absl::StatusOr<Use> found = UseForDelta(id, sequence);
+    if (!found.ok()) return ToGrpcStatus(found.status());
+    use = *std::move(found);
+  }
+  Session* session = use.get();
+  Held held{session};
+  absl::Status status;
   if (session->device == nullptr || delta->sequence() == 1) {
     // The device is replaced only if the new one accepts the delta: a rejected delta leaves the
     // session as it was.
     std::unique_ptr<Device> fresh = CreateInprocDevice(threads_, /*results_in_rounds=*/true);
-    absl::Status status = fresh->Apply(*delta);
+    status = fresh->Apply(*delta);
     if (status.ok()) {
       session->device = std::move(fresh);
     } else if (session->device == nullptr) {
-      ForgetIfEmpty(id, session);
+      ForgetIfEmpty(id, use.shared());
     }
-    return ToGrpcStatus(status);
+  } else {
+    status = session->device->Apply(*delta);
   }
-  return ToGrpcStatus(session->device->Apply(*delta));
+  if (status.ok()) {
+    session->buffers.Apply(*delta);
+    session->buffer_bytes.store(session->buffers.total(), std::memory_order_relaxed);
+  }
+  return ToGrpcStatus(status);
 }
 
 grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::LaunchRequest* request,
                                    grpc::ServerWriter<v1::TileResult>* writer) {
-  std::shared_ptr<Session> session = FindSession(request->session_id(), /*create=*/false);
-  if (session == nullptr) {
-    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
-                        absl::StrCat("no state for session ", request->session_id(),
-                                     " on this worker: a state delta must come first"));
+  Use use = UseExisting(request->session_id());
+  if (!use) {
+    absl::MutexLock lock(&mu_);
+    return ToGrpcStatus(Missing(request->session_id(), "a state delta must come first"));
   }
+  Session* session = use.get();
   CallTiming timing;
   // The host keeps a second call queued behind the running one; it says it is alive while it
   // waits, or the host would take the wait for a hung worker.
@@ -246,17 +396,26 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
     std::unique_lock<std::mutex> lock(session->turn_mu);
     session->turn_cv.wait_for(lock, kCancelPoll, [&] { return session->releases != seen; });
   }
-  Held held{session.get()};
+  Held held{session};
   timing.Locked();
   if (session->device == nullptr) {
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                         absl::StrCat("no state for session ", request->session_id()));
   }
   Device& device = *session->device;
+  // The host asks when a call holds one tile that another device was lost running: that this
+  // worker got as far as running it is what makes its loss evidence against the tile.
+  if (request->report_start()) {
+    v1::TileResult started = Heartbeat(*request);
+    started.set_started(true);
+    if (!writer->Write(started)) {
+      return grpc::Status(grpc::StatusCode::CANCELLED, "the host went away");
+    }
+  }
 
   std::atomic<bool> cancel{false};
   ResultQueue results;
-  std::future<void> ran = session->calls.Post([&] {
+  std::future<void> ran = session->calls_thread.Post([&] {
     absl::Status status;
     try {
       status = device.Launch(*request, cancel,
@@ -309,12 +468,16 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
 grpc::Status WorkerService::EndSession(grpc::ServerContext* context,
                                        const v1::EndSessionRequest* request,
                                        v1::EndSessionReply* reply) {
-  std::shared_ptr<Session> session = FindSession(request->session_id(), /*create=*/false);
-  if (session == nullptr) return grpc::Status::OK;
-  session->mu.Lock();  // after the running Apply or Launch
-  Held held{session.get()};
-  session->device.reset();
-  ForgetIfEmpty(request->session_id(), session);
+  Use use = UseExisting(request->session_id());
+  if (!use) {
+    absl::MutexLock lock(&mu_);
+    dropped_.erase(request->session_id());  // its host is done with it: nothing left to tell
+    return grpc::Status::OK;
+  }
+  use.get()->mu.Lock();  // after the running Apply or Launch
+  Held held{use.get()};
+  use.get()->device.reset();
+  ForgetIfEmpty(request->session_id(), use.shared());
   return grpc::Status::OK;
 }
 
@@ -326,6 +489,29 @@ grpc::Status WorkerService::Health(grpc::ServerContext* context, const v1::Healt
   reply->set_version(TESSERA_VERSION);
   reply->set_total_memory(scheduler::TotalSystemMemory());
   reply->set_clock_khz(static_cast<uint32_t>(scheduler::CpuClockKHz()));
+  reply->set_resident_bytes(ResidentBytes());
+  reply->set_max_sessions(static_cast<uint32_t>(std::max(limits_.max_sessions, 0)));
+  reply->set_session_idle_timeout_seconds(absl::ToDoubleSeconds(limits_.idle_timeout));
+  std::vector<std::pair<uint64_t, v1::SessionHealth>> sessions;
+  {
+    absl::MutexLock lock(&mu_);
+    const Clock::time_point now = Clock::now();
+    sessions.reserve(sessions_.size());
+    for (const auto& [id, session] : sessions_) {
+      v1::SessionHealth h;
+      h.set_session_id(id);
+      h.set_buffer_bytes(session->buffer_bytes.load(std::memory_order_relaxed));
+      h.set_busy(session->calls > 0);
+      h.set_idle_seconds(session->calls > 0
+                             ? 0.0
+                             : std::chrono::duration<double>(now - session->idle_since).count());
+      sessions.emplace_back(id, std::move(h));
+    }
+  }
+  std::sort(sessions.begin(), sessions.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  reply->set_sessions(static_cast<uint32_t>(sessions.size()));
+  for (auto& [id, h] : sessions) *reply->add_session_list() = std::move(h);
   return grpc::Status::OK;
 }
 

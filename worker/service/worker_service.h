@@ -1,35 +1,56 @@
 // The Worker gRPC service (proto/tessera/v1/worker.proto) over worker/core's in-process device:
-// one device per host session, so several hosts (or contexts) can share a worker.
+// one device per host session, so several hosts (or contexts) can share a worker. Sessions are
+// bounded: one without a call for the idle timeout is dropped (its host is likely gone), and a
+// worker holds at most so many (docs/devices.md "Device specs").
 #ifndef TESSERA_WORKER_SERVICE_WORKER_SERVICE_H_
 #define TESSERA_WORKER_SERVICE_WORKER_SERVICE_H_
 
 #include <grpcpp/grpcpp.h>
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include "absl/base/thread_annotations.h"
 #include "absl/container/flat_hash_map.h"
+#include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
+#include "absl/time/time.h"
 #include "call_thread.h"
+#include "memory_use.h"
 #include "tessera/scheduler/device.h"
 #include "tessera/v1/worker.grpc.pb.h"
 #include "transport/result_arena.h"
 
 namespace tessera::worker {
 
+// How many host sessions a worker keeps, and for how long (tessera-worker's --max-sessions and
+// --session-idle-timeout).
+struct SessionLimits {
+  // A session without a call for this long is dropped and its memory freed; its host, should it
+  // come back, is told so (UNAVAILABLE) and starts afresh. Zero: never.
+  absl::Duration idle_timeout = absl::Seconds(600);
+  // A new session past this many is refused with RESOURCE_EXHAUSTED, after dropping the sessions
+  // idle past the timeout. Zero: no limit.
+  int max_sessions = 64;
+};
+
 class WorkerService final : public v1::Worker::Service {
  public:
   // `threads` <= 0: one per core. Every session's launches run on that many threads. `arena`:
   // memory shared with the host that spawned this worker, for written regions (may be null).
-  explicit WorkerService(int threads, transport::ResultArena* arena = nullptr);
+  explicit WorkerService(int threads, transport::ResultArena* arena = nullptr,
+                         SessionLimits limits = SessionLimits());
   ~WorkerService() override;
 
   int thread_count() const { return threads_; }
+  const SessionLimits& limits() const { return limits_; }
 
   // A delta with sequence 1 starts the session afresh (a host that re-creates its devices starts
   // over with the same session id); any other goes to the session's device, which rejects
@@ -47,9 +68,18 @@ class WorkerService final : public v1::Worker::Service {
                           v1::EndSessionReply* reply) override;
 
  private:
+  using Clock = std::chrono::steady_clock;
+
   struct Session {
+    explicit Session(Clock::time_point now) : idle_since(now) {}
+    // Guarded by WorkerService::mu_: the calls using the session now (a session in use is never
+    // dropped), and since when it has had none.
+    int calls = 0;
+    Clock::time_point idle_since;
     absl::Mutex mu;  // one Apply or Launch at a time (Device contract)
     std::unique_ptr<Device> device ABSL_GUARDED_BY(mu);  // null until a delta applied
+    BufferBytes buffers ABSL_GUARDED_BY(mu);
+    std::atomic<uint64_t> buffer_bytes{0};  // buffers.total(), for Health without waiting on mu
     // Counts releases of `mu`, so that a queued launch sleeps until the running call ends
     // instead of polling (sixteen workers polling every millisecond slowed tracing on gVisor).
     std::mutex turn_mu;
@@ -60,7 +90,7 @@ class WorkerService final : public v1::Worker::Service {
     // heartbeats, so the host sees a hung worker after TESSERA_WORKER_TIMEOUT instead of
     // waiting forever.
     std::atomic<bool> holder_cancelled{false};
-    CallThread calls;  // runs the session's launch calls, one after the other
+    CallThread calls_thread;  // runs the session's launch calls, one after the other
     void Release() {
       holder_cancelled = false;
       mu.Unlock();
@@ -81,19 +111,66 @@ class WorkerService final : public v1::Worker::Service {
     }
     ~Held() { Release(); }
   };
+  // A call's use of a session, from when the call names it until it returns.
+  class Use {
+   public:
+    Use() = default;
+    Use(WorkerService* service, std::shared_ptr<Session> session)
+        : service_(service), session_(std::move(session)) {}
+    Use(Use&& other) noexcept = default;
+    Use& operator=(Use&& other) noexcept {
+      End();
+      service_ = other.service_;
+      session_ = std::move(other.session_);
+      return *this;
+    }
+    ~Use() { End(); }
+    Session* get() const { return session_.get(); }
+    const std::shared_ptr<Session>& shared() const { return session_; }
+    explicit operator bool() const { return session_ != nullptr; }
+    void End();
+
+   private:
+    WorkerService* service_ = nullptr;
+    std::shared_ptr<Session> session_;
+  };
 
   // Apply, less the translation of an exhausted memory into a status.
   grpc::Status ApplyStream(grpc::ServerContext* context,
                            grpc::ServerReader<v1::ApplyChunk>* reader);
-  std::shared_ptr<Session> FindSession(uint64_t id, bool create);
+  // The session a delta with `sequence` for `id` goes to, in use: the existing one, or for
+  // sequence 1 a new one (RESOURCE_EXHAUSTED at the session limit). Without a session, a later
+  // sequence is UNAVAILABLE when the session was dropped for idleness (its host starts afresh),
+  // and FAILED_PRECONDITION otherwise (out of order, as the device would say).
+  absl::StatusOr<Use> UseForDelta(uint64_t id, uint64_t sequence);
+  // The existing session `id`, in use; null when there is none.
+  Use UseExisting(uint64_t id);
+  // Why a call for session `id`, which this worker does not hold, cannot go on.
+  absl::Status Missing(uint64_t id, absl::string_view what) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   bool IsCurrent(uint64_t id, const std::shared_ptr<Session>& session);
   void ForgetIfEmpty(uint64_t id, const std::shared_ptr<Session>& session);
+  // Moves the sessions idle for the timeout out of `sessions_` (to be destroyed by the caller,
+  // after releasing mu_), remembering their ids; returns when the next one may be due (max:
+  // none).
+  Clock::time_point TakeIdleLocked(Clock::time_point now,
+                                   std::vector<std::shared_ptr<Session>>* dropped)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+  // The thread that drops idle sessions (only with an idle timeout).
+  void ReapLoop();
 
   const int threads_;
   const std::string name_;
   transport::ResultArena* const arena_;
+  const SessionLimits limits_;
   absl::Mutex mu_;  // taken after a Session::mu, never before
   absl::flat_hash_map<uint64_t, std::shared_ptr<Session>> sessions_ ABSL_GUARDED_BY(mu_);
+  // Sessions dropped for idleness, newest last, up to kMaxDropped: when their hosts come back they
+  // are told why their state is gone.
+  absl::flat_hash_map<uint64_t, absl::Duration> dropped_ ABSL_GUARDED_BY(mu_);
+  std::deque<uint64_t> dropped_order_ ABSL_GUARDED_BY(mu_);
+  bool stopping_ ABSL_GUARDED_BY(mu_) = false;
+  absl::CondVar reap_cv_;
+  std::thread reaper_;
 };
 
 }  // namespace tessera::worker

@@ -111,7 +111,9 @@ class Dispatcher {
   // Takes the next batch for device `d`; empty when the launch is over for it.
   std::vector<v1::Tile> Take(size_t d) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   // Hands the tiles of lost device `d` (its batch and, for stable ownership, its queue) on.
-  void Requeue(size_t d, std::vector<v1::Tile> batch) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
+  // `ran_suspect`: the call held one suspect alone and the device said it started running it.
+  void Requeue(size_t d, std::vector<v1::Tile> batch, bool ran_suspect = false)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   void Fail(size_t d, absl::Status status) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   // Hands a finished batch to the launching thread once the device's earlier calls are handed
   // over; batches without a sequence go at once.

@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Builds Tessera with AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer (vptr
+# included) and runs every test with ctest (docs/sanitizers.md). Exits non-zero on any failed
+# test and on any sanitizer report, including one from a tessera-worker process a test spawned.
+#   tools/sanitize.sh [BUILD_DIR] [CTEST_ARGS...]
+#     BUILD_DIR   default build-asan (or $TESSERA_SANITIZE_BUILD_DIR), relative to the repository
+#     CTEST_ARGS  passed to ctest, e.g. -R e2e_ to run some tests only
+#   JOBS=N        build and test jobs (default: the number of cores)
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$root"
+build="${TESSERA_SANITIZE_BUILD_DIR:-build-asan}"
+if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
+  build="$1"
+  shift
+fi
+case "$build" in /*) ;; *) build="$root/$build" ;; esac
+jobs="${JOBS:-$(nproc)}"
+start=$(date +%s)
+elapsed() {
+  local s=$(($(date +%s) - start))
+  printf '%dm%02ds' $((s / 60)) $((s % 60))
+}
+
+echo "== configure $build (TESSERA_SANITIZE=ON, RelWithDebInfo)"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_SANITIZE=ON >/dev/null
+echo "== build (-j $jobs)"
+cmake --build "$build" -j "$jobs"
+
+# Every process writes its report to a file here rather than to stderr: a tessera-worker's stderr
+# goes to a log that is removed with the worker, and a worker that ends with a report looks to
+# its host like any lost device, whose tiles the other devices render, so the test could pass.
+# Any file here fails the run.
+reports="$build/sanitizer-reports"
+rm -rf "$reports"
+mkdir -p "$reports"
+supp="$root/tools/sanitizers"
+# abort_on_error: a process with a finding dies of SIGABRT, which a host reports as a crashed
+# worker (a plain exit status reads as a lost device). The crash reporter of tessera-worker
+# catches SIGABRT and says so on its stderr before dying of it.
+common="halt_on_error=1:abort_on_error=1:log_path=$reports/report:log_exe_name=1"
+# use_sigaltstack=0: tessera-worker gives the threads that run programs alternate signal stacks of
+# its own size (worker/core/crash_report.cc), and checks that a new thread has none.
+export ASAN_OPTIONS="$common:detect_leaks=1:check_initialization_order=1:strict_init_order=1:use_sigaltstack=0:${ASAN_OPTIONS:-}"
+export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
+export UBSAN_OPTIONS="$common:print_stacktrace=1:suppressions=$supp/ubsan.supp:${UBSAN_OPTIONS:-}"
+
+echo "== ctest -j $jobs $*"
+status=0
+(cd "$build" && ctest -j "$jobs" --output-on-failure "$@") 2>&1 | tee "$build/sanitize-ctest.log" ||
+  status=1  # pipefail: ctest's status
+
+# Tests that skip under the sanitizers, each with the reason it gave (GTEST_SKIP() << reason), and
+# tests that ctest did not run at all (DISABLED), with the reason their CMakeLists recorded.
+echo
+echo "== tests skipped under the sanitizers"
+last="$build/Testing/Temporary/LastTest.log"
+skipped=0
+if [ -f "$last" ]; then
+  while IFS=$'\t' read -r name reason; do
+    printf '  %-70s %s\n' "$name" "$reason"
+    skipped=$((skipped + 1))
+  done < <(awk '
+    /^[0-9]+\/[0-9]+ Testing: / { name = $3; reason = ""; grab = 0; next }
+    grab == 1 { reason = $0; grab = 0; next }
+    /: Skipped$/ { grab = 1; next }
+    /^\[  SKIPPED \]/ && reason != "" { print name "\t" reason; reason = "" }' "$last")
+fi
+if [ -f "$build/sanitizer-disabled-tests.txt" ]; then
+  while IFS=$'\t' read -r name reason; do
+    printf '  %-70s %s (disabled)\n' "$name" "$reason"
+    skipped=$((skipped + 1))
+  done <"$build/sanitizer-disabled-tests.txt"
+fi
+echo "  $skipped skipped"
+
+echo
+found=$(find "$reports" -type f | sort)
+if [ -n "$found" ]; then
+  count=$(wc -l <<<"$found")
+  echo "== $count sanitizer report(s), under $reports:"
+  while read -r f; do
+    echo "---- $f"
+    head -n 80 "$f"
+  done <<<"$found"
+  status=1
+else
+  echo "== no sanitizer reports"
+fi
+
+echo
+grep -E "tests passed|tests failed" "$build/sanitize-ctest.log" | tail -n 1 || true
+echo "sanitize: $([ $status -eq 0 ] && echo PASSED || echo FAILED) in $(elapsed)"
+exit $status
