@@ -27,13 +27,16 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_SANITIZ
 echo "== build (-j $jobs)"
 cmake --build "$build" -j "$jobs"
 
-# Every process writes its report to a file here rather than to stderr: a tessera-worker's stderr
-# goes to a log that is removed with the worker, and a worker that ends with a report looks to
-# its host like any lost device, whose tiles the other devices render, so the test could pass.
-# Any file here fails the run.
+# A tessera-worker's stderr goes to a log that is removed with the worker, and a worker that ends
+# with a report could look to its host like any lost device, whose tiles the other devices render:
+# the test could pass. So every process writes its ASan and LeakSanitizer reports to a file here
+# (log_path), and the workers' logs are kept (TESSERA_WORKER_LOG_DIR) and read for UBSan's, which
+# g++'s separate libubsan writes to stderr whatever log_path says. Any report fails the run.
 reports="$build/sanitizer-reports"
-rm -rf "$reports"
-mkdir -p "$reports"
+worker_logs="$build/sanitizer-worker-logs"
+rm -rf "$reports" "$worker_logs"
+mkdir -p "$reports" "$worker_logs"
+export TESSERA_WORKER_LOG_DIR="$worker_logs"
 supp="$root/tools/sanitizers"
 # abort_on_error: a process with a finding dies of SIGABRT, which a host reports as a crashed
 # worker (a plain exit status reads as a lost device). The crash reporter of tessera-worker
@@ -74,15 +77,31 @@ if [ -f "$build/sanitizer-disabled-tests.txt" ]; then
 fi
 echo "  $skipped skipped"
 
+# Reports: ASan's and LSan's files; workers' logs that hold one; and the tests whose output holds
+# one (UBSan in a test process, or in a process whose stderr the test passed on).
 echo
-found=$(find "$reports" -type f | sort)
-if [ -n "$found" ]; then
-  count=$(wc -l <<<"$found")
-  echo "== $count sanitizer report(s), under $reports:"
-  while read -r f; do
-    echo "---- $f"
-    head -n 80 "$f"
-  done <<<"$found"
+pattern='runtime error: |ERROR: (AddressSanitizer|LeakSanitizer)|SUMMARY: (AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer)'
+found=$( (find "$reports" -type f; grep -rlE "$pattern" "$worker_logs" || true) | sort)
+in_tests=""
+if [ -f "$last" ]; then
+  in_tests=$(awk -v pattern="$pattern" '
+    /^[0-9]+\/[0-9]+ Testing: / { name = $3 }
+    $0 ~ pattern && !(name in seen) { seen[name] = 1; print name }' "$last")
+fi
+if [ -n "$found" ] || [ -n "$in_tests" ]; then
+  echo "== sanitizer reports"
+  if [ -n "$found" ]; then
+    while read -r f; do
+      echo "---- $f"
+      grep -m 1 -nE "$pattern" "$f" | cut -d: -f1 | while read -r line; do
+        tail -n +$((line > 5 ? line - 5 : 1)) "$f" | head -n 80
+      done
+    done <<<"$found"
+  fi
+  if [ -n "$in_tests" ]; then
+    echo "---- tests whose output holds a report ($last):"
+    sed 's/^/  /' <<<"$in_tests"
+  fi
   status=1
 else
   echo "== no sanitizer reports"

@@ -55,13 +55,13 @@ size_t Buffer::element_size() const {
   return format_ == RT_FORMAT_USER ? user_element_size_ : FormatElementSize(format_);
 }
 
-absl::Status Buffer::SetFormat(RTformat format) {
+absl::Status Buffer::SetFormat(int format) {
   if (!IsValidFormat(format) || format == RT_FORMAT_UNKNOWN) {
     return RtError(RT_ERROR_INVALID_VALUE,
-                   absl::StrCat("0x", absl::Hex(static_cast<int>(format)), " is not a format"));
+                   absl::StrCat("0x", absl::Hex(format), " is not a format"));
   }
   if (mapped_) return MappedError();
-  return Reallocate(dims_, format, user_element_size_);
+  return Reallocate(dims_, static_cast<RTformat>(format), user_element_size_);
 }
 
 absl::Status Buffer::SetElementSize(size_t size) {

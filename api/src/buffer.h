@@ -57,7 +57,8 @@ class Buffer : public Object {
   void CopyToDeviceView(int ordinal, uint64_t offset, absl::string_view bytes);
 
   RTformat format() const { return format_; }
-  absl::Status SetFormat(RTformat format);
+  // `format` is an RTformat as a C caller passed it: any int, checked here before it is one.
+  absl::Status SetFormat(int format);
   // The element size in bytes: from the format, or as set for RT_FORMAT_USER (0 = unset).
   size_t element_size() const;
   absl::Status SetElementSize(size_t size);

@@ -83,7 +83,11 @@ RTresult rtBufferGetContext(RTbuffer buffer, RTcontext* context) {
 }
 
 RTresult rtBufferSetFormat(RTbuffer buffer, RTformat format) {
-  return BufferCall(__func__, buffer, [&](Buffer& b) { return b.SetFormat(format); });
+  // A C caller may pass any int as an RTformat, but C++ reads a value past the enum's range as
+  // RTformat with undefined behaviour (UBSan: "not a valid value for type 'RTformat'"): it
+  // travels as its int until SetFormat has checked it.
+  const int value = format;
+  return BufferCall(__func__, buffer, [&](Buffer& b) { return b.SetFormat(value); });
 }
 
 RTresult rtBufferGetFormat(RTbuffer buffer, RTformat* format) {

@@ -66,6 +66,7 @@ struct Options {
   double time_limit = 0;  // seconds; 0: none. Rounds stop once it passed (at least 1 each)
   uint64_t seed = 1;
   std::string dir;  // where images and logs go; default a fresh directory under /tmp
+  std::string worker_name = "tessera-worker";  // the workers' command name (/proc/PID/comm)
   bool keep = false;
 };
 
@@ -162,7 +163,7 @@ class Soak {
         break;
       }
       if (pending && now >= fault_at) {
-        std::vector<pid_t> workers = e2e::ChildrenNamed(host, "tessera-worker");
+        std::vector<pid_t> workers = e2e::ChildrenNamed(host, o_.worker_name);
         if (workers.size() >= victims) {
           std::shuffle(workers.begin(), workers.end(), rng_);
           const int sig = fault == Fault::kStop ? SIGSTOP : SIGKILL;
@@ -319,6 +320,10 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.seed, "random seed (moments and victims)")->capture_default_str();
   app.add_option("--dir", o.dir, "directory for images and logs (default: a new one in /tmp)");
   app.add_flag("--keep", o.keep, "keep every image and log");
+  app.add_option("--worker-name", o.worker_name,
+                 "the command name of the host's worker processes (/proc/PID/comm; with "
+                 "tools/bundle-for-device.sh's loader it is ld-linux-x86-64)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   return tessera::soak::Soak(std::move(o)).Main();
 }

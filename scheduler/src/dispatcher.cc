@@ -141,9 +141,18 @@ Dispatcher::~Dispatcher() {
   for (std::thread& t : threads_) t.join();
 }
 
+bool Dispatcher::CanTake(size_t d) const {
+  const std::deque<v1::Tile>& queue = queues_[stable_ ? d : 0].tiles;
+  if (queue.empty()) return false;
+  if (in_flight_[d].empty()) return true;
+  // A suspect runs on a device with no other call in flight, and nothing joins it there until it
+  // ends: only then does losing the device point at the suspect's programs (Requeue).
+  return !alone_with_suspect_[d] && tile_losses_[queue.front().index()] == 0;
+}
+
 std::vector<v1::Tile> Dispatcher::Take(size_t d) {
   std::deque<v1::Tile>& queue = queues_[stable_ ? d : 0].tiles;
-  if (queue.empty()) return {};
+  if (!CanTake(d)) return {};
   const uint64_t threads = static_cast<uint64_t>(std::max(devices_[d].threads, 1));
   // Sized by the launch's full tiles, not the queue's front, which may be a clipped edge tile.
   size_t batch = std::max<uint64_t>(1, kIndicesPerThread * threads / tile_indices_);
@@ -307,8 +316,7 @@ bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
                          std::vector<v1::Tile>& batch) {
   DispatchDevice& device = devices_[d];
   work_cv_.wait(lock, [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
-    return stop_ || remaining_ == 0 || lost_[d] || build_only_ ||
-           !queues_[stable_ ? d : 0].tiles.empty();
+    return stop_ || remaining_ == 0 || lost_[d] || build_only_ || CanTake(d);
   });
   if (stop_ || remaining_ == 0 || lost_[d]) return false;
   batch = Take(d);
@@ -360,6 +368,8 @@ bool Dispatcher::RunCall(size_t d, std::unique_lock<std::mutex>& lock,
   lock.lock();
   std::vector<const std::vector<v1::Tile>*>& calls = in_flight_[d];
   calls.erase(std::find(calls.begin(), calls.end(), &batch));
+  // After a loss, a device's other thread may wait for this call's end to take a suspect (CanTake).
+  if (!lost_reasons_.empty()) work_cv_.notify_all();
   if (status.ok()) {
     const auto ended = std::chrono::steady_clock::now();
     const double seconds =

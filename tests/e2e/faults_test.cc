@@ -430,6 +430,26 @@ TEST_F(FaultTest, AProgramEndingEveryRemoteWorkerIsNamedTheLikelyCause) {
       << message;
 }
 
+// With a third worker left, the tile that took two remote workers down is blamed once the second
+// said it started running it alone (report_start): the launch fails naming the tile, instead of
+// taking the third down too. (Workers killed at one moment never say so: DispatcherTest.)
+TEST_F(FaultTest, ATileThatEndsTwoRemoteWorkersIsBlamedBeforeTheThird) {
+  std::vector<std::unique_ptr<transport::WorkerProcess>> workers;
+  std::string spec;
+  ASSERT_NO_FATAL_FAILURE(SpawnOwnWorkers(3, &workers, &spec));
+  Create(spec);
+  std::string message;
+  ASSERT_EQ(LaunchCrashingProgram(&message), RT_ERROR_LAUNCH_FAILED) << message;
+  EXPECT_NE(message.find("was running alone on"), std::string::npos) << message;
+  EXPECT_NE(message.find("a program may be crashing them"), std::string::npos) << message;
+  int alive = 0;
+  for (auto& worker : workers) {
+    bool crashed = false;
+    alive += worker->WaitForExit(absl::ZeroDuration(), &crashed).empty() ? 1 : 0;
+  }
+  EXPECT_EQ(alive, 1);
+}
+
 // A remote worker that hangs is tried again at every launch: each try may cost the silence
 // deadline, not gRPC's 10 s connection timeout.
 TEST_F(FaultTest, AHungRemoteWorkerCostsLaterLaunchesTheDeadlineOnly) {

@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -31,6 +32,35 @@ using transport::GrpcDevice;
 using transport::WorkerProcess;
 
 const std::string kModule = std::string(TESSERA_TEST_MODULE_DIR) + "/worker_core_test_programs.so";
+
+// Sets an environment variable (or unsets it: null) for a scope, then restores what it was:
+// tools/sanitize.sh names a TESSERA_WORKER_LOG_DIR for every test, to read workers' logs for
+// sanitizer reports, and the tests of where logs go must neither see it nor lose it.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value) : name_(name) {
+    const char* old = std::getenv(name);
+    had_ = old != nullptr;
+    if (had_) old_ = old;
+    Set(value);
+  }
+  ~ScopedEnv() { Set(had_ ? old_.c_str() : nullptr); }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+  void Set(const char* value) {
+    if (value != nullptr) {
+      setenv(name_, value, 1);
+    } else {
+      unsetenv(name_);
+    }
+  }
+
+ private:
+  const char* name_;
+  bool had_ = false;
+  std::string old_;
+};
 
 std::unique_ptr<WorkerProcess> Spawn(WorkerProcess::Options options) {
   auto process = WorkerProcess::Spawn(std::move(options));
@@ -338,7 +368,7 @@ TEST(WorkerProcessTest, StartupWarningsReachTheHostOnce) {
 
 TEST(WorkerProcessTest, LogsStayInTheLogDirectoryWhenOneIsNamed) {
   const std::string dir = ::testing::TempDir() + "/worker_logs_" + std::to_string(getpid());
-  ASSERT_EQ(setenv("TESSERA_WORKER_LOG_DIR", dir.c_str(), 1), 0);
+  ScopedEnv log_dir("TESSERA_WORKER_LOG_DIR", dir.c_str());
   std::string first, second;
   {
     std::unique_ptr<WorkerProcess> a = Spawn({}), b = Spawn({});  // same index, two spawns
@@ -347,7 +377,6 @@ TEST(WorkerProcessTest, LogsStayInTheLogDirectoryWhenOneIsNamed) {
     first = a->log_path();
     second = b->log_path();
   }
-  unsetenv("TESSERA_WORKER_LOG_DIR");
   EXPECT_EQ(first.rfind(dir + "/tessera-worker-", 0), 0u) << first;
   EXPECT_NE(first, second) << "a respawn gets its own log";
   EXPECT_EQ(access(first.c_str(), F_OK), 0) << "kept after the worker is gone";
@@ -355,11 +384,10 @@ TEST(WorkerProcessTest, LogsStayInTheLogDirectoryWhenOneIsNamed) {
   std::filesystem::remove_all(dir);
 
   // A directory that cannot take logs costs the logs, not the worker.
-  ASSERT_EQ(setenv("TESSERA_WORKER_LOG_DIR", "/proc/no/such/dir", 1), 0);
+  log_dir.Set("/proc/no/such/dir");
   ::testing::internal::CaptureStderr();
   std::unique_ptr<WorkerProcess> c = Spawn({});
   const std::string err = ::testing::internal::GetCapturedStderr();
-  unsetenv("TESSERA_WORKER_LOG_DIR");
   ASSERT_NE(c, nullptr);
   EXPECT_EQ(c->log_path().rfind("/proc/", 0), std::string::npos) << c->log_path();
   EXPECT_NE(err.find("TESSERA_WORKER_LOG_DIR=/proc/no/such/dir"), std::string::npos) << err;
@@ -388,7 +416,11 @@ TEST(WorkerProcessTest, DirectoriesOfHostsThatAreGoneAreRemoved) {
   const char* old_tmp = std::getenv("TMPDIR");
   const std::string saved = old_tmp != nullptr ? old_tmp : "";
   setenv("TMPDIR", base.c_str(), 1);
-  std::unique_ptr<WorkerProcess> worker = Spawn({});
+  std::unique_ptr<WorkerProcess> worker;
+  {
+    ScopedEnv no_log_dir("TESSERA_WORKER_LOG_DIR", nullptr);  // the log is in the directory
+    worker = Spawn({});
+  }
   if (old_tmp != nullptr) {
     setenv("TMPDIR", saved.c_str(), 1);
   } else {
@@ -404,6 +436,7 @@ TEST(WorkerProcessTest, DirectoriesOfHostsThatAreGoneAreRemoved) {
 }
 
 TEST(WorkerProcessTest, DestructionStopsTheWorker) {
+  ScopedEnv no_log_dir("TESSERA_WORKER_LOG_DIR", nullptr);  // the log goes with its directory
   std::unique_ptr<WorkerProcess> worker = Spawn({});
   ASSERT_NE(worker, nullptr);
   const pid_t pid = worker->pid();

@@ -158,7 +158,7 @@ TEST_F(ReplicaFuzz, StackSizeNestsNoDeeperThanTheDeviceLimit) {
     gg->add_children(gi->id());
   }
   device = DeviceWith(d);
-  out = RunLaunch(*device, ValidRequest(1, 1));
+  out = RunLaunch(*device, ValidRequest(1, 1), std::chrono::seconds(60));
   ASSERT_TRUE(out.status.ok()) << out.status;
   const float* center =
       reinterpret_cast<const float*>(out.output.data()) + 4 * (kHeight / 2 * kWidth + kWidth / 2);

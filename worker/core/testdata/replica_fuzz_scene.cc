@@ -186,11 +186,12 @@ v1::LaunchRequest ValidRequest(uint32_t entry, uint64_t launch_id) {
   return r;
 }
 
-LaunchOutcome RunLaunch(Device& device, const v1::LaunchRequest& request) {
+LaunchOutcome RunLaunch(Device& device, const v1::LaunchRequest& request,
+                        std::chrono::milliseconds limit) {
   LaunchOutcome out;
   std::atomic<bool> cancel{false};
   std::mutex mu;
-  Watchdog watchdog(cancel, kLaunchLimit);
+  Watchdog watchdog(cancel, limit);
   out.status = NoThrow("Launch", [&] {
     return device.Launch(request, cancel, [&](v1::TileResult&& t) {
       std::lock_guard<std::mutex> lock(mu);

@@ -126,7 +126,10 @@ struct LaunchOutcome {
   bool timed_out = false;      // the watchdog cancelled the call
 };
 
-LaunchOutcome RunLaunch(Device& device, const v1::LaunchRequest& request);
+// `limit`: when the watchdog cancels the launch. A valid launch that is slow by design (a thousand
+// nested traces) takes a longer one: the sanitizers (tools/sanitize.sh) slow it past 2 s.
+LaunchOutcome RunLaunch(Device& device, const v1::LaunchRequest& request,
+                        std::chrono::milliseconds limit = kLaunchLimit);
 std::unique_ptr<Device> DeviceWith(const v1::StateDelta& delta);
 
 // The index of the first object of `d` with id `id`, or -1.

@@ -108,6 +108,9 @@ class Dispatcher {
   void AddProgress(uint64_t tiles) {
     if (progress_ != nullptr) progress_->fetch_add(tiles, std::memory_order_relaxed);
   }
+  // Whether device `d` may take tiles now: some are queued for it, and a suspect at the front, or
+  // a suspect it runs alone, does not make it wait for its other call to end.
+  bool CanTake(size_t d) const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   // Takes the next batch for device `d`; empty when the launch is over for it.
   std::vector<v1::Tile> Take(size_t d) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   // Hands the tiles of lost device `d` (its batch and, for stable ownership, its queue) on.
