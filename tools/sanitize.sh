@@ -53,10 +53,11 @@ status=0
 (cd "$build" && ctest -j "$jobs" --output-on-failure "$@") 2>&1 | tee "$build/sanitize-ctest.log" ||
   status=1  # pipefail: ctest's status
 
-# Tests that skip under the sanitizers, each with the reason it gave (GTEST_SKIP() << reason), and
-# tests that ctest did not run at all (DISABLED), with the reason their CMakeLists recorded.
+# Tests that skipped, each with the reason it gave (GTEST_SKIP() << reason: under the sanitizers,
+# or for a reason of the machine), and tests that ctest did not run at all under the sanitizers
+# (DISABLED), with the reason their CMakeLists recorded (tessera_sanitizer_skip).
 echo
-echo "== tests skipped under the sanitizers"
+echo "== skipped tests and why"
 last="$build/Testing/Temporary/LastTest.log"
 skipped=0
 if [ -f "$last" ]; then

@@ -20,6 +20,18 @@
 #include "tessera/rt_ext.h"
 #include "transport/worker_process.h"
 
+#ifdef TESSERA_SANITIZER_BUILD
+// LeakSanitizer's hook (tools/sanitize.sh): no leak check in a child forked without exec
+// (ForkedChildRendersInProcess…). There the parent's threads are still in ASan's thread registry
+// but not in the process, so what they held is never scanned ("Running thread N was not
+// suspended. False leaks are possible.") and reads as leaked. ASan and UBSan still check the
+// child, and the leak check of the test itself stays on.
+namespace {
+const pid_t g_test_pid = getpid();
+}  // namespace
+extern "C" int __lsan_is_turned_off() { return getpid() != g_test_pid; }
+#endif
+
 namespace tessera::e2e {
 namespace {
 
@@ -135,7 +147,7 @@ TEST_F(FaultTest, KilledWorkerCostsTimeNotResults) {
 
 TEST_F(FaultTest, StoppedWorkerMissesItsDeadline) {
   const std::string reference = Reference();
-  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  setenv("TESSERA_WORKER_TIMEOUT", kDeadline.c_str(), 1);
   Create("local:2");
   Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
   g_signal = SIGSTOP;
@@ -148,7 +160,7 @@ TEST_F(FaultTest, StoppedWorkerMissesItsDeadline) {
   ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
   ASSERT_EQ(g_faults.load(), 1);
   EXPECT_TRUE(ReadBytes(scene_.image) == reference) << "the image differs from a fault-free run";
-  EXPECT_NE(warning.find("sent nothing for 1s"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("sent nothing for " + kDeadline + "s"), std::string::npos) << warning;
   EXPECT_LT(seconds, 30.0);
 }
 
@@ -156,7 +168,7 @@ TEST_F(FaultTest, StoppedWorkerMissesItsDeadline) {
 // too, instead of holding that launch for gRPC's keepalive (about 50 s).
 TEST_F(FaultTest, WorkerStoppedBetweenLaunchesMissesItsDeadline) {
   const std::string reference = Reference();
-  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  setenv("TESSERA_WORKER_TIMEOUT", kDeadline.c_str(), 1);
   Create("local:2");
   Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
   std::vector<pid_t> workers = ChildrenNamed(getpid(), kWorker);
@@ -173,7 +185,9 @@ TEST_F(FaultTest, WorkerStoppedBetweenLaunchesMissesItsDeadline) {
   kill(workers.front(), SIGKILL);
   ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
   EXPECT_TRUE(ReadBytes(scene_.image) == reference) << "the image differs from a fault-free run";
-  EXPECT_NE(warning.find("did not take the state update within 1s"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("did not take the state update within " + kDeadline + "s"),
+            std::string::npos)
+      << warning;
   EXPECT_LT(seconds, 30.0);
 }
 
@@ -256,9 +270,13 @@ int g_cancel_polls = 0;
 int CancelOnSecondPoll() { return ++g_cancel_polls >= 2 ? 1 : 0; }
 
 TEST_F(FaultTest, ACancelledEndlessProgramDoesNotWedgeTheNextLaunch) {
-  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  setenv("TESSERA_WORKER_TIMEOUT", kDeadline.c_str(), 1);
   setenv("TESSERA_INTERRUPT_SIGNAL", "0", 1);  // read by the workers this starts
   Create("local:2");
+  // The workers started and took the scene first, so that the cancel lands while they run the
+  // endless program: workers that start slowly (built with sanitizers, or on a loaded machine)
+  // were still taking the state when it came, and nothing was left running to wedge the next one.
+  Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
   Ok(rtVariableSet1i(scene_.iterations, std::numeric_limits<int>::max()));  // hours per index
   g_cancel_polls = 0;
   Ok(rtContextSetTimeoutCallback(ctx_, &CancelOnSecondPoll, 0.05));
@@ -276,8 +294,9 @@ TEST_F(FaultTest, ACancelledEndlessProgramDoesNotWedgeTheNextLaunch) {
   Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
   // Here the host resends the INPUT_OUTPUT buffer the cancelled launch left unknown, so the
   // state update finds the workers hung; without one, the launch call itself does.
-  EXPECT_TRUE(warning.find("sent nothing for 1s") != std::string::npos ||
-              warning.find("did not take the state update within 1s") != std::string::npos)
+  EXPECT_TRUE(warning.find("sent nothing for " + kDeadline + "s") != std::string::npos ||
+              warning.find("did not take the state update within " + kDeadline + "s") !=
+                  std::string::npos)
       << warning;
   EXPECT_LT(seconds, 30.0);
 }
@@ -445,7 +464,8 @@ TEST_F(FaultTest, ATileThatEndsTwoRemoteWorkersIsBlamedBeforeTheThird) {
   int alive = 0;
   for (auto& worker : workers) {
     bool crashed = false;
-    alive += worker->WaitForExit(absl::ZeroDuration(), &crashed).empty() ? 1 : 0;
+    // A crashed worker may still be dying (writing its report) when the launch returns.
+    alive += worker->WaitForExit(absl::Seconds(2), &crashed).empty() ? 1 : 0;
   }
   EXPECT_EQ(alive, 1);
 }
@@ -456,7 +476,7 @@ TEST_F(FaultTest, AHungRemoteWorkerCostsLaterLaunchesTheDeadlineOnly) {
   std::vector<std::unique_ptr<transport::WorkerProcess>> workers;
   std::string spec;
   ASSERT_NO_FATAL_FAILURE(SpawnOwnWorkers(2, &workers, &spec));
-  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  setenv("TESSERA_WORKER_TIMEOUT", kDeadline.c_str(), 1);
   Create(spec);
   Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
   ASSERT_EQ(kill(workers[1]->pid(), SIGSTOP), 0);
@@ -469,10 +489,11 @@ TEST_F(FaultTest, AHungRemoteWorkerCostsLaterLaunchesTheDeadlineOnly) {
   }
   unsetenv("TESSERA_WORKER_TIMEOUT");
   kill(workers[1]->pid(), SIGCONT);
-  for (double s : seconds) EXPECT_LT(s, 5.0);
+  for (double s : seconds) EXPECT_LT(s, kDeadlineSeconds + 4.0);
   // Lost in the first launch; the second cannot reach it and says so once, the third says
   // nothing more (a worker down for hours must not log at every launch).
-  EXPECT_NE(warnings[1].find("did not answer within 1s"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[1].find("did not answer within " + kDeadline + "s"), std::string::npos)
+      << warnings[1];
   EXPECT_NE(warnings[1].find("could not be started again"), std::string::npos) << warnings[1];
   EXPECT_EQ(warnings[2].find("could not be started"), std::string::npos) << warnings[2];
 }
@@ -480,7 +501,7 @@ TEST_F(FaultTest, AHungRemoteWorkerCostsLaterLaunchesTheDeadlineOnly) {
 // A worker says nothing while it builds its copy of a large state update: that silence is work,
 // not a hang, even with the shortest deadline.
 TEST_F(FaultTest, ALargeStateUpdateIsNotTakenForAHang) {
-  setenv("TESSERA_WORKER_TIMEOUT", "1", 1);
+  setenv("TESSERA_WORKER_TIMEOUT", kDeadline.c_str(), 1);
   Create("local:2");
   constexpr RTsize kBytes = RTsize{1024} << 20;  // seconds to take on a slow machine
   RTbuffer ballast;

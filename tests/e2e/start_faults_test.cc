@@ -134,7 +134,7 @@ TEST_F(StartFaultTest, AWorkerKilledWhileStartingIsALostDevice) {
 // deadline, not after a fixed start timeout, and the launch succeeds on the other.
 TEST_F(StartFaultTest, AWorkerStoppedWhileStartingIsDroppedAfterTheDeadline) {
   const std::string reference = Reference();
-  ScopedEnv timeout("TESSERA_WORKER_TIMEOUT", "1");
+  ScopedEnv timeout("TESSERA_WORKER_TIMEOUT", kDeadline);
   ScopedEnv worker("TESSERA_WORKER", Wrapper("kill -STOP $$"));
   Create("local:2");
   double seconds = 0;
@@ -142,7 +142,8 @@ TEST_F(StartFaultTest, AWorkerStoppedWhileStartingIsDroppedAfterTheDeadline) {
   RTresult r = TimedLaunch(&seconds, &said);
   ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r) << "\n" << said;
   EXPECT_TRUE(ReadBytes(scene_.image) == reference);
-  EXPECT_NE(said.find("did not report listening within 1s"), std::string::npos) << said;
+  EXPECT_NE(said.find("did not report listening within " + kDeadline + "s"), std::string::npos)
+      << said;
   EXPECT_LT(seconds, 10.0);
   r = TimedLaunch(&seconds, &said);
   ASSERT_EQ(r, RT_SUCCESS) << ErrorText(ctx_, r);
@@ -196,7 +197,7 @@ void AddBallast(RTcontext ctx, RTsize bytes) {
 // device is dropped, and the launch succeeds on the other.
 TEST_F(StartFaultTest, AWorkerLostDuringTheFirstStateUpdateIsALostDevice) {
   const std::string reference = Reference();
-  ScopedEnv timeout("TESSERA_WORKER_TIMEOUT", "1");
+  ScopedEnv timeout("TESSERA_WORKER_TIMEOUT", kDeadline);
   for (int sig : {SIGSTOP, SIGKILL}) {
     SCOPED_TRACE(sig == SIGSTOP ? "SIGSTOP" : "SIGKILL");
     Create("local:2");

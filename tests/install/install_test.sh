@@ -3,10 +3,11 @@
 # first put, nor on this build tree), builds tests/install/consumer against it with find_package,
 # and runs it on two worker processes: they must be the installed tessera-worker, and a program
 # compiled from source at run time must find the installed headers.
-#   install_test.sh <build dir> <consumer source dir>
+#   install_test.sh <build dir> <consumer source dir> [consumer cmake arguments...]
 set -euo pipefail
 build=$1
 consumer=$2
+shift 2
 work=$(mktemp -d "${TMPDIR:-/tmp}/tessera-install-test.XXXXXX")
 [ -n "${KEEP_WORK:-}" ] || trap "rm -rf \"$work\"" EXIT
 
@@ -22,7 +23,7 @@ echo "// added by install_test.sh: consumer/fill.cu needs it" \
   >"$prefix/include/tessera/installed_marker.h"
 
 cmake -S "$consumer" -B "$work/consumer-build" -DCMAKE_PREFIX_PATH="$prefix" \
-  -DCMAKE_BUILD_TYPE=Release >/dev/null
+  -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
 cmake --build "$work/consumer-build" -j 2 >/dev/null
 
 unset TESSERA_WORKER TESSERA_INCLUDE_DIR
