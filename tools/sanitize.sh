@@ -77,6 +77,13 @@ if [ -f "$build/sanitizer-disabled-tests.txt" ]; then
   done <"$build/sanitizer-disabled-tests.txt"
 fi
 echo "  $skipped skipped"
+# Tests that run but turn one check off (a test says so on stderr: "sanitize: no leak check …").
+if [ -f "$last" ]; then
+  awk '
+    /^[0-9]+\/[0-9]+ Testing: / { name = $3 }
+    /^sanitize: / && !((name, $0) in seen) { seen[name, $0] = 1; print "  " name ": " substr($0, 11) }
+  ' "$last"
+fi
 
 # Reports: ASan's and LSan's files; workers' logs that hold one; and the tests whose output holds
 # one (UBSan in a test process, or in a process whose stderr the test passed on).

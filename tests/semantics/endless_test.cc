@@ -5,14 +5,40 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "rt_fixture.h"
 
+#ifdef TESSERA_SANITIZER_BUILD
+// What an interrupt's jump skips is not cleaned up, as docs/devices.md ("Faults") says: a program
+// stopped in a print longer than 2 KiB loses the text being made (heap), one stopped in a catch
+// block loses the exception it was handling. LeakSanitizer (tools/sanitize.sh) would report them
+// when the test process exits: those tests turn its check off, with the reason on stderr. ASan
+// and UBSan still check them.
+namespace {
+std::atomic<const char*> g_leak_check_off_because{nullptr};
+}  // namespace
+extern "C" int __lsan_is_turned_off() {
+  const char* why = g_leak_check_off_because.load();
+  if (why != nullptr) std::fprintf(stderr, "sanitize: no leak check in this test: %s\n", why);
+  return why != nullptr ? 1 : 0;
+}
+#endif
+
 namespace tessera::testing {
 namespace {
+
+// Under the sanitizers, turns LeakSanitizer's check off for this test process (above).
+void ExpectLeaksOfTheJump(const char* why) {
+#ifdef TESSERA_SANITIZER_BUILD
+  g_leak_check_off_because = why;
+#else
+  (void)why;
+#endif
+}
 
 constexpr char kModule[] = "endless_programs";
 constexpr unsigned kWidth = 4, kHeight = 2;
@@ -110,6 +136,7 @@ TEST_P(EndlessTest, ABoundingBoxProgram) {
 
 // rtPrintf in a loop spends its time formatting, in libc and the engine.
 TEST_P(EndlessTest, ALoopOfPrints) {
+  ExpectLeaksOfTheJump("the interrupted print's 100 kB line (docs/devices.md, Faults)");
   Scene("quick_intersect", "quick_closest_hit", "loop_miss", true);
   Ok(rtContextSetPrintEnabled(ctx_, 1));
   ExpectCancelledThenWorking("print_loop_raygen");
@@ -123,6 +150,8 @@ TEST_P(EndlessTest, ALoopOfCaughtExceptions) {
 
 // A loop inside a catch block: the exception it was handling does not stay active on the thread.
 TEST_P(EndlessTest, ALoopInACatchBlock) {
+  ExpectLeaksOfTheJump(
+      "the exception the interrupted catch block handled (docs/devices.md, Faults)");
   Scene("quick_intersect", "quick_closest_hit", "loop_miss", true);
   ExpectCancelledThenWorking("catch_loop_raygen");
 }
