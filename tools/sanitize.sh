@@ -44,7 +44,13 @@ supp="$root/tools/sanitizers"
 common="halt_on_error=1:abort_on_error=1:log_path=$reports/report:log_exe_name=1"
 # use_sigaltstack=0: tessera-worker gives the threads that run programs alternate signal stacks of
 # its own size (worker/core/crash_report.cc), and checks that a new thread has none.
-export ASAN_OPTIONS="$common:detect_leaks=1:check_initialization_order=1:strict_init_order=1:use_sigaltstack=0:${ASAN_OPTIONS:-}"
+# intercept_tls_get_addr=0: g++ 12's runtime takes some dynamic TLS blocks (program modules are
+# dlopen'd with thread_local variables) for glibc 2.19's, reads a bogus range from them, and
+# LeakSanitizer's tracer dies of SIGSEGV at exit now and then ("Tracer caught signal 11",
+# google/sanitizers#1322; fixed after GCC 13). The cost: the leak check does not scan those blocks.
+asan="detect_leaks=1:check_initialization_order=1:strict_init_order=1:use_sigaltstack=0"
+asan+=":intercept_tls_get_addr=0"
+export ASAN_OPTIONS="$common:$asan:${ASAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
 export UBSAN_OPTIONS="$common:print_stacktrace=1:suppressions=$supp/ubsan.supp:${UBSAN_OPTIONS:-}"
 
@@ -57,7 +63,7 @@ status=0
 # or for a reason of the machine), and tests that ctest did not run at all under the sanitizers
 # (DISABLED), with the reason their CMakeLists recorded (tessera_sanitizer_skip).
 echo
-echo "== skipped tests and why"
+echo "== tests skipped, and why"
 last="$build/Testing/Temporary/LastTest.log"
 skipped=0
 if [ -f "$last" ]; then
@@ -68,7 +74,10 @@ if [ -f "$last" ]; then
     /^[0-9]+\/[0-9]+ Testing: / { name = $3; reason = ""; grab = 0; next }
     grab == 1 { reason = $0; grab = 0; next }
     /: Skipped$/ { grab = 1; next }
-    /^\[  SKIPPED \]/ && reason != "" { print name "\t" reason; reason = "" }' "$last")
+    /^\[  SKIPPED \]/ && name != "" {
+      print name "\t" (reason != "" ? reason : "(no reason given)")
+      name = ""
+    }' "$last")
 fi
 if [ -f "$build/sanitizer-disabled-tests.txt" ]; then
   while IFS=$'\t' read -r name reason; do
@@ -77,18 +86,23 @@ if [ -f "$build/sanitizer-disabled-tests.txt" ]; then
   done <"$build/sanitizer-disabled-tests.txt"
 fi
 echo "  $skipped skipped"
-# Tests that run but turn one check off (a test says so on stderr: "sanitize: no leak check …").
+# Tests that run with one check turned off, and why (each says so on stderr: "sanitize: …").
+echo
+echo "== tests run with a check turned off, and why"
 if [ -f "$last" ]; then
   awk '
     /^[0-9]+\/[0-9]+ Testing: / { name = $3 }
-    /^sanitize: / && !((name, $0) in seen) { seen[name, $0] = 1; print "  " name ": " substr($0, 11) }
-  ' "$last"
+    /^sanitize: / && !((name, $0) in seen) {
+      seen[name, $0] = 1
+      print "  " name ": " substr($0, 11)
+    }' "$last"
 fi
 
 # Reports: ASan's and LSan's files; workers' logs that hold one; and the tests whose output holds
 # one (UBSan in a test process, or in a process whose stderr the test passed on).
 echo
-pattern='runtime error: |ERROR: (AddressSanitizer|LeakSanitizer)|SUMMARY: (AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer)'
+pattern='runtime error: |ERROR: (AddressSanitizer|LeakSanitizer)'
+pattern+='|SUMMARY: (AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer)'
 found=$( (find "$reports" -type f; grep -rlE "$pattern" "$worker_logs" || true) | sort)
 in_tests=""
 if [ -f "$last" ]; then

@@ -8,10 +8,14 @@
 set -euo pipefail
 build=$(cd "$1" && pwd -P)
 
-# The tables a file defines, one per line (nm reads the full symbol table, hidden symbols too).
-tables() {
-  nm "$1" 2>/dev/null | awk '$2 ~ /^[A-Za-z]$/ && $3 ~ /^descriptor_table_tessera_2fv1_2f/ {print $3}' |
-    sort -u
+# The tables a file defines, one per line (nm reads the full symbol table, hidden symbols too),
+# into table_cache[file]: each file is read once, libtessera.so being loaded by most executables.
+declare -A table_cache
+read_tables() {
+  if [ -z "${table_cache[$1]+set}" ]; then
+    table_cache[$1]=$(nm "$1" 2>/dev/null |
+      awk '$2 ~ /^[A-Za-z]$/ && $3 ~ /^descriptor_table_tessera_2fv1_2f/ {print $3}' | sort -u)
+  fi
 }
 
 checked=0
@@ -27,7 +31,12 @@ while IFS= read -r -d '' exe; do
     real=$(readlink -f "$lib")
     case "$real" in "$build"/*) files+=("$real") ;; esac
   done < <(ldd "$exe" 2>/dev/null | awk '$2 == "=>" && $3 ~ /^\// {print $3}')
-  all=$(for f in "${files[@]}"; do tables "$f"; done | sort)
+  all=""
+  for f in "${files[@]}"; do
+    read_tables "$f"
+    [ -z "${table_cache[$f]}" ] || all+="${table_cache[$f]}"$'\n'
+  done
+  all=$(sort <<<"$all" | sed '/^$/d')
   [ -n "$all" ] && with_protos=$((with_protos + 1))
   dups=$(uniq -d <<<"$all")
   if [ -n "$dups" ]; then
@@ -36,14 +45,15 @@ while IFS= read -r -d '' exe; do
     for table in $dups; do
       echo "  $table in:"
       for f in "${files[@]}"; do
-        tables "$f" | grep -qx "$table" && echo "    ${f#"$build"/}"
+        grep -qx "$table" <<<"${table_cache[$f]}" && echo "    ${f#"$build"/}"
       done
     done
   fi
 done < <(find "$build" -type f -perm -u+x -not -name '*.so' -not -name '*.so.*' \
            -not -path '*/CMakeFiles/*' -print0)
 
-echo "$checked executables checked, $with_protos with generated protobuf code, $failures with two copies"
+echo "$checked executables checked, $with_protos with generated protobuf code," \
+  "$failures with two copies"
 # Guard against checking nothing (a stripped build, or no symbols found): tessera-worker and the
 # tests that link libtessera.so must have been seen holding the code.
 if [ "$with_protos" -lt 2 ]; then
