@@ -1,6 +1,7 @@
 # `cmake --install <build> [--prefix P]`: what an application that embeds Tessera needs, in the
 # GNUInstallDirs layout (docs/install.md):
 #   <libdir>/libtessera.so.<version>       the host API (and its SONAME link, libtessera.so)
+#   <libdir>/libtessera_image.so.<version> image files into buffers (OpenImageIO), Tessera::image
 #   <bindir>/tessera-worker                 the worker libtessera spawns for local:N devices, and
 #                                           that other machines run
 #   <includedir>/tessera/                   optix.h, optixu/, tessera/: the include root of host
@@ -22,7 +23,9 @@ target_include_directories(tessera PUBLIC
 # optix.h's program-side half (tessera/device.h) is C++17.
 target_compile_features(tessera INTERFACE cxx_std_17)
 
-install(TARGETS tessera EXPORT TesseraTargets
+set_target_properties(tessera_image PROPERTIES EXPORT_NAME image VERSION ${PROJECT_VERSION}
+  SOVERSION ${PROJECT_VERSION_MAJOR})
+install(TARGETS tessera tessera_image EXPORT TesseraTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS tessera-worker RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/api/include/
