@@ -720,22 +720,28 @@ inline T FromElements(const E* e) {
   return Result<T>::Make(c);
 }
 
+// One format and read mode of Run. A function template rather than a lambda nested in Run's:
+// Clang checks what does not depend on a nested lambda's own parameters when the outer one is
+// instantiated, discarded `if constexpr` branches included.
+template <typename T, typename F, typename M, typename FloatOp, typename ElementOp>
+inline T RunMode(FloatOp& float_op, ElementOp& element_op) {
+  if constexpr (std::is_same_v<M, ModeElement>) {
+    typename F::Scalar e[4] = {0, 0, 0, 1};
+    return element_op(F{}, e) ? FromElements<T>(e) : T{};
+  } else {
+    float f[4] = {0.f, 0.f, 0.f, 1.f};
+    return float_op(F{}, M{}, f) ? FromFloats<T>(f) : T{};
+  }
+}
+
 // Runs float_op(Format, Mode, float out[4]) or element_op(Format, Scalar out[4]) for the view's
 // format and read mode and converts what it wrote to T; T{} when there are no texels.
 template <typename T, typename FloatOp, typename ElementOp>
 inline T Run(const TesseraTextureView& v, FloatOp&& float_op, ElementOp&& element_op) {
   return WithFormat<T>(v, [&](auto format) -> T {
     using F = decltype(format);
-    return WithMode<F>(v, [&](auto mode) -> T {
-      using M = decltype(mode);
-      if constexpr (std::is_same_v<M, ModeElement>) {
-        typename F::Scalar e[4] = {0, 0, 0, 1};
-        return element_op(format, e) ? FromElements<T>(e) : T{};
-      } else {
-        float f[4] = {0.f, 0.f, 0.f, 1.f};
-        return float_op(format, mode, f) ? FromFloats<T>(f) : T{};
-      }
-    });
+    return WithMode<F>(
+        v, [&](auto mode) -> T { return RunMode<T, F, decltype(mode)>(float_op, element_op); });
   });
 }
 
@@ -1021,5 +1027,7 @@ inline T Fetch3D(const TesseraTextureView& v, int x, int y, int z) {
 }
 
 }  // namespace tessera::texture
+
+#undef TESSERA_TEXTURE_INLINE
 
 #endif  // TESSERA_DETAIL_TEXTURE_SAMPLING_H_
