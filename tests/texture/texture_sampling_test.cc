@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <random>
 #include <vector>
 
 namespace {
@@ -209,6 +211,99 @@ TEST(TextureLinear, TrilinearWithQuantizedWeights) {
       for (int x = 0; x < 2; ++x)
         expected += double(w[0][x]) * w[1][y] * w[2][z] * t[z * 4 + y * 2 + x];
   EXPECT_EQ(Sample3D<float>(v, 0.8f, 0.6f, 1.3f), static_cast<float>(expected / (1 << 24)));
+}
+
+// The bilinear formula with quantized weights, written out directly for clamp and repeat, against
+// the sampler over many coordinates: RGBA8 (with and without its shortcut), 16-bit, signed and
+// float texels.
+struct ReferenceAxis {
+  int i0, i1, q;  // q: the weight of i1 in 1/256
+};
+
+ReferenceAxis ReferenceLinear(float x, int n, bool repeat) {
+  float t;
+  if (repeat) {
+    const float f = x - std::floor(x);
+    t = f * static_cast<float>(n) - 0.5f;
+  } else {
+    t = x * static_cast<float>(n) - 0.5f;
+  }
+  const float fl = std::floor(t);
+  const int i = static_cast<int>(fl);
+  const int q = static_cast<int>(std::floor((t - fl) * 256.f + 0.5f));
+  if (repeat) return {(i % n + n) % n, ((i + 1) % n + n) % n, q};
+  return {std::clamp(i, 0, n - 1), std::clamp(i + 1, 0, n - 1), q};
+}
+
+TEST(TextureLinear, MatchesTheFormulaAtRandomCoordinates) {
+  constexpr int kW = 5, kH = 3;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> byte(0, 255), word(0, 65535), sbyte(-128, 127);
+  std::vector<unsigned char> u8(kW * kH * 4);
+  std::vector<unsigned short> u16(kW * kH * 2);
+  std::vector<signed char> s8(kW * kH * 4);
+  std::vector<float> f32(kW * kH * 4);
+  for (auto& c : u8) c = static_cast<unsigned char>(byte(rng));
+  for (auto& c : u16) c = static_cast<unsigned short>(word(rng));
+  for (auto& c : s8) c = static_cast<signed char>(sbyte(rng));
+  for (auto& c : f32) c = std::ldexp(static_cast<float>(word(rng)) - 30000.f, -7);
+  const std::vector<unsigned char> half_size(4, 0);
+
+  std::uniform_real_distribution<float> coordinate(-1.5f, 2.5f);
+  for (const bool repeat : {false, true}) {
+    auto view = [&](RTformat format, unsigned size, const void* data) {
+      TesseraTextureView v = View(format, size, data, kW, kH);
+      v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
+      v.read_mode = RT_TEXTURE_READ_NORMALIZED_FLOAT;
+      SetFilter(&v, RT_FILTER_LINEAR);
+      SetWrap(&v, repeat ? RT_WRAP_REPEAT : RT_WRAP_CLAMP_TO_EDGE);
+      return v;
+    };
+    const TesseraTextureView rgba8 = view(RT_FORMAT_UNSIGNED_BYTE4, 4, u8.data());
+    TesseraTextureView rgba8_mip = rgba8;  // not the shortcut: two levels, nearest mip filter
+    rgba8_mip.levels[1] = {half_size.data(), 1, 1, 1};
+    rgba8_mip.level_count = 2;
+    rgba8_mip.mip_filter = RT_FILTER_NEAREST;
+    const TesseraTextureView rg16 = view(RT_FORMAT_UNSIGNED_SHORT2, 4, u16.data());
+    const TesseraTextureView snorm8 = view(RT_FORMAT_BYTE4, 4, s8.data());
+    const TesseraTextureView float4v = view(RT_FORMAT_FLOAT4, 16, f32.data());
+    for (int k = 0; k < 2000; ++k) {
+      const float x = coordinate(rng), y = coordinate(rng);
+      const ReferenceAxis ax = ReferenceLinear(x, kW, repeat), ay = ReferenceLinear(y, kH, repeat);
+      const int xi[2] = {ax.i0, ax.i1}, yi[2] = {ay.i0, ay.i1};
+      const int wx[2] = {256 - ax.q, ax.q}, wy[2] = {256 - ay.q, ay.q};
+      auto sum = [&](auto texel, int channels, int c) {
+        double s = 0;
+        for (int j = 0; j < 2; ++j)
+          for (int i = 0; i < 2; ++i)
+            s += double(wx[i] * wy[j]) * texel((yi[j] * kW + xi[i]) * channels + c);
+        return s;
+      };
+      SCOPED_TRACE(testing::Message() << "repeat " << repeat << " at " << x << ", " << y);
+      const float4 a = Sample2D<float4>(rgba8, x, y), b = Sample2D<float4>(rgba8_mip, x, y);
+      const float4 n = Sample2D<float4>(snorm8, x, y), f = Sample2D<float4>(float4v, x, y);
+      const float2 w = Sample2D<float2>(rg16, x, y);
+      const float got_a[4] = {a.x, a.y, a.z, a.w}, got_b[4] = {b.x, b.y, b.z, b.w};
+      const float got_n[4] = {n.x, n.y, n.z, n.w}, got_f[4] = {f.x, f.y, f.z, f.w};
+      const float got_w[2] = {w.x, w.y};
+      for (int c = 0; c < 4; ++c) {
+        const float expected_u8 =
+            static_cast<float>(sum([&](int t) { return double(u8[t]); }, 4, c)) / (65536.f * 255);
+        ASSERT_EQ(got_a[c], expected_u8) << c;
+        ASSERT_EQ(got_b[c], expected_u8) << c;
+        const double s8_sum = sum([&](int t) { return double(std::max<int>(s8[t], -127)); }, 4, c);
+        ASSERT_EQ(got_n[c], static_cast<float>(s8_sum) / (65536.f * 127)) << c;
+        ASSERT_EQ(got_f[c],
+                  static_cast<float>(sum([&](int t) { return double(f32[t]); }, 4, c) / 65536.0))
+            << c;
+      }
+      for (int c = 0; c < 2; ++c) {
+        ASSERT_EQ(got_w[c], static_cast<float>(sum([&](int t) { return double(u16[t]); }, 2, c) /
+                                               (65536.0 * 65535)))
+            << c;
+      }
+    }
+  }
 }
 
 TEST(TextureLinear, NormalizedCoordinatesScaleBySize) {
