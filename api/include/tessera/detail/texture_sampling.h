@@ -328,9 +328,9 @@ template <typename F, bool kSigned>
 struct IntegerChannels {
   using S = typename F::Scalar;
   static constexpr std::int64_t kMax = std::numeric_limits<S>::max();
-  template <int kBits>
   // The weights of a lookup sum to 2^kBits, so no partial sum exceeds kMax << kBits: below 2^24
   // a float holds every product and sum exactly (and float arithmetic vectorizes best).
+  template <int kBits>
   using Acc = std::conditional_t<(kMax << kBits) < (std::int64_t(1) << 24), float, std::int64_t>;
   // Signed normalized: the most negative value reads as -1 like the one above it (CUDA's
   // max(c / max, -1)).
