@@ -14,6 +14,8 @@ rtDeclareVariable(float2, offset, , );
 rtTextureSampler<float4, 2> tex;
 rtTextureSampler<float4, 2> unbound_tex;  // no scope names it
 rtTextureSampler<uchar4, 2, cudaReadModeNormalizedFloat> bytes_tex;
+rtTextureSampler<float4, cudaTextureTypeCubemap> cube_tex;
+rtTextureSampler<float4, cudaTextureType2DLayered> layers_tex;
 rtBuffer<float4, 2> declared_out;
 rtBuffer<float4, 2> bindless_out;
 
@@ -52,4 +54,14 @@ RT_PROGRAM void sample_bytes() {
 
 RT_PROGRAM void record_exception() {
   declared_out[launch_index] = make_float4(static_cast<float>(rtGetExceptionCode()), 0.f, 0.f, 0.f);
+}
+
+// Launch index i = x + width * y looks along the axis of cube face i % 6 (+x, -x, +y, -y, +z, -z)
+// into declared_out, and reads the centre of layer i % 3 into bindless_out.
+RT_PROGRAM void sample_cube_and_layers() {
+  const unsigned i = launch_index.x + launch_dim.x * launch_index.y;
+  const float axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const float* a = axes[i % 6];
+  declared_out[launch_index] = texCubemap(cube_tex, a[0], a[1], a[2]);
+  bindless_out[launch_index] = tex2DLayered(layers_tex, 0.5f, 0.5f, static_cast<int>(i % 3));
 }

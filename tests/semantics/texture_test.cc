@@ -193,6 +193,33 @@ TEST_P(TextureTest, NormalizedFloatReadsOfBytes) {
   }
 }
 
+// Cube maps and layered textures reach the device with their faces and layers in order.
+TEST_P(TextureTest, CubeMapFacesAndLayers) {
+  // 2x2 texels a face or layer, each texel of face f (layer l) holding f (10 + l).
+  auto filled = [&](unsigned desc, unsigned depth, float base) {
+    RTbuffer b = nullptr;
+    EXPECT_EQ(rtBufferCreate(ctx_, RT_BUFFER_INPUT | desc, &b), RT_SUCCESS);
+    EXPECT_EQ(rtBufferSetFormat(b, RT_FORMAT_FLOAT4), RT_SUCCESS);
+    EXPECT_EQ(rtBufferSetSize3D(b, 2, 2, depth), RT_SUCCESS);
+    void* p = nullptr;
+    EXPECT_EQ(rtBufferMap(b, &p), RT_SUCCESS);
+    for (unsigned i = 0; i < 4 * depth; ++i) {
+      static_cast<Float4*>(p)[i] = {base + i / 4, 0.f, 0.f, 1.f};
+    }
+    EXPECT_EQ(rtBufferUnmap(b), RT_SUCCESS);
+    return b;
+  };
+  Ok(rtVariableSetObject(ContextVar("cube_tex"), Sampler(filled(RT_BUFFER_CUBEMAP, 6, 0.f))));
+  Ok(rtVariableSetObject(ContextVar("layers_tex"), Sampler(filled(RT_BUFFER_LAYERED, 3, 10.f))));
+  RayGen("sample_cube_and_layers");
+  Launch();
+  const std::vector<Float4> faces = Read(declared_), layers = Read(bindless_);
+  for (unsigned i = 0; i < kSide * kSide; ++i) {
+    EXPECT_EQ(faces[i], (Float4{static_cast<float>(i % 6), 0.f, 0.f, 1.f})) << "face of " << i;
+    EXPECT_EQ(layers[i], (Float4{10.f + i % 3, 0.f, 0.f, 1.f})) << "layer of " << i;
+  }
+}
+
 TEST_P(TextureTest, UnknownIdsRaiseTextureIdInvalid) {
   Ok(rtVariableSet1i(ContextVar("tex_id"), 99999));
   // Disabled (the default): the read gives zeros.
