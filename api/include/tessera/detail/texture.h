@@ -31,62 +31,7 @@
 enum cudaTextureReadMode { cudaReadModeElementType = 0, cudaReadModeNormalizedFloat = 1 };
 #endif
 
-#if __has_include("tessera/detail/texture_sampling.h")
 #include "tessera/detail/texture_sampling.h"
-#else
-// The sampling functions' interface (TEXTURE_NOTES.md), declared so that this header compiles
-// before their header is present; a module that samples then fails to load (undefined symbol).
-namespace tessera::texture {
-template <typename T>
-T Sample1D(const TesseraTextureView& v, float x);
-template <typename T>
-T Sample2D(const TesseraTextureView& v, float x, float y);
-template <typename T>
-T Sample3D(const TesseraTextureView& v, float x, float y, float z);
-template <typename T>
-T Sample1DLayered(const TesseraTextureView& v, float x, int layer);
-template <typename T>
-T Sample2DLayered(const TesseraTextureView& v, float x, float y, int layer);
-template <typename T>
-T SampleCubemap(const TesseraTextureView& v, float x, float y, float z);
-template <typename T>
-T SampleCubemapLayered(const TesseraTextureView& v, float x, float y, float z, int layer);
-template <typename T>
-T Sample1DLod(const TesseraTextureView& v, float x, float level);
-template <typename T>
-T Sample2DLod(const TesseraTextureView& v, float x, float y, float level);
-template <typename T>
-T Sample3DLod(const TesseraTextureView& v, float x, float y, float z, float level);
-template <typename T>
-T Sample1DLayeredLod(const TesseraTextureView& v, float x, int layer, float level);
-template <typename T>
-T Sample2DLayeredLod(const TesseraTextureView& v, float x, float y, int layer, float level);
-template <typename T>
-T SampleCubemapLod(const TesseraTextureView& v, float x, float y, float z, float level);
-template <typename T>
-T SampleCubemapLayeredLod(const TesseraTextureView& v, float x, float y, float z, int layer,
-                          float level);
-template <typename T>
-T Sample1DGrad(const TesseraTextureView& v, float x, float dPdx, float dPdy);
-template <typename T>
-T Sample2DGrad(const TesseraTextureView& v, float x, float y, float2 dPdx, float2 dPdy);
-template <typename T>
-T Sample3DGrad(const TesseraTextureView& v, float x, float y, float z, float4 dPdx, float4 dPdy);
-template <typename T>
-T Sample1DLayeredGrad(const TesseraTextureView& v, float x, int layer, float dPdx, float dPdy);
-template <typename T>
-T Sample2DLayeredGrad(const TesseraTextureView& v, float x, float y, int layer, float2 dPdx,
-                      float2 dPdy);
-template <typename T>
-T Gather2D(const TesseraTextureView& v, float x, float y, int comp);
-template <typename T>
-T Fetch1D(const TesseraTextureView& v, int x);
-template <typename T>
-T Fetch2D(const TesseraTextureView& v, int x, int y);
-template <typename T>
-T Fetch3D(const TesseraTextureView& v, int x, int y, int z);
-}  // namespace tessera::texture
-#endif
 
 #pragma GCC visibility push(hidden)
 namespace tessera::detail {
