@@ -12,6 +12,8 @@
 #include "dirty.h"
 #include "hash.h"
 #include "status.h"
+#include "tessera/detail/mip_levels.h"
+#include "tessera/detail/texture_view.h"
 #include "tessera/scheduler/device.h"
 #include "variable.h"
 #include "variable_scope.h"
@@ -28,7 +30,8 @@ absl::Status MappedError() { return RtError(RT_ERROR_ALREADY_MAPPED, "buffer is 
 
 absl::Status Buffer::CheckDesc(unsigned desc) {
   constexpr unsigned kTypeBits = RT_BUFFER_INPUT | RT_BUFFER_OUTPUT;
-  constexpr unsigned kFlagBits = RT_BUFFER_GPU_LOCAL | RT_BUFFER_COPY_ON_DIRTY;
+  constexpr unsigned kFlagBits =
+      RT_BUFFER_GPU_LOCAL | RT_BUFFER_COPY_ON_DIRTY | RT_BUFFER_LAYERED | RT_BUFFER_CUBEMAP;
   if ((desc & ~(kTypeBits | kFlagBits)) != 0) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat("buffer description 0x", absl::Hex(desc),
@@ -60,8 +63,8 @@ absl::Status Buffer::SetFormat(int format) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat("0x", absl::Hex(format), " is not a format"));
   }
-  if (mapped_) return MappedError();
-  return Reallocate(dims_, static_cast<RTformat>(format), user_element_size_);
+  if (mapped()) return MappedError();
+  return Reallocate(dims_, static_cast<RTformat>(format), user_element_size_, mip_levels_);
 }
 
 absl::Status Buffer::SetElementSize(size_t size) {
@@ -76,8 +79,8 @@ absl::Status Buffer::SetElementSize(size_t size) {
                    absl::StrCat("element size ", size, " exceeds ", kMaxElementBytes,
                                 " bytes, the largest element devices accept"));
   }
-  if (mapped_) return MappedError();
-  return Reallocate(dims_, format_, size);
+  if (mapped()) return MappedError();
+  return Reallocate(dims_, format_, size, mip_levels_);
 }
 
 size_t Buffer::dim(unsigned axis) const {
@@ -90,12 +93,64 @@ absl::Status Buffer::SetSize(const std::vector<size_t>& dims) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat("dimensionality ", dims.size(), " is not 1, 2 or 3"));
   }
-  if (mapped_) return MappedError();
-  return Reallocate(dims, format_, user_element_size_);
+  if (mapped()) return MappedError();
+  if (mip_levels_ > 1) {
+    std::array<uint64_t, 3> d{dims[0], dims.size() > 1 ? dims[1] : 1,
+                              dims.size() > 2 ? dims[2] : 1};
+    const unsigned most =
+        detail::MaxMipLevels(d, static_cast<unsigned>(dims.size()), keeps_depth());
+    if (mip_levels_ > most) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat("a ", absl::StrJoin(dims, "x"), " buffer has at most ", most,
+                                  " mip levels, but its mip level count is ", mip_levels_));
+    }
+  }
+  return Reallocate(dims, format_, user_element_size_, mip_levels_);
+}
+
+absl::Status Buffer::SetMipLevelCount(unsigned levels) {
+  if (levels < 1 || levels > TESSERA_TEXTURE_MAX_LEVELS) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat("mip level count ", levels, " is not between 1 and ",
+                                TESSERA_TEXTURE_MAX_LEVELS));
+  }
+  if (sized()) {
+    const unsigned most = detail::MaxMipLevels(LevelDims(0), dimensionality(), keeps_depth());
+    if (levels > most) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat("a ", absl::StrJoin(dims_, "x"), " buffer has at most ", most,
+                                  " mip levels, not ", levels));
+    }
+  }
+  if (mapped()) return MappedError();
+  return Reallocate(dims_, format_, user_element_size_, levels);
+}
+
+std::array<uint64_t, 3> Buffer::LevelDims(unsigned level) const {
+  const std::array<uint64_t, 3> d{dim(0), dim(1), dim(2)};
+  return detail::MipLevelDims(d, dimensionality(), keeps_depth(), level);
+}
+
+uint64_t Buffer::LevelByteOffset(unsigned level) const {
+  const std::array<uint64_t, 3> d{dim(0), dim(1), dim(2)};
+  return detail::MipLevelOffset(d, dimensionality(), keeps_depth(), level) * element_size();
+}
+
+uint64_t Buffer::LevelBytes(unsigned level) const {
+  const std::array<uint64_t, 3> d{dim(0), dim(1), dim(2)};
+  return detail::MipLevelElements(d, dimensionality(), keeps_depth(), level) * element_size();
+}
+
+absl::Status Buffer::CheckLevel(unsigned level) const {
+  if (level >= mip_levels_) {
+    return RtError(RT_ERROR_INVALID_VALUE, absl::StrCat("mip level ", level, " is past the ",
+                                                        mip_levels_, " levels the buffer has"));
+  }
+  return absl::OkStatus();
 }
 
 absl::Status Buffer::Reallocate(const std::vector<size_t>& dims, RTformat format,
-                                size_t user_element_size) {
+                                size_t user_element_size, unsigned mip_levels) {
   // Elements times element size, checked step by step so that no product can wrap around.
   const uint64_t element = format == RT_FORMAT_USER ? user_element_size : FormatElementSize(format);
   uint64_t bytes = dims.empty() ? 0 : std::max<uint64_t>(element, 1);
@@ -109,6 +164,14 @@ absl::Status Buffer::Reallocate(const std::vector<size_t>& dims, RTformat format
     bytes *= d;
   }
   if (element == 0) bytes = 0;  // no format or element size yet: nothing to hold
+  if (mip_levels > 1 && bytes != 0) {
+    // Levels past 0 add at most as much again as level 0 (a 1D chain halves each time).
+    const std::array<uint64_t, 3> d{dims[0], dims.size() > 1 ? dims[1] : 1,
+                                    dims.size() > 2 ? dims[2] : 1};
+    bytes =
+        detail::MipLevelOffset(d, static_cast<unsigned>(dims.size()), keeps_depth(), mip_levels) *
+        element;
+  }
   // Allocate before changing anything: a buffer that cannot grow keeps its size and contents.
   // Contents are zero-initialised on every resize, as documented in COMPATIBILITY.md.
   std::vector<unsigned char> data;
@@ -122,6 +185,7 @@ absl::Status Buffer::Reallocate(const std::vector<size_t>& dims, RTformat format
   dims_ = dims;
   format_ = format;
   user_element_size_ = user_element_size;
+  mip_levels_ = mip_levels;
   data_.swap(data);
   chunk_hashes_.clear();
   changed_.Clear();
@@ -133,8 +197,13 @@ absl::Status Buffer::Reallocate(const std::vector<size_t>& dims, RTformat format
   return absl::OkStatus();
 }
 
-absl::StatusOr<void*> Buffer::Map() {
-  if (mapped_) return RtError(RT_ERROR_ALREADY_MAPPED, "buffer is already mapped");
+absl::StatusOr<void*> Buffer::Map(unsigned level) {
+  TS_RETURN_IF_ERROR(CheckLevel(level));
+  if ((mapped_levels_ & (1u << level)) != 0) {
+    return RtError(RT_ERROR_ALREADY_MAPPED,
+                   level == 0 ? std::string("buffer is already mapped")
+                              : absl::StrCat("mip level ", level, " is already mapped"));
+  }
   if (format_ == RT_FORMAT_UNKNOWN) {
     return RtError(RT_ERROR_INVALID_VALUE, "buffer has no format; call rtBufferSetFormat first");
   }
@@ -142,23 +211,33 @@ absl::StatusOr<void*> Buffer::Map() {
     return RtError(RT_ERROR_INVALID_VALUE,
                    "RT_FORMAT_USER buffer has no element size; call rtBufferSetElementSize");
   }
-  mapped_ = true;
+  const bool first = !mapped();
+  mapped_levels_ |= 1u << level;
   // Only data that travels to devices (ships_content) counts a map as a host write.
   if (ships_content()) {
     // With one device pointer every device runs on the pointer's contents: the map shows them
     // (Unmap hands what the host wrote back to the pointers).
-    if (views_.size() == 1 && !data_.empty()) {
+    if (first && views_.size() == 1 && !data_.empty()) {
       std::memcpy(data_.data(), views_.begin()->second.data(), data_.size());
     }
-    HostWrote(0, data_.size());
+    const uint64_t begin = LevelByteOffset(level);
+    HostWrote(begin, begin + LevelBytes(level));
   }
   static unsigned char empty_buffer_storage[16];
-  return data_.empty() ? static_cast<void*>(empty_buffer_storage) : data_.data();
+  return data_.empty() ? static_cast<void*>(empty_buffer_storage)
+                       : data_.data() + LevelByteOffset(level);
 }
 
-absl::Status Buffer::Unmap() {
-  if (!mapped_) return RtError(RT_ERROR_INVALID_VALUE, "buffer is not mapped");
-  mapped_ = false;
+absl::Status Buffer::Unmap(unsigned level) {
+  TS_RETURN_IF_ERROR(CheckLevel(level));
+  if ((mapped_levels_ & (1u << level)) == 0) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   level == 0 ? std::string("buffer is not mapped")
+                              : absl::StrCat("mip level ", level, " is not mapped"));
+  }
+  mapped_levels_ &= ~(1u << level);
+  // A device pointer takes the contents when the last mapped level is unmapped.
+  if (mapped()) return absl::OkStatus();
   // With one device pointer, every device runs on the pointer's contents before a launch: the
   // pointer takes what the host wrote (and with COPY_ON_DIRTY the write is news for every
   // device). With a pointer per device each runs on its own data; the host copy does not replace

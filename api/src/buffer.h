@@ -5,6 +5,7 @@
 #ifndef TESSERA_API_SRC_BUFFER_H_
 #define TESSERA_API_SRC_BUFFER_H_
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -71,14 +72,25 @@ class Buffer : public Object {
   // Width, height or depth; dimensions the buffer does not have read as 1 (0 when unsized).
   size_t dim(unsigned axis) const;
   absl::Status SetSize(const std::vector<size_t>& dims);
+  // Every mip level's bytes, level 0 first.
   uint64_t byte_size() const { return data_.size(); }
 
-  bool mapped() const { return mapped_; }
+  // ---- Mip levels (OptiX 3.9). A layered or cube map buffer's depth counts layers or faces.
+  bool keeps_depth() const { return (desc_ & (RT_BUFFER_LAYERED | RT_BUFFER_CUBEMAP)) != 0; }
+  unsigned mip_levels() const { return mip_levels_; }
+  // Reallocates (contents zeroed, as a resize).
+  absl::Status SetMipLevelCount(unsigned levels);
+  // Width, height and depth of `level` (< mip_levels()); unused dimensions 1.
+  std::array<uint64_t, 3> LevelDims(unsigned level) const;
+  uint64_t LevelByteOffset(unsigned level) const;
+  uint64_t LevelBytes(unsigned level) const;
+
+  bool mapped() const { return mapped_levels_ != 0; }
   // rtBufferGetId: programs can now reach the buffer by id, bound to a variable or not.
   void NoteIdTaken() { id_taken_ = true; }
   bool id_taken() const { return id_taken_; }
-  absl::StatusOr<void*> Map();
-  absl::Status Unmap();
+  absl::StatusOr<void*> Map(unsigned level = 0);
+  absl::Status Unmap(unsigned level = 0);
   // Treat the whole buffer as changed by the host (rtBufferMarkDirty).
   void MarkDirty();
 
@@ -140,7 +152,8 @@ class Buffer : public Object {
   // Makes the buffer `dims` elements of `format` (of `user_element_size` bytes for USER), zeroed;
   // on failure (too large, out of memory) nothing changes.
   absl::Status Reallocate(const std::vector<size_t>& dims, RTformat format,
-                          size_t user_element_size);
+                          size_t user_element_size, unsigned mip_levels);
+  absl::Status CheckLevel(unsigned level) const;
   void HostWrote(uint64_t begin, uint64_t end);
   // A device got its first pointer (taken or set).
   void ViewAdded();
@@ -150,7 +163,8 @@ class Buffer : public Object {
   size_t user_element_size_ = 0;
   std::vector<size_t> dims_;  // empty until a size is set
   std::vector<unsigned char> data_;
-  bool mapped_ = false;
+  unsigned mip_levels_ = 1;
+  uint32_t mapped_levels_ = 0;  // bit i: level i is mapped
   bool id_taken_ = false;
   ByteRanges changed_;  // not yet reflected in chunk_hashes_
   std::vector<uint64_t> chunk_hashes_;

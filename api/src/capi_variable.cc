@@ -158,10 +158,10 @@ RTresult rtVariableSetObject(RTvariable v, RTobject object) {
     TS_ASSIGN_OR_RETURN(
         Object * target,
         AnyArg(object, var.context(), "object",
-               {Kind::kBuffer, Kind::kProgram, Kind::kGroup, Kind::kGeometryGroup, Kind::kTransform,
-                Kind::kSelector},
-               "a buffer, program, group, geometry group, transform or selector (texture "
-               "samplers are not supported yet)"));
+               {Kind::kBuffer, Kind::kTextureSampler, Kind::kProgram, Kind::kGroup,
+                Kind::kGeometryGroup, Kind::kTransform, Kind::kSelector},
+               "a buffer, texture sampler, program, group, geometry group, transform or "
+               "selector"));
     return var.SetObject(target);
   });
 }

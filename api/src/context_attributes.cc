@@ -1,4 +1,5 @@
 // Context attributes (rtContext{Get,Set}Attribute) and exception enables.
+#include <climits>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
@@ -114,8 +115,8 @@ absl::Status Context::GetAttribute(RTcontextattribute attribute, RTsize size, vo
     case RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS:
       return Put<int>("RT_CONTEXT_ATTRIBUTE_CPU_NUM_THREADS", size, value, num_threads_);
     case RT_CONTEXT_ATTRIBUTE_MAX_TEXTURE_COUNT:
-      // Texture samplers are not supported yet (docs/COMPATIBILITY.md).
-      return Put<int>("RT_CONTEXT_ATTRIBUTE_MAX_TEXTURE_COUNT", size, value, 0);
+      // Samplers are host memory and ids, with no hardware texture units to run out of.
+      return Put<int>("RT_CONTEXT_ATTRIBUTE_MAX_TEXTURE_COUNT", size, value, INT_MAX);
     case RT_CONTEXT_ATTRIBUTE_USED_HOST_MEMORY: {
       RTsize bytes = 0;
       for (const auto& [id, object] : objects_) {

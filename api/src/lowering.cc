@@ -9,6 +9,7 @@
 #include "hash.h"
 #include "nodes.h"
 #include "program.h"
+#include "texture_sampler.h"
 #include "validate.h"
 
 namespace tessera::api {
@@ -82,6 +83,25 @@ void LowerObject(const Context& c, Object& o, int ordinal, v1::Object* out) {
       m->set_element_size(b.element_size());
       for (size_t d : b.dims()) m->add_dims(d);
       m->set_return_writes(b.returns_device_writes(ordinal));
+      m->set_mip_level_count(b.mip_levels());
+      break;
+    }
+    case Kind::kTextureSampler: {
+      auto& t = static_cast<TextureSampler&>(o);
+      v1::TextureSampler* m = out->mutable_texture_sampler();
+      m->set_id(t.id());
+      m->set_version(t.version());
+      m->set_buffer(IdOf(t.buffer()));
+      for (unsigned d = 0; d < 3; ++d) m->add_wrap(t.wrap_mode(d));
+      m->set_min_filter(t.min_filter());
+      m->set_mag_filter(t.mag_filter());
+      m->set_mip_filter(t.mip_filter());
+      m->set_max_anisotropy(t.max_anisotropy());
+      m->set_mip_level_clamp_min(t.mip_level_clamp_min());
+      m->set_mip_level_clamp_max(t.mip_level_clamp_max());
+      m->set_mip_level_bias(t.mip_level_bias());
+      m->set_read_mode(t.read_mode());
+      m->set_index_mode(t.indexing_mode());
       break;
     }
     case Kind::kGeometry: {
@@ -276,11 +296,18 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
     auto known = sync.versions.find(o->id());
     return known != sync.versions.end() && known->second == o->version();
   };
+  // Samplers travel like buffers, reachable or not (programs reach them by id); they hold no
+  // texels, so a sampler is lowered only when its version changed.
   for (Object* o : context.Reachable()) {
-    if (o->kind() != Kind::kBuffer && !seen_at_version(o)) objects.push_back(o);
+    if (o->kind() != Kind::kBuffer && o->kind() != Kind::kTextureSampler && !seen_at_version(o)) {
+      objects.push_back(o);
+    }
   }
   for (const auto& [id, object] : context.objects()) {
-    if (object->kind() == Kind::kBuffer) objects.push_back(object);
+    if (object->kind() == Kind::kBuffer ||
+        (object->kind() == Kind::kTextureSampler && !seen_at_version(object))) {
+      objects.push_back(object);
+    }
   }
   // Creation order: programs and buffers usually come before what refers to them.
   std::sort(objects.begin(), objects.end(),

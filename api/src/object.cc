@@ -37,6 +37,8 @@ const char* KindName(Kind kind) {
       return "acceleration";
     case Kind::kGeometryTriangles:
       return "geometry triangles";
+    case Kind::kTextureSampler:
+      return "texture sampler";
   }
   return "object";
 }
@@ -62,6 +64,8 @@ RTobjecttype ObjectTypeOf(Kind kind) {
       return RT_OBJECTTYPE_BUFFER;
     case Kind::kProgram:
       return RT_OBJECTTYPE_PROGRAM;
+    case Kind::kTextureSampler:
+      return RT_OBJECTTYPE_TEXTURE_SAMPLER;
     default:
       return RT_OBJECTTYPE_UNKNOWN;
   }

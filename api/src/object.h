@@ -33,6 +33,7 @@ enum class Kind : uint8_t {
   kTransform,
   kAcceleration,
   kGeometryTriangles,
+  kTextureSampler,
 };
 
 // "geometry instance", as used in error messages.

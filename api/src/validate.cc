@@ -14,6 +14,7 @@
 #include "nodes.h"
 #include "status.h"
 #include "tessera/scheduler/device.h"
+#include "texture_sampler.h"
 
 namespace tessera::api {
 namespace {
@@ -146,6 +147,11 @@ bool CheckSelf(Object& o, Problem* problem) {
       if (!s.ok()) return fail(std::string(s.message()));
       return true;
     }
+    case Kind::kTextureSampler: {
+      absl::Status s = static_cast<TextureSampler&>(o).CheckComplete();
+      if (!s.ok()) return fail(std::string(s.message()));
+      return true;
+    }
     default:
       return true;
   }
@@ -275,6 +281,13 @@ absl::Status ToStatus(const Problem& p, RTresult code) {
 absl::Status ValidateContext(Context& context) {
   Walker walker;
   if (!walker.Walk(context)) return ToStatus(walker.problem(), RT_ERROR_INVALID_CONTEXT);
+  // Programs reach samplers by id (rtTextureSamplerGetId) without any variable naming them.
+  for (const auto& [id, object] : context.objects()) {
+    if (object->kind() == Kind::kTextureSampler &&
+        static_cast<TextureSampler*>(object)->id_taken() && !walker.Walk(*object)) {
+      return ToStatus(walker.problem(), RT_ERROR_INVALID_CONTEXT);
+    }
+  }
   return absl::OkStatus();
 }
 

@@ -9,7 +9,7 @@ namespace tessera::api {
 namespace {
 
 // Object references of these classes may replace each other; anything else fixes its type.
-enum class ValueClass { kPlain, kBuffer, kProgram, kNode };
+enum class ValueClass { kPlain, kBuffer, kProgram, kNode, kTextureSampler };
 
 ValueClass ClassOf(RTobjecttype type) {
   switch (type) {
@@ -17,6 +17,8 @@ ValueClass ClassOf(RTobjecttype type) {
       return ValueClass::kBuffer;
     case RT_OBJECTTYPE_PROGRAM:
       return ValueClass::kProgram;
+    case RT_OBJECTTYPE_TEXTURE_SAMPLER:
+      return ValueClass::kTextureSampler;
     case RT_OBJECTTYPE_GROUP:
     case RT_OBJECTTYPE_GEOMETRY_GROUP:
     case RT_OBJECTTYPE_TRANSFORM:

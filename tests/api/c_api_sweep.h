@@ -25,6 +25,7 @@ enum class K {
   kTransform,
   kAcceleration,
   kTriangles,  // GeometryTriangles (OptiX 6)
+  kSampler,    // TextureSampler
 };
 
 inline const char* KindWord(K k) {
@@ -55,6 +56,8 @@ inline const char* KindWord(K k) {
       return "acceleration";
     case K::kTriangles:
       return "geometry triangles";
+    case K::kSampler:
+      return "texture sampler";
   }
   return "?";
 }
@@ -74,6 +77,7 @@ struct World {
   RTtransform transform = nullptr;
   RTacceleration acceleration = nullptr;
   RTgeometrytriangles triangles = nullptr;
+  RTtexturesampler sampler = nullptr;
 
   RTcontext dead_ctx = nullptr;
   RTbuffer dead_buffer = nullptr;
@@ -88,6 +92,7 @@ struct World {
   RTtransform dead_transform = nullptr;
   RTacceleration dead_acceleration = nullptr;
   RTgeometrytriangles dead_triangles = nullptr;
+  RTtexturesampler dead_sampler = nullptr;
 
   // Scratch outputs.
   unsigned u[4] = {};
@@ -114,7 +119,12 @@ struct World {
     RTtransform transform;
     RTacceleration acceleration;
     RTgeometrytriangles triangles;
+    RTtexturesampler sampler;
   } out = {};
+  RTwrapmode wrap = RT_WRAP_REPEAT;
+  RTfiltermode filter[3] = {};
+  RTtexturereadmode read_mode = RT_TEXTURE_READ_ELEMENT_TYPE;
+  RTtextureindexmode index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
 
   void* Live(K k) const {
     switch (k) {
@@ -144,6 +154,8 @@ struct World {
         return acceleration;
       case K::kTriangles:
         return triangles;
+      case K::kSampler:
+        return sampler;
     }
     return nullptr;
   }
@@ -176,6 +188,8 @@ struct World {
         return dead_acceleration;
       case K::kTriangles:
         return dead_triangles;
+      case K::kSampler:
+        return dead_sampler;
     }
     return nullptr;
   }

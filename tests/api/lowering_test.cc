@@ -161,6 +161,55 @@ TEST_F(LaunchTest, UnchangedSecondLaunchShipsNothing) {
   EXPECT_EQ(d.context().stack_size(), 2048u);
 }
 
+// A sampler travels as its own object naming its buffer: a change of its modes ships the sampler
+// alone, no chunk of its texels; mip levels travel in the buffer's chunks, the count with it.
+TEST_F(LaunchTest, SamplerModesShipTheSamplerAlone) {
+  ASSERT_EQ(rtBufferSetMipLevelCount(input, 3), RT_SUCCESS);  // 16, 8, 4 ints
+  RTtexturesampler sampler = nullptr;
+  ASSERT_EQ(rtTextureSamplerCreate(ctx, &sampler), RT_SUCCESS);
+  ASSERT_EQ(rtTextureSamplerSetBuffer(sampler, 0, 0, input), RT_SUCCESS);
+  RTvariable v = nullptr;
+  ASSERT_EQ(rtContextDeclareVariable(ctx, "tex", &v), RT_SUCCESS);
+  ASSERT_EQ(rtVariableSetObject(v, sampler), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  {
+    const v1::StateDelta& d = LastDelta();
+    const v1::TextureSampler* t = nullptr;
+    for (const v1::Object& o : d.objects()) {
+      if (o.has_texture_sampler()) t = &o.texture_sampler();
+      if (o.has_buffer() && o.buffer().id() == Id(input)) {
+        EXPECT_EQ(o.buffer().mip_level_count(), 3u);
+      }
+    }
+    ASSERT_NE(t, nullptr);
+    EXPECT_EQ(t->buffer(), Id(input));
+    ASSERT_EQ(t->wrap_size(), 3);
+    EXPECT_EQ(t->wrap(0), static_cast<uint32_t>(RT_WRAP_REPEAT));
+    EXPECT_EQ(t->mip_filter(), static_cast<uint32_t>(RT_FILTER_NONE));
+    uint64_t texel_bytes = 0;
+    for (const v1::BufferChunk& c : d.chunks()) {
+      if (c.buffer_id() == Id(input)) texel_bytes += c.data().size();
+    }
+    EXPECT_EQ(texel_bytes, (16u + 8u + 4u) * sizeof(int));
+  }
+  ASSERT_EQ(rtTextureSamplerSetWrapMode(sampler, 1, RT_WRAP_MIRROR), RT_SUCCESS);
+  ASSERT_EQ(rtTextureSamplerSetMaxAnisotropy(sampler, 4.f), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  const v1::StateDelta& d = LastDelta();
+  ASSERT_EQ(d.objects_size(), 1);
+  ASSERT_TRUE(d.objects(0).has_texture_sampler());
+  EXPECT_EQ(d.objects(0).texture_sampler().wrap(1), static_cast<uint32_t>(RT_WRAP_MIRROR));
+  EXPECT_EQ(d.objects(0).texture_sampler().max_anisotropy(), 4.f);
+  EXPECT_EQ(d.chunks_size(), 0);
+  // Destroyed, it leaves the device.
+  ASSERT_EQ(rtContextRemoveVariable(ctx, v), RT_SUCCESS);
+  const uint64_t id = d.objects(0).texture_sampler().id();
+  ASSERT_EQ(rtTextureSamplerDestroy(sampler), RT_SUCCESS);
+  ASSERT_EQ(Launch(), RT_SUCCESS);
+  const v1::StateDelta& last = LastDelta();
+  EXPECT_NE(std::find(last.removed().begin(), last.removed().end(), id), last.removed().end());
+}
+
 // A material lists one program per ray type: after the count changes, devices get every material
 // again, lowered with the new count (they used to keep the old lists, and a closest hit for a ray
 // type added back never ran).

@@ -7,6 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "tessera/rt.h"
+#include "texture_views.h"
 
 namespace tessera::worker {
 namespace {
@@ -97,6 +98,40 @@ const char* ValueTypeName(uint32_t type) {
     default:
       return "another type";
   }
+}
+
+// A view per rtTextureSampler declaration of the module, from the sampler its name resolves to.
+absl::Status BindTextures(const Replica& replica, const std::vector<const Scope*>& scopes,
+                          BoundProgram& b) {
+  for (const ModuleTexture& mt : b.module->textures()) {
+    TesseraTextureView view{};
+    const Value* value = Lookup(scopes, mt.name);
+    if (value != nullptr) {
+      if (value->type != RT_OBJECTTYPE_TEXTURE_SAMPLER) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            b.name, ": rtTextureSampler '", mt.name, "' is bound to ", ValueTypeName(value->type),
+            "; set it with rtVariableSetObject to a texture sampler"));
+      }
+      absl::StatusOr<TesseraTextureView> made = MakeTextureView(replica, value->object_id);
+      if (!made.ok()) {
+        return absl::Status(
+            made.status().code(),
+            absl::StrCat(b.name, ": rtTextureSampler '", mt.name, "': ", made.status().message()));
+      }
+      if (const char* wanted = TextureShapeMismatch(mt.dimensionality, *made)) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(b.name, ": rtTextureSampler '", mt.name, "' (Dim 0x",
+                         absl::Hex(mt.dimensionality), ") needs ", wanted, " but texture sampler #",
+                         value->object_id, " reads a ", made->dimensionality, "D buffer",
+                         made->cubemap != 0   ? " (cube map)"
+                         : made->layered != 0 ? " (layered)"
+                                              : ""));
+      }
+      view = *made;
+    }
+    b.textures.push_back(view);
+  }
+  return absl::OkStatus();
 }
 
 }  // namespace
@@ -234,7 +269,8 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
       return absl::InvalidArgumentError(absl::StrCat(
           b.name, ": variable '", v.name, "' is declared with rtDeclareVariable but bound to ",
           ValueTypeName(value->type),
-          " (use rtBuffer for buffers, rtCallableProgram for programs)"));
+          " (use rtBuffer for buffers, rtTextureSampler for texture samplers, rtCallableProgram "
+          "for programs)"));
     }
     if (IsNodeType(value->type)) {
       // Only an rtObject receives a node: a float2 or uint2 has the same 8 bytes but would read
@@ -313,6 +349,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
     }
     b.table.push_back(view);
   }
+  if (absl::Status s = BindTextures(replica, scopes, b); !s.ok()) return s;
   // `callables` is complete: its elements keep their addresses from here on (also when `b`
   // moves into the plan).
   for (size_t k = 0; k < callable_copies.size(); ++k) {

@@ -78,6 +78,9 @@ struct BoundProgram {
   // A view per rtBuffer slot of the module; a thread running the program points the module at
   // it, so switching programs copies no views.
   std::vector<TesseraBufferView> table;
+  // A view per rtTextureSampler slot of the module (TesseraRuntime::texture_view); level_count 0
+  // where no scope binds a sampler.
+  std::vector<TesseraTextureView> textures;
   std::vector<Attribute> attributes;
   // Variables declared with each semantic (a module may declare one several times, e.g. a
   // radiance and a shadow payload).

@@ -279,6 +279,21 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
     }
     module->buffers_.push_back(std::move(b));
   }
+  for (unsigned i = 0; i < info->texture_count; ++i) {
+    const TesseraTextureDecl& d = info->textures[i];
+    ModuleTexture t;
+    t.name = SymbolName(d.object);
+    t.element_size = d.element_size;
+    t.dimensionality = d.dimensionality;
+    t.read_mode = d.read_mode;
+    if (t.name.empty()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("program module ", path, ": rtTextureSampler #", i,
+                       " has no exported name (declare rtTextureSampler objects at namespace "
+                       "scope, not static)"));
+    }
+    module->textures_.push_back(std::move(t));
+  }
   const Module* result = module.get();
   modules_.emplace(hash, std::move(module));
   return result;

@@ -45,12 +45,21 @@ struct ModuleBuffer {
   unsigned dimensionality = 1;
 };
 
+// One rtTextureSampler declaration (tessera/detail/texture.h).
+struct ModuleTexture {
+  std::string name;
+  size_t element_size = 0;
+  unsigned dimensionality = 1;  // 1, 2, 3 or a cudaTextureType* value
+  unsigned read_mode = 0;       // cudaTextureReadMode
+};
+
 class Module {
  public:
   int index() const { return index_; }
   const std::string& path() const { return path_; }
   const std::vector<ModuleVariable>& variables() const { return variables_; }
   const std::vector<ModuleBuffer>& buffers() const { return buffers_; }
+  const std::vector<ModuleTexture>& textures() const { return textures_; }
   // Variables whose value belongs to one invocation (ray, payload, distance, attributes): what a
   // suspended program needs back after a nested call, and their total size.
   const std::vector<unsigned>& per_call() const { return per_call_; }
@@ -70,6 +79,7 @@ class Module {
   const TesseraModuleInfo* info_ = nullptr;
   std::vector<ModuleVariable> variables_;
   std::vector<ModuleBuffer> buffers_;
+  std::vector<ModuleTexture> textures_;
   std::vector<unsigned> per_call_;
   size_t per_call_bytes_ = 0;
   mutable std::mutex functions_mu_;

@@ -10,6 +10,7 @@
 #include "runtime.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
+#include "texture_views.h"
 
 namespace tessera::worker {
 namespace {
@@ -293,6 +294,16 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   plan->print_enabled = ctx.print_enabled;
   plan->print_index = ctx.print_index;
   plan->print_buffer_size = ctx.print_buffer_size;
+
+  for (const auto& [id, sampler] : replica.texture_samplers) {
+    absl::StatusOr<TesseraTextureView> view = MakeTextureView(replica, id);
+    const int key = static_cast<int>(id);
+    if (view.ok()) {
+      plan->textures_by_id.emplace(key, *view);
+    } else {
+      plan->texture_problems.emplace(key, view.status());
+    }
+  }
 
   CallableBinder callables(replica, *plan);
   auto bind = [&](ProgramKind kind, uint64_t id,

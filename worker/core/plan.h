@@ -154,6 +154,10 @@ struct LaunchPlan {
   // variables name: what RefreshGraph starts from.
   std::unordered_map<uint64_t, absl::Status> bind_problems;
   std::vector<uint64_t> roots;
+  // Every sampler the replica holds, by id (rtTextureSamplerGetId; TesseraRuntime::texture_by_id),
+  // or why programs cannot read it (no buffer, say), said when one tries.
+  std::unordered_map<int, TesseraTextureView> textures_by_id;
+  std::unordered_map<int, absl::Status> texture_problems;
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;
   uint32_t ray_type_count = 0;

@@ -12,6 +12,7 @@
 #include "absl/strings/str_cat.h"
 #include "module.h"
 #include "tessera/detail/module_abi.h"
+#include "tessera/detail/texture_view.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
 #include "tessera/v1/object_fields.h"
@@ -58,6 +59,29 @@ absl::Status CheckBuffer(const v1::Buffer& b) {
     return absl::InvalidArgumentError(
         absl::StrCat("buffer #", b.id(), " has element size ", b.element_size()));
   }
+  if (b.mip_level_count() > TESSERA_TEXTURE_MAX_LEVELS) {
+    return absl::InvalidArgumentError(absl::StrCat("buffer #", b.id(), " has ", b.mip_level_count(),
+                                                   " mip levels (at most ",
+                                                   TESSERA_TEXTURE_MAX_LEVELS, ")"));
+  }
+  return absl::OkStatus();
+}
+
+// Enum values a device's texture views pass to the sampling functions must be ones they know.
+absl::Status CheckSampler(const v1::TextureSampler& t) {
+  auto bad = [&](const char* what, uint64_t value) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("texture sampler #", t.id(), " has ", what, " ", value));
+  };
+  if (t.wrap_size() != 3) return bad("wrap mode count", t.wrap_size());
+  for (uint32_t w : t.wrap()) {
+    if (w > RT_WRAP_CLAMP_TO_BORDER) return bad("wrap mode", w);
+  }
+  if (t.min_filter() > RT_FILTER_LINEAR) return bad("minification filter", t.min_filter());
+  if (t.mag_filter() > RT_FILTER_LINEAR) return bad("magnification filter", t.mag_filter());
+  if (t.mip_filter() > RT_FILTER_NONE) return bad("mipmapping filter", t.mip_filter());
+  if (t.read_mode() > RT_TEXTURE_READ_NORMALIZED_FLOAT_SRGB) return bad("read mode", t.read_mode());
+  if (t.index_mode() > RT_TEXTURE_INDEX_ARRAY_INDEX) return bad("indexing mode", t.index_mode());
   return absl::OkStatus();
 }
 
@@ -90,6 +114,10 @@ struct Replica::StagedBuffer {
   bool reshaped = false;    // new contents: zeros, like a new buffer (the host resends INPUT ones)
   bool remarked = false;    // new marks
 };
+
+bool BufferRec::KeepsDepth() const {
+  return ndims == 3 && (desc & (RT_BUFFER_LAYERED | RT_BUFFER_CUBEMAP)) != 0;
+}
 
 bool BufferRec::Gathered() const {
   return (desc & RT_BUFFER_OUTPUT) != 0 && ((desc & RT_BUFFER_GPU_LOCAL) == 0 || return_writes);
@@ -296,6 +324,9 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
     if (o.has_geometry()) {
       if (absl::Status s = CheckGeometry(o.geometry()); !s.ok()) return s;
     }
+    if (o.has_texture_sampler()) {
+      if (absl::Status s = CheckSampler(o.texture_sampler()); !s.ok()) return s;
+    }
     if (o.has_transform() &&
         (o.transform().matrix_size() != 16 || o.transform().inverse_size() != 16)) {
       return absl::InvalidArgumentError(
@@ -375,6 +406,7 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
     r.element_size = from.element_size;
     r.ndims = from.ndims;
     r.dims = from.dims;
+    r.mip_levels = from.mip_levels;
     if (staged_buffer.reshaped) r.data = std::move(from.data);
     if (staged_buffer.remarked) {
       r.written = std::move(from.written);
@@ -396,6 +428,7 @@ void Replica::RemoveObject(uint64_t id) {
   groups.erase(id);
   transforms.erase(id);
   selectors.erase(id);
+  texture_samplers.erase(id);
 }
 
 // Records of an existing id are assigned in place: their addresses, which plans hold (a
@@ -470,6 +503,23 @@ void Replica::ApplyObject(const v1::Object& o) {
       accelerations[a.id()] = std::move(r);
       break;
     }
+    case v1::Object::kTextureSampler: {
+      const auto& t = o.texture_sampler();
+      SamplerRec r;
+      r.buffer = t.buffer();
+      for (int i = 0; i < 3; ++i) r.wrap[i] = t.wrap(i);
+      r.min_filter = t.min_filter();
+      r.mag_filter = t.mag_filter();
+      r.mip_filter = t.mip_filter();
+      r.max_anisotropy = t.max_anisotropy();
+      r.mip_level_clamp_min = t.mip_level_clamp_min();
+      r.mip_level_clamp_max = t.mip_level_clamp_max();
+      r.mip_level_bias = t.mip_level_bias();
+      r.read_mode = t.read_mode();
+      r.index_mode = t.index_mode();
+      texture_samplers[t.id()] = r;
+      break;
+    }
     case v1::Object::KIND_NOT_SET:
       break;
   }
@@ -494,6 +544,7 @@ v1::Object::KindCase Replica::KindOf(uint64_t id) const {
   if (groups.count(id) != 0) return v1::Object::kGroup;
   if (transforms.count(id) != 0) return v1::Object::kTransform;
   if (selectors.count(id) != 0) return v1::Object::kSelector;
+  if (texture_samplers.count(id) != 0) return v1::Object::kTextureSampler;
   return v1::Object::KIND_NOT_SET;
 }
 
@@ -509,6 +560,7 @@ void Replica::Stage(const v1::Buffer& b, bool removed,
       r.element_size = held->second.element_size;
       r.ndims = held->second.ndims;
       r.dims = held->second.dims;
+      r.mip_levels = held->second.mip_levels;
       it->second.held_marks = held->second.written.size();
     }
   }
@@ -516,6 +568,7 @@ void Replica::Stage(const v1::Buffer& b, bool removed,
   r.return_writes = b.return_writes();
   r.format = b.format();
   r.element_size = b.element_size();
+  r.mip_levels = b.mip_level_count() > 1 ? b.mip_level_count() : 1;
   r.ndims = b.dims_size();
   r.dims = {0, 1, 1};
   for (int i = 0; i < b.dims_size(); ++i) r.dims[i] = b.dims(i);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "absl/status/status.h"
+#include "tessera/detail/mip_levels.h"
 #include "tessera/v1/launch.pb.h"
 #include "tessera/v1/state.pb.h"
 
@@ -48,9 +49,28 @@ struct BufferRec {
   // mark the elements they read too, and an element that still holds the value the host has from
   // this device must not travel back: it would undo another device's write of it.
   std::vector<unsigned char> before;
+  // Mip levels (v1::Buffer.mip_level_count): `data` holds them all, level 0 first.
+  unsigned mip_levels = 1;
+  // Elements of level 0, which programs index.
   uint64_t Elements() const { return dims[0] * dims[1] * dims[2]; }
-  uint64_t Bytes() const { return element_size * Elements(); }
+  bool KeepsDepth() const;  // layered or cube map: the depth is not mipmapped
+  // Bytes of every level.
+  uint64_t Bytes() const {
+    return mip_levels <= 1
+               ? element_size * Elements()
+               : element_size * detail::MipLevelOffset(dims, ndims, KeepsDepth(), mip_levels);
+  }
   bool Gathered() const;
+};
+// A texture sampler (v1::TextureSampler): enum fields hold RT* values, checked when applied.
+struct SamplerRec {
+  uint64_t buffer = 0;
+  std::array<uint32_t, 3> wrap{0, 0, 0};
+  uint32_t min_filter = 0, mag_filter = 0, mip_filter = 0;
+  float max_anisotropy = 1.f;
+  float mip_level_clamp_min = 0.f, mip_level_clamp_max = 0.f;
+  float mip_level_bias = 0.f;
+  uint32_t read_mode = 0, index_mode = 0;
 };
 struct GeometryRec {
   uint64_t primitive_count = 0, intersection = 0, bounds = 0;
@@ -140,6 +160,7 @@ class Replica {
   std::unordered_map<uint64_t, GroupRec> groups;
   std::unordered_map<uint64_t, TransformRec> transforms;
   std::unordered_map<uint64_t, SelectorRec> selectors;
+  std::unordered_map<uint64_t, SamplerRec> texture_samplers;
   uint64_t generation() const { return generation_; }  // bumps with every applied delta
   // Bumps with every applied delta that changes more than the bytes of variables and buffers:
   // the graph, programs, a buffer's shape, a variable's name, type, object or size. Deltas of

@@ -16,6 +16,7 @@
 #include "absl/strings/str_format.h"
 #include "interrupt.h"
 #include "tessera/rt.h"
+#include "texture_views.h"
 #include "thread_state.h"
 
 namespace tessera::worker {
@@ -360,6 +361,8 @@ TesseraRuntime MakeRuntime() {
       &RtTriangleBarycentrics,
       &RtCallableEnter,
       &RtCallableLeave,
+      &RtTextureView,
+      &RtTextureById,
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -

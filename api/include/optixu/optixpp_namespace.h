@@ -24,14 +24,6 @@
 #include "optixu/optixu_vector_types.h"
 #include "tessera/rt.h"
 
-// Buffer::map's flags, with OptiX's names and values.
-typedef enum {
-  RT_BUFFER_MAP_READ = 0x1,
-  RT_BUFFER_MAP_READ_WRITE = 0x2,
-  RT_BUFFER_MAP_WRITE = 0x4,
-  RT_BUFFER_MAP_WRITE_DISCARD = 0x8
-} RTbuffermapflag;
-
 namespace optix {
 
 class AccelerationObj;
@@ -552,10 +544,11 @@ class ContextObj : public ScopedObj {
   Program createProgramFromPTXFile(const std::string& filename, const std::string& program_name);
   Program createProgramFromPTXString(const std::string& ptx, const std::string& program_name);
   Selector createSelector();
-  // Tessera has no texture samplers yet: throws RT_ERROR_NOT_SUPPORTED.
   TextureSampler createTextureSampler();
 
   Buffer getBufferFromId(int buffer_id) const;
+  // The sampler rtTextureSamplerGetId gave `sampler_id`.
+  TextureSampler getTextureSamplerFromId(int sampler_id) const;
 
   // Launches.
   void launch(unsigned int entry_point_index, RTsize image_width);
@@ -900,12 +893,18 @@ class BufferObj : public DestroyableObj {
   void getSize(unsigned int dimensionality, RTsize* dims) const;
   unsigned int getDimensionality() const;
 
-  // Maps the buffer (rtBufferMap). The OptiX 3.9+ arguments are accepted: `map_flags` is one
-  // RT_BUFFER_MAP_* value (Tessera always maps read-write, which serves each of them);
-  // mip level 0 only; a user-owned pointer is not supported.
+  // Maps mip level `level` (rtBufferMapEx; rtBufferMap for level 0 with the defaults):
+  // `map_flags` is one RT_BUFFER_MAP_* value (Tessera always maps read-write, which serves each
+  // of them); a user-owned pointer is not supported.
   void* map(unsigned int level = 0, unsigned int map_flags = RT_BUFFER_MAP_READ_WRITE,
             void* user_owned = nullptr);
   void unmap(unsigned int level = 0);
+  // Mip levels (OptiX 3.9).
+  void setMipLevelCount(unsigned int levels);
+  unsigned int getMipLevelCount() const;
+  void getMipLevelSize(unsigned int level, RTsize& width) const;
+  void getMipLevelSize(unsigned int level, RTsize& width, RTsize& height) const;
+  void getMipLevelSize(unsigned int level, RTsize& width, RTsize& height, RTsize& depth) const;
   int getId() const;
   void markDirty();
 
@@ -921,9 +920,9 @@ class BufferObj : public DestroyableObj {
 
 // ---- TextureSampler -------------------------------------------------------------------------
 
-// Tessera has no texture samplers yet and rt.h declares no rtTextureSampler* function: every
-// member throws RT_ERROR_NOT_SUPPORTED, so host code that uses them compiles and fails at the
-// first call (docs/COMPATIBILITY.md).
+// A texture sampler (rtTextureSampler*). setMipLevelCount and setArraySize take only 1, and the
+// (texture_array_idx, mip_level) forms of setBuffer/getBuffer only (0, 0): OptiX 3.9 moved mip
+// levels and layers into the buffer.
 class TextureSamplerObj : public DestroyableObj {
  public:
   typedef RTtexturesampler api_t;
@@ -942,6 +941,10 @@ class TextureSamplerObj : public DestroyableObj {
                          RTfiltermode& mipmapping) const;
   void setMaxAnisotropy(float value);
   float getMaxAnisotropy() const;
+  void setMipLevelClamp(float min_level, float max_level);
+  void getMipLevelClamp(float& min_level, float& max_level) const;
+  void setMipLevelBias(float value);
+  float getMipLevelBias() const;
   void setReadMode(RTtexturereadmode readmode);
   RTtexturereadmode getReadMode() const;
   void setIndexingMode(RTtextureindexmode indexmode);
@@ -954,9 +957,7 @@ class TextureSamplerObj : public DestroyableObj {
 
  private:
   friend class Handle<TextureSamplerObj>;
-  explicit TextureSamplerObj(RTtexturesampler sampler)
-      : DestroyableObj(nullptr), sampler_(sampler) {}
-  [[noreturn]] static void NotSupported(const char* function);
+  explicit TextureSamplerObj(RTtexturesampler sampler);
   RTtexturesampler sampler_;
 };
 
@@ -1595,8 +1596,14 @@ inline Selector ContextObj::createSelector() {
   return Selector::take(s);
 }
 inline TextureSampler ContextObj::createTextureSampler() {
-  throw Exception("rtTextureSamplerCreate: Tessera has no texture samplers yet",
-                  RT_ERROR_NOT_SUPPORTED);
+  RTtexturesampler s = nullptr;
+  checkError(rtTextureSamplerCreate(context_, &s));
+  return TextureSampler::take(s);
+}
+inline TextureSampler ContextObj::getTextureSamplerFromId(int sampler_id) const {
+  RTtexturesampler s = nullptr;
+  checkError(rtContextGetTextureSamplerFromId(context_, sampler_id, &s));
+  return TextureSampler::take(s);
 }
 
 inline Buffer ContextObj::getBufferFromId(int buffer_id) const {
@@ -2326,31 +2333,31 @@ inline unsigned int BufferObj::getDimensionality() const {
   return dimensionality;
 }
 inline void* BufferObj::map(unsigned int level, unsigned int map_flags, void* user_owned) {
-  if (map_flags != RT_BUFFER_MAP_READ && map_flags != RT_BUFFER_MAP_READ_WRITE &&
-      map_flags != RT_BUFFER_MAP_WRITE && map_flags != RT_BUFFER_MAP_WRITE_DISCARD) {
-    throw Exception("Buffer::map: map flags " + std::to_string(map_flags) +
-                        " are not one RT_BUFFER_MAP_* value",
-                    RT_ERROR_INVALID_VALUE);
-  }
-  if (level != 0) {
-    throw Exception(
-        "Buffer::map: mip level " + std::to_string(level) + " (Tessera buffers have no mip levels)",
-        RT_ERROR_INVALID_VALUE);
-  }
   if (user_owned != nullptr) {
     throw Exception("Buffer::map: user-owned memory is not supported", RT_ERROR_NOT_SUPPORTED);
   }
   void* p = nullptr;
-  checkError(rtBufferMap(buffer_, &p));
+  checkError(rtBufferMapEx(buffer_, map_flags, level, nullptr, &p));
   return p;
 }
-inline void BufferObj::unmap(unsigned int level) {
-  if (level != 0) {
-    throw Exception("Buffer::unmap: mip level " + std::to_string(level) +
-                        " (Tessera buffers have no mip levels)",
-                    RT_ERROR_INVALID_VALUE);
-  }
-  checkError(rtBufferUnmap(buffer_));
+inline void BufferObj::unmap(unsigned int level) { checkError(rtBufferUnmapEx(buffer_, level)); }
+inline void BufferObj::setMipLevelCount(unsigned int levels) {
+  checkError(rtBufferSetMipLevelCount(buffer_, levels));
+}
+inline unsigned int BufferObj::getMipLevelCount() const {
+  unsigned int levels = 0;
+  checkError(rtBufferGetMipLevelCount(buffer_, &levels));
+  return levels;
+}
+inline void BufferObj::getMipLevelSize(unsigned int level, RTsize& width) const {
+  checkError(rtBufferGetMipLevelSize1D(buffer_, level, &width));
+}
+inline void BufferObj::getMipLevelSize(unsigned int level, RTsize& width, RTsize& height) const {
+  checkError(rtBufferGetMipLevelSize2D(buffer_, level, &width, &height));
+}
+inline void BufferObj::getMipLevelSize(unsigned int level, RTsize& width, RTsize& height,
+                                       RTsize& depth) const {
+  checkError(rtBufferGetMipLevelSize3D(buffer_, level, &width, &height, &depth));
 }
 inline int BufferObj::getId() const {
   int id = 0;
@@ -2370,65 +2377,102 @@ inline void BufferObj::setDevicePointer(int optix_device_number, void* device_po
 
 // ---- TextureSampler -------------------------------------------------------------------------
 
-inline void TextureSamplerObj::NotSupported(const char* function) {
-  throw Exception(std::string(function) + ": Tessera has no texture samplers yet",
-                  RT_ERROR_NOT_SUPPORTED);
-}
-inline Context TextureSamplerObj::getContext() const { NotSupported("rtTextureSamplerGetContext"); }
-inline void TextureSamplerObj::destroy() { NotSupported("rtTextureSamplerDestroy"); }
-inline void TextureSamplerObj::validate() { NotSupported("rtTextureSamplerValidate"); }
-inline void TextureSamplerObj::setMipLevelCount(unsigned int) {
-  NotSupported("rtTextureSamplerSetMipLevelCount");
+inline TextureSamplerObj::TextureSamplerObj(RTtexturesampler sampler)
+    : DestroyableObj(optixpp_detail::ContextOf(&rtTextureSamplerGetContext, sampler)),
+      sampler_(sampler) {}
+OPTIXPP_DESTROYABLE_DEFS_(TextureSamplerObj, TextureSampler, sampler_)
+
+inline void TextureSamplerObj::setMipLevelCount(unsigned int num_mip_levels) {
+  checkError(rtTextureSamplerSetMipLevelCount(sampler_, num_mip_levels));
 }
 inline unsigned int TextureSamplerObj::getMipLevelCount() const {
-  NotSupported("rtTextureSamplerGetMipLevelCount");
+  unsigned int n = 0;
+  checkError(rtTextureSamplerGetMipLevelCount(sampler_, &n));
+  return n;
 }
-inline void TextureSamplerObj::setArraySize(unsigned int) {
-  NotSupported("rtTextureSamplerSetArraySize");
+inline void TextureSamplerObj::setArraySize(unsigned int num_textures_in_array) {
+  checkError(rtTextureSamplerSetArraySize(sampler_, num_textures_in_array));
 }
 inline unsigned int TextureSamplerObj::getArraySize() const {
-  NotSupported("rtTextureSamplerGetArraySize");
+  unsigned int n = 0;
+  checkError(rtTextureSamplerGetArraySize(sampler_, &n));
+  return n;
 }
-inline void TextureSamplerObj::setWrapMode(unsigned int, RTwrapmode) {
-  NotSupported("rtTextureSamplerSetWrapMode");
+inline void TextureSamplerObj::setWrapMode(unsigned int dim, RTwrapmode wrapmode) {
+  checkError(rtTextureSamplerSetWrapMode(sampler_, dim, wrapmode));
 }
-inline RTwrapmode TextureSamplerObj::getWrapMode(unsigned int) const {
-  NotSupported("rtTextureSamplerGetWrapMode");
+inline RTwrapmode TextureSamplerObj::getWrapMode(unsigned int dim) const {
+  RTwrapmode mode = RT_WRAP_REPEAT;
+  checkError(rtTextureSamplerGetWrapMode(sampler_, dim, &mode));
+  return mode;
 }
-inline void TextureSamplerObj::setFilteringModes(RTfiltermode, RTfiltermode, RTfiltermode) {
-  NotSupported("rtTextureSamplerSetFilteringModes");
+inline void TextureSamplerObj::setFilteringModes(RTfiltermode minification,
+                                                 RTfiltermode magnification,
+                                                 RTfiltermode mipmapping) {
+  checkError(rtTextureSamplerSetFilteringModes(sampler_, minification, magnification, mipmapping));
 }
-inline void TextureSamplerObj::getFilteringModes(RTfiltermode&, RTfiltermode&,
-                                                 RTfiltermode&) const {
-  NotSupported("rtTextureSamplerGetFilteringModes");
+inline void TextureSamplerObj::getFilteringModes(RTfiltermode& minification,
+                                                 RTfiltermode& magnification,
+                                                 RTfiltermode& mipmapping) const {
+  checkError(
+      rtTextureSamplerGetFilteringModes(sampler_, &minification, &magnification, &mipmapping));
 }
-inline void TextureSamplerObj::setMaxAnisotropy(float) {
-  NotSupported("rtTextureSamplerSetMaxAnisotropy");
+inline void TextureSamplerObj::setMaxAnisotropy(float value) {
+  checkError(rtTextureSamplerSetMaxAnisotropy(sampler_, value));
 }
 inline float TextureSamplerObj::getMaxAnisotropy() const {
-  NotSupported("rtTextureSamplerGetMaxAnisotropy");
+  float value = 0.f;
+  checkError(rtTextureSamplerGetMaxAnisotropy(sampler_, &value));
+  return value;
 }
-inline void TextureSamplerObj::setReadMode(RTtexturereadmode) {
-  NotSupported("rtTextureSamplerSetReadMode");
+inline void TextureSamplerObj::setMipLevelClamp(float min_level, float max_level) {
+  checkError(rtTextureSamplerSetMipLevelClamp(sampler_, min_level, max_level));
+}
+inline void TextureSamplerObj::getMipLevelClamp(float& min_level, float& max_level) const {
+  checkError(rtTextureSamplerGetMipLevelClamp(sampler_, &min_level, &max_level));
+}
+inline void TextureSamplerObj::setMipLevelBias(float value) {
+  checkError(rtTextureSamplerSetMipLevelBias(sampler_, value));
+}
+inline float TextureSamplerObj::getMipLevelBias() const {
+  float value = 0.f;
+  checkError(rtTextureSamplerGetMipLevelBias(sampler_, &value));
+  return value;
+}
+inline void TextureSamplerObj::setReadMode(RTtexturereadmode readmode) {
+  checkError(rtTextureSamplerSetReadMode(sampler_, readmode));
 }
 inline RTtexturereadmode TextureSamplerObj::getReadMode() const {
-  NotSupported("rtTextureSamplerGetReadMode");
+  RTtexturereadmode mode = RT_TEXTURE_READ_ELEMENT_TYPE;
+  checkError(rtTextureSamplerGetReadMode(sampler_, &mode));
+  return mode;
 }
-inline void TextureSamplerObj::setIndexingMode(RTtextureindexmode) {
-  NotSupported("rtTextureSamplerSetIndexingMode");
+inline void TextureSamplerObj::setIndexingMode(RTtextureindexmode indexmode) {
+  checkError(rtTextureSamplerSetIndexingMode(sampler_, indexmode));
 }
 inline RTtextureindexmode TextureSamplerObj::getIndexingMode() const {
-  NotSupported("rtTextureSamplerGetIndexingMode");
+  RTtextureindexmode mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
+  checkError(rtTextureSamplerGetIndexingMode(sampler_, &mode));
+  return mode;
 }
-inline void TextureSamplerObj::setBuffer(unsigned int, unsigned int, Buffer) {
-  NotSupported("rtTextureSamplerSetBuffer");
+inline void TextureSamplerObj::setBuffer(unsigned int texture_array_idx, unsigned int mip_level,
+                                         Buffer buffer) {
+  checkError(rtTextureSamplerSetBuffer(sampler_, texture_array_idx, mip_level,
+                                       optixpp_detail::Raw(buffer)));
 }
-inline Buffer TextureSamplerObj::getBuffer(unsigned int, unsigned int) const {
-  NotSupported("rtTextureSamplerGetBuffer");
+inline Buffer TextureSamplerObj::getBuffer(unsigned int texture_array_idx,
+                                           unsigned int mip_level) const {
+  RTbuffer b = nullptr;
+  checkError(rtTextureSamplerGetBuffer(sampler_, texture_array_idx, mip_level, &b));
+  return Buffer::take(b);
 }
-inline void TextureSamplerObj::setBuffer(Buffer) { NotSupported("rtTextureSamplerSetBuffer"); }
-inline Buffer TextureSamplerObj::getBuffer() const { NotSupported("rtTextureSamplerGetBuffer"); }
-inline int TextureSamplerObj::getId() const { NotSupported("rtTextureSamplerGetId"); }
+inline void TextureSamplerObj::setBuffer(Buffer buffer) { setBuffer(0, 0, buffer); }
+inline Buffer TextureSamplerObj::getBuffer() const { return getBuffer(0, 0); }
+inline int TextureSamplerObj::getId() const {
+  int id = 0;
+  checkError(rtTextureSamplerGetId(sampler_, &id));
+  return id;
+}
 
 #undef OPTIXPP_SCOPED_DEFS_
 #undef OPTIXPP_DESTROYABLE_DEFS_

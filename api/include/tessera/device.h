@@ -355,6 +355,8 @@ class buffer {
 
 #define rtBuffer ::optix::buffer
 
+#include "tessera/detail/texture.h"
+
 // ---- Not supported yet ----------------------------------------------------------------------
 // Declared so that a program using them stops at its declaration with a message naming the
 // feature, instead of an unknown-name error suggesting the host's RTtexturesampler
@@ -363,17 +365,6 @@ namespace tessera::detail {
 template <typename T>
 inline constexpr bool kNotYet = sizeof(T) == 0;
 }  // namespace tessera::detail
-template <typename T, int Dim = 1, int ReadMode = 0>
-struct rtTextureSampler {
-  static_assert(::tessera::detail::kNotYet<T>,
-                "rtTextureSampler: Tessera has no texture samplers yet (docs/COMPATIBILITY.md)");
-};
-template <typename T, typename... Coordinates>
-T tex1D(const rtTextureSampler<T, 1>&, Coordinates...);
-template <typename T, typename... Coordinates>
-T tex2D(const rtTextureSampler<T, 2>&, Coordinates...);
-template <typename T, typename... Coordinates>
-T tex3D(const rtTextureSampler<T, 3>&, Coordinates...);
 template <typename T, int Dim = 1>
 struct rtBufferId {
   static_assert(::tessera::detail::kNotYet<T>,

@@ -71,7 +71,12 @@ typedef enum {
   RT_FORMAT_UNSIGNED_INT3,
   RT_FORMAT_UNSIGNED_INT4,
   RT_FORMAT_USER,
-  RT_FORMAT_BUFFER_ID
+  RT_FORMAT_BUFFER_ID,
+  RT_FORMAT_PROGRAM_ID, /* OptiX 3.5 (listed for the values below) */
+  RT_FORMAT_HALF,       /* OptiX 3.9: IEEE binary16, texture buffers */
+  RT_FORMAT_HALF2,
+  RT_FORMAT_HALF3,
+  RT_FORMAT_HALF4
 } RTformat;
 
 typedef enum {
@@ -120,7 +125,10 @@ typedef enum { RT_FILTER_NEAREST, RT_FILTER_LINEAR, RT_FILTER_NONE } RTfiltermod
 
 typedef enum {
   RT_TEXTURE_READ_ELEMENT_TYPE = 0,
-  RT_TEXTURE_READ_NORMALIZED_FLOAT = 1
+  RT_TEXTURE_READ_NORMALIZED_FLOAT = 1,
+  /* OptiX 6: sRGB to linear on 8-bit integer formats */
+  RT_TEXTURE_READ_ELEMENT_TYPE_SRGB = 2,
+  RT_TEXTURE_READ_NORMALIZED_FLOAT_SRGB = 3
 } RTtexturereadmode;
 
 typedef enum {
@@ -134,7 +142,22 @@ typedef enum {
   RT_BUFFER_INPUT_OUTPUT = RT_BUFFER_INPUT | RT_BUFFER_OUTPUT
 } RTbuffertype;
 
-typedef enum { RT_BUFFER_GPU_LOCAL = 0x4, RT_BUFFER_COPY_ON_DIRTY = 0x8 } RTbufferflag;
+typedef enum {
+  RT_BUFFER_GPU_LOCAL = 0x4,
+  RT_BUFFER_COPY_ON_DIRTY = 0x8,
+  /* OptiX 3.9, texture buffers: the depth counts layers, or cube faces (+x, -x, +y, -y, +z, -z;
+   * width = height, depth 6, or 6 per layer with both flags) */
+  RT_BUFFER_LAYERED = 0x200000,
+  RT_BUFFER_CUBEMAP = 0x400000
+} RTbufferflag;
+
+/* rtBufferMapEx's map_flags (OptiX 3.9). Tessera maps read-write for each of them. */
+typedef enum {
+  RT_BUFFER_MAP_READ = 0x1,
+  RT_BUFFER_MAP_READ_WRITE = 0x2,
+  RT_BUFFER_MAP_WRITE = 0x4,
+  RT_BUFFER_MAP_WRITE_DISCARD = 0x8
+} RTbuffermapflag;
 
 typedef enum {
   RT_EXCEPTION_PROGRAM_ID_INVALID = 0x3EE,
@@ -269,6 +292,9 @@ RTAPI RTresult rtContextRemoveVariable(RTcontext context, RTvariable v);
 RTAPI RTresult rtContextGetVariableCount(RTcontext context, unsigned int* count);
 RTAPI RTresult rtContextGetVariable(RTcontext context, unsigned int index, RTvariable* v);
 RTAPI RTresult rtContextGetBufferFromId(RTcontext context, int buffer_id, RTbuffer* buffer);
+/* The sampler rtTextureSamplerGetId gave `sampler_id` (OptiX 3.0). */
+RTAPI RTresult rtContextGetTextureSamplerFromId(RTcontext context, int sampler_id,
+                                                RTtexturesampler* sampler);
 
 /* ---- Program ----------------------------------------------------------------------------- */
 /* `filename` names a program module (a shared library built from C++, the PTX analogue) or a
@@ -508,6 +534,77 @@ RTAPI RTresult rtBufferMap(RTbuffer buffer, void** user_pointer);
 RTAPI RTresult rtBufferUnmap(RTbuffer buffer);
 RTAPI RTresult rtBufferGetId(RTbuffer buffer, int* buffer_id);
 RTAPI RTresult rtBufferMarkDirty(RTbuffer buffer);
+
+/* Mip levels (OptiX 3.9): level i is max(1, size >> i) in each dimension (a layered or cube map
+ * buffer keeps its depth), stored after level i - 1. rtBufferMap maps level 0. */
+RTAPI RTresult rtBufferSetMipLevelCount(RTbuffer buffer, unsigned int levels);
+RTAPI RTresult rtBufferGetMipLevelCount(RTbuffer buffer, unsigned int* level);
+RTAPI RTresult rtBufferGetMipLevelSize1D(RTbuffer buffer, unsigned int level, RTsize* width);
+RTAPI RTresult rtBufferGetMipLevelSize2D(RTbuffer buffer, unsigned int level, RTsize* width,
+                                         RTsize* height);
+RTAPI RTresult rtBufferGetMipLevelSize3D(RTbuffer buffer, unsigned int level, RTsize* width,
+                                         RTsize* height, RTsize* depth);
+/* `map_flags` is one RTbuffermapflag; `user_owned` must be null (as in OptiX 6). */
+RTAPI RTresult rtBufferMapEx(RTbuffer buffer, unsigned int map_flags, unsigned int level,
+                             void* user_owned, void** optix_owned);
+RTAPI RTresult rtBufferUnmapEx(RTbuffer buffer, unsigned int level);
+
+/* ---- Texture sampler (OptiX guide 3.3) ------------------------------------------------------
+ * A sampler reads an INPUT (or INPUT_OUTPUT) buffer of a numeric format through rtTextureSampler
+ * declarations or, by id, rtTex* calls. Defaults: wrap REPEAT, filters LINEAR/LINEAR/NONE,
+ * NORMALIZED_FLOAT, NORMALIZED_COORDINATES, anisotropy 1, mip clamp [0, 0], bias 0. */
+RTAPI RTresult rtTextureSamplerCreate(RTcontext context, RTtexturesampler* texturesampler);
+RTAPI RTresult rtTextureSamplerDestroy(RTtexturesampler texturesampler);
+RTAPI RTresult rtTextureSamplerValidate(RTtexturesampler texturesampler);
+RTAPI RTresult rtTextureSamplerGetContext(RTtexturesampler texturesampler, RTcontext* context);
+/* Deprecated in OptiX 3.9 (mip levels live in the buffer): the count must be 1. */
+RTAPI RTresult rtTextureSamplerSetMipLevelCount(RTtexturesampler texturesampler,
+                                                unsigned int num_mip_levels);
+RTAPI RTresult rtTextureSamplerGetMipLevelCount(RTtexturesampler texturesampler,
+                                                unsigned int* num_mip_levels);
+/* Deprecated in OptiX 3.9 (layered buffers replace arrays): the size must be 1. */
+RTAPI RTresult rtTextureSamplerSetArraySize(RTtexturesampler texturesampler,
+                                            unsigned int num_textures_in_array);
+RTAPI RTresult rtTextureSamplerGetArraySize(RTtexturesampler texturesampler,
+                                            unsigned int* num_textures_in_array);
+/* `dimension` 0, 1 or 2. */
+RTAPI RTresult rtTextureSamplerSetWrapMode(RTtexturesampler texturesampler, unsigned int dimension,
+                                           RTwrapmode wrapmode);
+RTAPI RTresult rtTextureSamplerGetWrapMode(RTtexturesampler texturesampler, unsigned int dimension,
+                                           RTwrapmode* wrapmode);
+/* minification and magnification NEAREST or LINEAR; mipmapping also NONE (level 0 only). */
+RTAPI RTresult rtTextureSamplerSetFilteringModes(RTtexturesampler texturesampler,
+                                                 RTfiltermode minification,
+                                                 RTfiltermode magnification,
+                                                 RTfiltermode mipmapping);
+RTAPI RTresult rtTextureSamplerGetFilteringModes(RTtexturesampler texturesampler,
+                                                 RTfiltermode* minification,
+                                                 RTfiltermode* magnification,
+                                                 RTfiltermode* mipmapping);
+/* Clamped to [1, 16], as OptiX does. */
+RTAPI RTresult rtTextureSamplerSetMaxAnisotropy(RTtexturesampler texturesampler, float value);
+RTAPI RTresult rtTextureSamplerGetMaxAnisotropy(RTtexturesampler texturesampler, float* value);
+RTAPI RTresult rtTextureSamplerSetMipLevelClamp(RTtexturesampler texturesampler, float min_level,
+                                                float max_level);
+RTAPI RTresult rtTextureSamplerGetMipLevelClamp(RTtexturesampler texturesampler, float* min_level,
+                                                float* max_level);
+RTAPI RTresult rtTextureSamplerSetMipLevelBias(RTtexturesampler texturesampler, float value);
+RTAPI RTresult rtTextureSamplerGetMipLevelBias(RTtexturesampler texturesampler, float* value);
+RTAPI RTresult rtTextureSamplerSetReadMode(RTtexturesampler texturesampler,
+                                           RTtexturereadmode readmode);
+RTAPI RTresult rtTextureSamplerGetReadMode(RTtexturesampler texturesampler,
+                                           RTtexturereadmode* readmode);
+RTAPI RTresult rtTextureSamplerSetIndexingMode(RTtexturesampler texturesampler,
+                                               RTtextureindexmode indexmode);
+RTAPI RTresult rtTextureSamplerGetIndexingMode(RTtexturesampler texturesampler,
+                                               RTtextureindexmode* indexmode);
+/* `deprecated0` and `deprecated1` (array index and mip level before OptiX 3.9) must be 0. */
+RTAPI RTresult rtTextureSamplerSetBuffer(RTtexturesampler texturesampler, unsigned int deprecated0,
+                                         unsigned int deprecated1, RTbuffer buffer);
+RTAPI RTresult rtTextureSamplerGetBuffer(RTtexturesampler texturesampler, unsigned int deprecated0,
+                                         unsigned int deprecated1, RTbuffer* buffer);
+/* The id programs pass to rtTex* (never 0, RT_TEXTURE_ID_NULL). */
+RTAPI RTresult rtTextureSamplerGetId(RTtexturesampler texturesampler, int* texture_id);
 
 /* ---- CUDA interop (OptiX guide ch. 7) ------------------------------------------------------
  * A device's copy of a buffer lives in its worker process; a "device pointer" is host memory

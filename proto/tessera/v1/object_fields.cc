@@ -25,6 +25,8 @@ uint64_t ObjectId(const Object& o) {
       return o.selector().id();
     case Object::kAcceleration:
       return o.acceleration().id();
+    case Object::kTextureSampler:
+      return o.texture_sampler().id();
     case Object::KIND_NOT_SET:
       break;
   }

@@ -7,11 +7,13 @@
 
 #include <stddef.h>
 
+#include "tessera/detail/texture_view.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 7u
+#define TESSERA_MODULE_ABI_VERSION 8u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -55,12 +57,25 @@ typedef struct {
 
 #define TESSERA_WRITTEN_BLOCK_SHIFT 12
 
+/* One rtTextureSampler object (version 8), named like rtBuffer objects. `dimensionality` is the
+ * declaration's Dim: 1, 2, 3 or a CUDA layered / cube map texture type (tessera/detail/texture.h);
+ * `read_mode` its cudaTextureReadMode. */
+typedef struct {
+  const void* object;
+  size_t element_size;
+  unsigned dimensionality;
+  unsigned read_mode;
+} TesseraTextureDecl;
+
 typedef struct {
   unsigned abi_version;
   unsigned variable_count;
   const TesseraVariableDecl* variables;
   unsigned buffer_count;
   const TesseraBufferDecl* buffers;
+  /* Version 8. */
+  unsigned texture_count;
+  const TesseraTextureDecl* textures;
 } TesseraModuleInfo;
 
 /* What the engine keeps on a program's stack while a callable program it called runs: the
@@ -111,6 +126,12 @@ typedef struct {
    * again, also while an exception unwinds the call. */
   void* (*callable_enter)(const void* variable, TesseraCallFrame* frame);
   void (*callable_leave)(TesseraCallFrame* frame);
+  /* Texture samplers (version 8). texture_view: the running program's view for rtTextureSampler
+   * slot `slot`, null when no scope binds a sampler to it. texture_by_id: the view of the sampler
+   * rtTextureSamplerGetId gave `id`; any other id raises RT_EXCEPTION_TEXTURE_ID_INVALID (null
+   * when that exception is disabled). Views stay valid while the program runs. */
+  const TesseraTextureView* (*texture_view)(unsigned slot);
+  const TesseraTextureView* (*texture_by_id)(int id);
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and

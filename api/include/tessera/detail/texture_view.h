@@ -1,0 +1,47 @@
+/* What a program sees of a texture sampler: the engine fills one per sampler bound to a program
+ * (an rtTextureSampler declaration, or a bindless id), and the sampling functions of
+ * tessera/detail/texture_sampling.h read texels through it. Plain C, part of the module ABI
+ * (tessera/detail/module_abi.h): both sides must agree on its layout. */
+#ifndef TESSERA_DETAIL_TEXTURE_VIEW_H_
+#define TESSERA_DETAIL_TEXTURE_VIEW_H_
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A texture has at most this many mip levels (a 32768-texel side has 16). */
+#define TESSERA_TEXTURE_MAX_LEVELS 16
+
+/* One mip level: texels in x-fastest order, then y, then z (or layer, or cube face). */
+typedef struct {
+  const void* data;
+  unsigned width, height, depth; /* unused dimensions are 1 */
+} TesseraTextureLevel;
+
+typedef struct {
+  TesseraTextureLevel levels[TESSERA_TEXTURE_MAX_LEVELS];
+  unsigned level_count;    /* 1 without mipmaps */
+  unsigned dimensionality; /* of the buffer: 1, 2 or 3 */
+  unsigned format;         /* RTformat of a texel */
+  unsigned element_size;   /* bytes per texel */
+  /* RT_BUFFER_LAYERED: depth counts layers. RT_BUFFER_CUBEMAP: depth counts faces (+x, -x, +y,
+   * -y, +z, -z), 6 per layer when both are set. */
+  unsigned layered;
+  unsigned cubemap;
+  unsigned wrap[3];         /* RTwrapmode per dimension */
+  unsigned min_filter;      /* RTfiltermode */
+  unsigned mag_filter;      /* RTfiltermode */
+  unsigned mip_filter;      /* RTfiltermode: RT_FILTER_NONE samples level 0 only */
+  unsigned read_mode;       /* RTtexturereadmode */
+  unsigned index_mode;      /* RTtextureindexmode */
+  float max_anisotropy;     /* accepted; 1 means none */
+  float mip_level_clamp[2]; /* min, max level */
+  float mip_level_bias;
+  int id; /* rtTextureSamplerGetId */
+} TesseraTextureView;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* TESSERA_DETAIL_TEXTURE_VIEW_H_ */
