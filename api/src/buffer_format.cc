@@ -40,7 +40,8 @@ constexpr FormatInfo kFormats[] = {
     {RT_FORMAT_UNSIGNED_INT3, 12, "RT_FORMAT_UNSIGNED_INT3"},
     {RT_FORMAT_UNSIGNED_INT4, 16, "RT_FORMAT_UNSIGNED_INT4"},
     {RT_FORMAT_USER, 0, "RT_FORMAT_USER"},
-    {RT_FORMAT_BUFFER_ID, 4, "RT_FORMAT_BUFFER_ID"},  // an int id, as rtBufferGetId returns
+    {RT_FORMAT_BUFFER_ID, 4, "RT_FORMAT_BUFFER_ID"},    // an int id, as rtBufferGetId returns
+    {RT_FORMAT_PROGRAM_ID, 4, "RT_FORMAT_PROGRAM_ID"},  // an int id, as rtProgramGetId returns
 };
 
 const FormatInfo* Find(int format) {

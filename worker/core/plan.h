@@ -15,6 +15,7 @@
 
 #include "absl/status/statusor.h"
 #include "binding.h"
+#include "bindless.h"
 #include "replica.h"
 
 namespace tessera::worker {
@@ -154,6 +155,7 @@ struct LaunchPlan {
   // variables name: what RefreshGraph starts from.
   std::unordered_map<uint64_t, absl::Status> bind_problems;
   std::vector<uint64_t> roots;
+  BindlessTable bindless;  // buffers and programs by id (bindless.h)
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;
   uint32_t ray_type_count = 0;

@@ -360,6 +360,9 @@ TesseraRuntime MakeRuntime() {
       &RtTriangleBarycentrics,
       &RtCallableEnter,
       &RtCallableLeave,
+      &RtBufferById,
+      &RtBufferIdIndexError,
+      &RtCallableIdEnter,
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -

@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 7u
+#define TESSERA_MODULE_ABI_VERSION 8u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -111,6 +111,20 @@ typedef struct {
    * again, also while an exception unwinds the call. */
   void* (*callable_enter)(const void* variable, TesseraCallFrame* frame);
   void (*callable_leave)(TesseraCallFrame* frame);
+  /* OptiX 3.5+ ids (version 8, tessera/detail/bindless.h). buffer_by_id: the view of the buffer
+   * with id `id` (rtBufferGetId) for an rtBufferId of elements of `element_size` bytes and
+   * `dimensionality`; an invalid id raises RT_EXCEPTION_BUFFER_ID_INVALID, or when that is
+   * disabled gives an empty view, whose every index then reaches buffer_id_index_error. */
+  const TesseraBufferView* (*buffer_by_id)(int id, size_t element_size, unsigned dimensionality);
+  /* An index outside the buffer of id `id` (or any index of an invalid id's empty view): as
+   * buffer_index_error; the scratch memory holds at least `element_size` bytes. */
+  void* (*buffer_id_index_error)(int id, size_t element_size, unsigned long long x,
+                                 unsigned long long y, unsigned long long z);
+  /* A call through an rtCallableProgramId: as callable_enter for the program of id `id`
+   * (rtProgramGetId), bound to its own scope and the context's. An invalid id raises
+   * RT_EXCEPTION_PROGRAM_ID_INVALID; when that is disabled it returns null (the call is skipped)
+   * if `skippable` (the caller can make up a result), else it fails the launch. */
+  void* (*callable_id_enter)(int id, int skippable, TesseraCallFrame* frame);
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
