@@ -306,6 +306,39 @@ TEST_P(BindlessTest, ABufferOfOtherElementsFailsTheLaunchNamingIt) {
       << message;
 }
 
+// A program with an id that cannot be bound fails only the launches that call it, naming it.
+TEST_P(BindlessMaterialsTest, AnUnbindableProgramFailsOnlyTheLaunchesThatCallIt) {
+  RTprogram broken = Program(kModule, "scale_by");
+  Ok(rtVariableSet1i(ProgramVar(broken, "factor"), 3));  // declared as a float
+  RTprogram square = Program(kModule, "square");
+  Scene({square});
+  const int broken_id = ProgramId(broken);
+  ExpectEach(Launch(), [](unsigned, unsigned y) { return (y + 1.f) * (y + 1.f); });
+
+  Write(shaders_, std::vector<int>{broken_id});
+  const std::string message = FailedLaunch();
+  EXPECT_NE(message.find("rtCallableProgramId " + std::to_string(broken_id) + " called from"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("variable 'factor' is declared as float but was set as int"),
+            std::string::npos)
+      << message;
+}
+
+// An rtCallableProgramId variable takes the program's id, not the program.
+TEST_P(BindlessInvalidTest, AProgramIdVariableSetToTheProgramSaysHow) {
+  Use(3, 0, 0, true);
+  Ok(rtVariableSetObject(ContextVar("no_default"), Program(kModule, "make_no_default")));
+  const std::string message = FailedLaunch();
+  EXPECT_NE(message.find("variable 'no_default' is declared with rtDeclareVariable but bound to "
+                         "a program"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("rtCallableProgramId takes the object's id, set with rtVariableSet1i"),
+            std::string::npos)
+      << message;
+}
+
 INSTANTIATE_TEST_SUITE_P(Devices, BindlessTest, ::testing::Values("inproc", "local:1", "local:3"),
                          DeviceName);
 INSTANTIATE_TEST_SUITE_P(Devices, BindlessMaterialsTest,
