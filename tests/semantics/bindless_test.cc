@@ -114,6 +114,23 @@ TEST_P(BindlessTest, ABufferOfBufferIdsReachesBuffersNoVariableNames) {
   ExpectEach(Launch(), expected);
 }
 
+// Ids much sparser than the buffers they name (objects made in between) resolve through the
+// engine's sorted table instead of its array: the same results.
+TEST_P(BindlessTest, SparseIdsResolveAlike) {
+  for (int i = 0; i < 9000; ++i) {
+    RTmaterial m = nullptr;
+    Ok(rtMaterialCreate(ctx_, &m));
+  }
+  const std::vector<float> values = {4.f, 5.f};
+  RTbuffer b = Unbound(RT_BUFFER_INPUT, RT_FORMAT_FLOAT, {values.size()}, values);
+  ASSERT_GT(BufferId(b), 9000);
+  RTbuffer tables =
+      Unbound(RT_BUFFER_INPUT, RT_FORMAT_BUFFER_ID, {1}, std::vector<int>{BufferId(b)});
+  Ok(rtVariableSetObject(ContextVar("tables"), tables));
+  RayGen("read_tables");
+  ExpectEach(Launch(), [&](unsigned x, unsigned) { return values[x % 2] + 200.f; });
+}
+
 TEST_P(BindlessTest, AStructCarriesBufferIds) {
   struct Mesh {
     int positions, indices;

@@ -55,7 +55,14 @@ void PlanBindless(const Replica& replica, const Scope* context_scope, AttributeL
     ids.emplace_back(id, static_cast<uint32_t>(table.buffers.size()));
     table.buffers.push_back(e);
   }
-  table.buffer_index.Build(std::move(ids));
+  table.buffer_index.Build(ids);
+  if (table.buffer_index.dense()) {
+    for (const auto& [id, index] : ids) {
+      if (table.fast_entries.size() <= id) table.fast_entries.resize(id + 1, {nullptr, 0});
+      table.fast_entries[id] = {&table.buffers[index].view, table.buffers[index].ndims};
+    }
+    table.fast = {table.fast_entries.size(), table.fast_entries.data()};
+  }
 
   ids.clear();
   for (const auto& [id, p] : replica.programs) {
@@ -81,6 +88,13 @@ void PlanBindless(const Replica& replica, const Scope* context_scope, AttributeL
   }
   table.program_index.Build(std::move(ids));
 }
+
+namespace {
+const TesseraBufferIdTable kNoBufferIds = {0, nullptr};
+}  // namespace
+
+__thread const TesseraBufferIdTable* t_buffer_ids __attribute__((tls_model("initial-exec"))) =
+    &kNoBufferIds;
 
 namespace {
 

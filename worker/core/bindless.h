@@ -25,6 +25,7 @@ class IdIndex {
  public:
   // `entries`: (id, index) pairs, ids distinct and positive.
   void Build(std::vector<std::pair<uint64_t, uint32_t>> entries);
+  bool dense() const { return !sparse_; }
   // The index of `id`, or -1.
   long Find(long long id) const {
     if (id <= 0) return -1;
@@ -61,7 +62,15 @@ struct BindlessTable {
   IdIndex buffer_index, program_index;
   std::vector<BindlessBuffer> buffers;
   std::vector<BindlessProgram> programs;
+  // The buffers again, as programs read them without a call (TesseraBufferIdTable): entries by
+  // id while buffer_index is dense, else none.
+  std::vector<TesseraBufferIdEntry> fast_entries;
+  TesseraBufferIdTable fast{0, nullptr};
 };
+
+// The calling thread's table of buffers by id, read by modules at a fixed offset from the thread
+// pointer (TesseraRuntime::buffer_id_table_offset): the plan's once UsePlan ran, else an empty one.
+extern __thread const TesseraBufferIdTable* t_buffer_ids __attribute__((tls_model("initial-exec")));
 
 // Fills plan.bindless: a view of every buffer of the replica, and bindings of every program the
 // host gave an id (v1::Program.has_id). `add` puts a binding in the plan and binds the callable

@@ -13,6 +13,23 @@
 
 #include <type_traits>
 
+namespace tessera::detail {
+
+// The running plan's buffers by id (TesseraRuntime::buffer_id_table_offset); never null.
+inline const TesseraBufferIdTable* BufferIdTable() {
+  const long long offset = Rt()->buffer_id_table_offset;
+  const TesseraBufferIdTable* table;
+#if defined(__x86_64__)
+  __asm__("movq %%fs:(%1), %0" : "=r"(table) : "r"(offset));
+#else
+  table = *reinterpret_cast<const TesseraBufferIdTable* const*>(
+      static_cast<const char*>(__builtin_thread_pointer()) + offset);
+#endif
+  return table;
+}
+
+}  // namespace tessera::detail
+
 namespace optix {
 
 // A host translation unit that included optixu/optixpp_namespace.h first has its host versions
@@ -41,8 +58,18 @@ class bufferId : public ::tessera::detail::BufferAccess<bufferId<T, Dim>, T, Dim
 
  private:
   friend class ::tessera::detail::BufferAccess<bufferId<T, Dim>, T, Dim>;
-  // One table lookup in the engine per access (no cache here: the value type is just the id).
+  // The engine's table indexed by id, read without a call when the id's entry exists and fits
+  // T and Dim; anything else asks the engine, which raises or fails the launch as it must.
   const TesseraBufferView& View() const {
+    const TesseraBufferIdTable* t = ::tessera::detail::BufferIdTable();
+    const unsigned long long u = static_cast<unsigned>(id_);  // a negative id is past the end
+    if (u < t->count) {
+      const TesseraBufferIdEntry& e = t->entries[u];
+      if (e.view != nullptr && e.view->element_size == sizeof(T) &&
+          (e.dimensionality == 0 || e.dimensionality == Dim)) {
+        return *e.view;
+      }
+    }
     return *::tessera::detail::Rt()->buffer_by_id(id_, sizeof(T), Dim);
   }
   void* OutOfBounds(unsigned long long x, unsigned long long y, unsigned long long z) const {

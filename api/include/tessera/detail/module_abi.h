@@ -55,6 +55,17 @@ typedef struct {
 
 #define TESSERA_WRITTEN_BLOCK_SHIFT 12
 
+/* The buffers programs reach by id (rtBufferId, version 8): entries[id] for id < count; an entry
+ * with a null view is no buffer. `dimensionality` 0: an unsized buffer, which fits any. */
+typedef struct {
+  const TesseraBufferView* view;
+  unsigned dimensionality;
+} TesseraBufferIdEntry;
+typedef struct {
+  unsigned long long count;
+  const TesseraBufferIdEntry* entries;
+} TesseraBufferIdTable;
+
 typedef struct {
   unsigned abi_version;
   unsigned variable_count;
@@ -125,6 +136,11 @@ typedef struct {
    * RT_EXCEPTION_PROGRAM_ID_INVALID; when that is disabled it returns null (the call is skipped)
    * if `skippable` (the caller can make up a result), else it fails the launch. */
   void* (*callable_id_enter)(int id, int skippable, TesseraCallFrame* frame);
+  /* Where the running plan's buffers by id are: a `const TesseraBufferIdTable*` at this offset
+   * from the thread pointer (as buffer_table_offset), so that an rtBufferId access whose entry
+   * exists and fits its type costs no call; every other access calls buffer_by_id, which says
+   * why. The table may be empty (ids too sparse for an array): every access then calls. */
+  long long buffer_id_table_offset;
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
