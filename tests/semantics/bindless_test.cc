@@ -323,6 +323,16 @@ TEST_P(BindlessTest, ABufferOfOtherElementsFailsTheLaunchNamingIt) {
       << message;
 }
 
+// OptiX 3.6's templated rtCallableProgram (RT_USE_TEMPLATED_RTCALLABLEPROGRAM) is the bound kind
+// too: set with rtVariableSetObject, a callee of another module, its `factor` from the context.
+TEST_P(BindlessTest, TheTemplatedRtCallableProgramIsBound) {
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0,
+                                      Program("bindless_templated_programs", "call_templated")));
+  Ok(rtVariableSetObject(ContextVar("templated_fn"), Program(kModule, "scale_by")));
+  Ok(rtVariableSet1f(ContextVar("factor"), 3.f));
+  ExpectEach(Launch(), [](unsigned x, unsigned) { return 3.f * static_cast<float>(x); });
+}
+
 // A program with an id that cannot be bound fails only the launches that call it, naming it.
 TEST_P(BindlessMaterialsTest, AnUnbindableProgramFailsOnlyTheLaunchesThatCallIt) {
   RTprogram broken = Program(kModule, "scale_by");

@@ -152,4 +152,11 @@ constexpr const char* SemanticOf(const char* written) {
 #define rtCallableProgramId ::optix::callableProgramId
 #define rtCallableProgramX ::optix::boundCallableProgramId
 
+// OptiX 3.6: with RT_USE_TEMPLATED_RTCALLABLEPROGRAM defined before optix.h, rtCallableProgram is
+// the template (`rtDeclareVariable(rtCallableProgram<float(float)>, f, , )`), not the macro.
+#ifdef RT_USE_TEMPLATED_RTCALLABLEPROGRAM
+#undef rtCallableProgram
+#define rtCallableProgram rtCallableProgramX
+#endif
+
 #endif  // TESSERA_DETAIL_BINDLESS_H_
