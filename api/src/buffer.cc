@@ -63,6 +63,12 @@ absl::Status Buffer::SetFormat(int format) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat("0x", absl::Hex(format), " is not a format"));
   }
+  if (format == RT_FORMAT_PROGRAM_ID && is_output()) {
+    // As OptiX: programs may not make up program ids.
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   "RT_FORMAT_PROGRAM_ID needs an RT_BUFFER_INPUT buffer (not OUTPUT or "
+                   "INPUT_OUTPUT)");
+  }
   if (mapped()) return MappedError();
   return Reallocate(dims_, static_cast<RTformat>(format), user_element_size_, mip_levels_);
 }

@@ -40,8 +40,9 @@ constexpr FormatInfo kFormats[] = {
     {RT_FORMAT_UNSIGNED_INT3, 12, "RT_FORMAT_UNSIGNED_INT3"},
     {RT_FORMAT_UNSIGNED_INT4, 16, "RT_FORMAT_UNSIGNED_INT4"},
     {RT_FORMAT_USER, 0, "RT_FORMAT_USER"},
-    {RT_FORMAT_BUFFER_ID, 4, "RT_FORMAT_BUFFER_ID"},  // an int id, as rtBufferGetId returns
-    {RT_FORMAT_HALF, 2, "RT_FORMAT_HALF"},            // IEEE binary16, for textures
+    {RT_FORMAT_BUFFER_ID, 4, "RT_FORMAT_BUFFER_ID"},    // an int id, as rtBufferGetId returns
+    {RT_FORMAT_PROGRAM_ID, 4, "RT_FORMAT_PROGRAM_ID"},  // an int id, as rtProgramGetId returns
+    {RT_FORMAT_HALF, 2, "RT_FORMAT_HALF"},              // IEEE binary16, for textures
     {RT_FORMAT_HALF2, 4, "RT_FORMAT_HALF2"},
     {RT_FORMAT_HALF3, 6, "RT_FORMAT_HALF3"},
     {RT_FORMAT_HALF4, 8, "RT_FORMAT_HALF4"},

@@ -355,4 +355,18 @@ RTresult rtContextGetBufferFromId(RTcontext context, int buffer_id, RTbuffer* bu
   });
 }
 
+RTresult rtContextGetProgramFromId(RTcontext context, int program_id, RTprogram* program) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(program, "program pointer"));
+    Object* object = program_id > 0 ? c.FindById(static_cast<uint64_t>(program_id)) : nullptr;
+    if (object == nullptr || object->kind() != Kind::kProgram) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat("no live program has id ", program_id,
+                                  " (ids come from rtProgramGetId; RT_PROGRAM_ID_NULL is 0)"));
+    }
+    *program = ToHandle<RTprogram>(object);
+    return absl::OkStatus();
+  });
+}
+
 }  // extern "C"

@@ -1,5 +1,8 @@
 // rtProgram*: programs from modules or C++ source.
+#include <climits>
+
 #include "boundary.h"
+#include "context.h"
 #include "program.h"
 #include "program_loader.h"
 #include "scope_api.h"
@@ -59,6 +62,23 @@ RTresult rtProgramGetVariableCount(RTprogram program, unsigned int* count) {
 }
 RTresult rtProgramGetVariable(RTprogram program, unsigned int index, RTvariable* v) {
   return ScopeGet<Program>(__func__, program, index, v);
+}
+
+RTresult rtProgramGetId(RTprogram program, int* program_id) {
+  return Call<Program>(__func__, program, [&](Program& p) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(program_id, "id pointer"));
+    // The program id is its object id, so ids in buffers and variables resolve on devices.
+    if (p.id() > static_cast<uint64_t>(INT_MAX)) {
+      return RtError(RT_ERROR_INVALID_VALUE, "program id does not fit in an int");
+    }
+    *program_id = static_cast<int>(p.id());
+    if (!p.id_taken()) {
+      p.NoteIdTaken();
+      p.Touch();                                // travels again, marked as called by id
+      p.context()->NoteProgramIdTaken(p.id());  // reaches devices with no variable naming it
+    }
+    return absl::OkStatus();
+  });
 }
 
 }  // extern "C"

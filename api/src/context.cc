@@ -172,6 +172,10 @@ void Context::VisitEdges(EdgeVisitor visit) const {
     }
   }
   variables_.VisitEdges(visit);
+  for (uint64_t id : program_ids_) {
+    // Destroyed programs are gone from the table; ids are never reused.
+    if (Object* p = FindById(id)) visit(p, EdgeRole{"program with an id (rtProgramGetId)", -1});
+  }
 }
 
 void Context::RecordError(RTresult code, std::string message, uint64_t sequence) {

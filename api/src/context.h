@@ -65,6 +65,9 @@ class Context : public Object {
   // A live object of this context, or null.
   Object* FindById(uint64_t id) const;
   const absl::flat_hash_map<uint64_t, Object*>& objects() const { return objects_; }
+  // rtProgramGetId gave out program `id`: the program is an edge of the context from now on
+  // (VisitEdges), so it reaches the devices while it lives whether or not a variable names it.
+  void NoteProgramIdTaken(uint64_t id) { program_ids_.push_back(id); }
 
   // ---- Entry points, ray types and their programs.
   unsigned entry_point_count() const { return static_cast<unsigned>(ray_generation_.size()); }
@@ -206,6 +209,7 @@ class Context : public Object {
   uint64_t last_id_ = 0;
   uint64_t last_launch_id_ = 0;
   absl::flat_hash_map<uint64_t, Object*> objects_;  // each holds the creation reference
+  std::vector<uint64_t> program_ids_;  // of programs rtProgramGetId gave out, in that order
 
   VariableScope variables_;
   Links ray_generation_;  // per entry point

@@ -70,6 +70,7 @@ void LowerObject(const Context& c, Object& o, int ordinal, v1::Object* out) {
       m->set_module_path(p.module_path());
       m->set_module_hash(p.module_hash());
       m->set_function(p.function());
+      m->set_has_id(p.id_taken());
       LowerVariables(p.variables(), m->mutable_variables());
       break;
     }

@@ -31,6 +31,10 @@ class Program : public Object {
   // The module file as read at creation (program_loader.h ModuleRef::bytes); never null.
   const std::string& module_bytes() const { return *module_bytes_; }
   const std::string& function() const { return function_; }
+  // rtProgramGetId: programs can now call it by id (rtCallableProgramId), so it reaches the
+  // devices whether or not a variable names it (Context::VisitEdges) and they bind it by id.
+  void NoteIdTaken() { id_taken_ = true; }
+  bool id_taken() const { return id_taken_; }
 
   VariableScope* scope() override { return &variables_; }
   const VariableScope& variables() const { return variables_; }
@@ -44,6 +48,7 @@ class Program : public Object {
   const std::shared_ptr<const std::string> module_bytes_;
   const std::string function_;
   VariableScope variables_;
+  bool id_taken_ = false;
 };
 
 }  // namespace tessera::api

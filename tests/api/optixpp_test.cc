@@ -580,6 +580,35 @@ TEST_F(OptixppTest, BufferMipLevels) {
   ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { b->setMipLevelCount(5); });  // 8x4 has 4 levels
 }
 
+// Program ids (OptiX 3.6): getId, getProgramFromId, setProgramId, and the host's id types in a
+// mapped buffer of RT_FORMAT_PROGRAM_ID elements (bindless_test.cc runs programs that use them).
+TEST_F(OptixppTest, ProgramIdsRoundTrip) {
+  optix::Program miss = Prog("miss");
+  optix::Program hit = Prog("closest_hit_diffuse");
+  const int id = miss->getId();
+  EXPECT_GT(id, 0);
+  EXPECT_EQ(miss->getId(), id);
+  EXPECT_NE(hit->getId(), id);
+  EXPECT_EQ(ctx_->getProgramFromId(id)->get(), miss->get());
+  ctx_["shade"]->setProgramId(hit);
+  EXPECT_EQ(ctx_["shade"]->getInt(), hit->getId());
+
+  optix::Buffer ids = ctx_->createBuffer(RT_BUFFER_INPUT, RT_FORMAT_PROGRAM_ID, 2);
+  static_assert(sizeof(optix::callableProgramId<int(int)>) == sizeof(int), "an id is an int");
+  auto* data = static_cast<optix::callableProgramId<int(int)>*>(ids->map());
+  data[0] = optix::callableProgramId<int(int)>(id);
+  data[1] = optix::callableProgramId<int(int)>(hit->getId());
+  ids->unmap();
+  const int* raw = static_cast<const int*>(ids->map());
+  EXPECT_EQ(raw[0], id);
+  EXPECT_EQ(raw[1], hit->getId());
+  ids->unmap();
+
+  std::string message =
+      ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { ctx_->getProgramFromId(ids->getId()); });
+  EXPECT_NE(message.find("no live program has id"), std::string::npos) << message;
+}
+
 // ---- Context ----------------------------------------------------------------------------------
 
 TEST_F(OptixppTest, ContextSettersRoundTrip) {

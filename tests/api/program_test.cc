@@ -183,25 +183,6 @@ TEST_F(HostProgramTest, ACompilerThatWritesNothingOrCannotRunIsNamed) {
   }
 }
 
-// Program-side features not built yet stop the compile at their declaration, naming themselves.
-TEST_F(HostProgramTest, UnsupportedProgramFeaturesSayWhatTheyAre) {
-  const std::pair<const char*, const char*> cases[] = {
-      {"rtDeclareVariable(rtCallableProgramId<float3(float3)>, fn, , );\n",
-       "no bindless callable programs yet"},
-      {"rtBuffer<rtBufferId<float3, 1>, 1> ids;\n", "no buffer ids yet"},
-  };
-  for (const auto& [code, said] : cases) {
-    const std::string source = std::string("#include <optix_world.h>\nusing namespace optix;\n") +
-                               code + "RT_PROGRAM void shade_ok() {}\n";
-    RTprogram p = nullptr;
-    EXPECT_EQ(rtProgramCreateFromPTXString(ctx, source.c_str(), "shade_ok", &p),
-              RT_ERROR_INVALID_SOURCE)
-        << code;
-    const std::string message = ErrorString(ctx, RT_ERROR_INVALID_SOURCE);
-    EXPECT_NE(message.find(said), std::string::npos) << message;
-  }
-}
-
 // Programs created from one module file share one read of it, until the file changes.
 TEST_F(HostProgramTest, AModuleFileIsReadAgainAfterItChanges) {
   const fs::path module = dir_ / "module.so";

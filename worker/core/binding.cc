@@ -270,7 +270,8 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
           b.name, ": variable '", v.name, "' is declared with rtDeclareVariable but bound to ",
           ValueTypeName(value->type),
           " (use rtBuffer for buffers, rtTextureSampler for texture samplers, rtCallableProgram "
-          "for programs)"));
+          "for programs; an rtBufferId or rtCallableProgramId takes the object's id, set with "
+          "rtVariableSet1i)"));
     }
     if (IsNodeType(value->type)) {
       // Only an rtObject receives a node: a float2 or uint2 has the same 8 bytes but would read

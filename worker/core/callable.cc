@@ -158,6 +158,11 @@ void* RtCallableEnter(const void* variable, TesseraCallFrame* frame) {
   const BoundProgram* callee;
   std::memcpy(&callee, variable, sizeof(callee));
   if (__builtin_expect(callee == nullptr, 0)) NotSet(ts, variable);
+  return EnterCallee(ts, *callee, frame);
+}
+
+void* EnterCallee(ThreadState& ts, const BoundProgram& callee_binding, TesseraCallFrame* frame) {
+  const BoundProgram* callee = &callee_binding;
   if (__builtin_expect(static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit, 0)) {
     TooDeep(ts, *callee);
   }

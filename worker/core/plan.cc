@@ -411,6 +411,15 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
     CollectRoots(gi.vars, roots);
     plan->instances.emplace(id, std::move(ip));
   }
+  PlanBindless(
+      replica, context_scope, plan->attributes,
+      [&](BoundProgram b) -> absl::StatusOr<const BoundProgram*> {
+        plan->programs.push_back(std::move(b));
+        BoundProgram& bound = plan->programs.back();
+        if (absl::Status s = callables.Resolve(bound); !s.ok()) return s;
+        return &bound;
+      },
+      plan->bindless);
   SplitInvariants(*plan);
   plan->attribute_bytes = plan->attributes.used();
   plan->barycentrics_offset = plan->attributes.Find(kTriangleBarycentrics);

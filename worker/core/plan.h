@@ -15,6 +15,7 @@
 
 #include "absl/status/statusor.h"
 #include "binding.h"
+#include "bindless.h"
 #include "replica.h"
 
 namespace tessera::worker {
@@ -158,6 +159,7 @@ struct LaunchPlan {
   // or why programs cannot read it (no buffer, say), said when one tries.
   std::unordered_map<int, TesseraTextureView> textures_by_id;
   std::unordered_map<int, absl::Status> texture_problems;
+  BindlessTable bindless;  // buffers and programs by id (bindless.h)
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;
   uint32_t ray_type_count = 0;

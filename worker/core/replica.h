@@ -31,6 +31,7 @@ struct NodeRef {
 struct ProgramRec {
   std::string module_path, module_hash, function;
   Scope vars;
+  bool has_id = false;  // programs may call it by id (v1::Program.has_id)
 };
 struct BufferRec {
   uint32_t desc = 0, format = 0;

@@ -479,6 +479,9 @@ void RtIntersectChild(unsigned index);
 // rtCallableProgram calls (callable.cc).
 void* RtCallableEnter(const void* variable, TesseraCallFrame* frame);
 void RtCallableLeave(TesseraCallFrame* frame);
+// Makes `callee` (an rtCallableProgram variable's binding, or a program called by id) the running
+// program, keeping its caller in *frame, and returns its function (callable.cc).
+void* EnterCallee(ThreadState& ts, const BoundProgram& callee, TesseraCallFrame* frame);
 // Ends the calls an any-hit program made (innermost first) before rtIgnoreIntersection or
 // rtTerminateRay leaves their frames behind.
 void EndAnyHitCalls(ThreadState& ts);

@@ -26,6 +26,34 @@
 
 namespace optix {
 
+#ifndef TESSERA_DEVICE_H_
+#define TESSERA_OPTIXPP_HOST_ID_TYPES_
+// Host-side id types (OptiX 3.6), so that host code can fill mapped buffers of RT_FORMAT_BUFFER_ID
+// and RT_FORMAT_PROGRAM_ID elements, or structs a program reads, with the types programs declare:
+// each is just the int id. A program module gets the usable ones from tessera/device.h (included
+// first, they replace these).
+template <typename T, int Dim = 1>
+class bufferId {
+ public:
+  bufferId() = default;
+  bufferId(int id) : id_(id) {}  // NOLINT: implicit, as OptiX's host version
+  int getId() const { return id_; }
+
+ private:
+  int id_ = RT_BUFFER_ID_NULL;
+};
+template <typename Signature>
+class callableProgramId {
+ public:
+  callableProgramId() = default;
+  callableProgramId(int id) : id_(id) {}  // NOLINT: implicit, as OptiX's host version
+  int getId() const { return id_; }
+
+ private:
+  int id_ = RT_PROGRAM_ID_NULL;
+};
+#endif
+
 class AccelerationObj;
 class BufferObj;
 class ContextObj;
@@ -457,6 +485,8 @@ class VariableObj : public APIObj {
   void set(const Transform& transform);
   void setBuffer(const Buffer& buffer);
   void setTextureSampler(const TextureSampler& sampler);
+  // OptiX 3.6+: the program's id (rtProgramGetId), for an rtCallableProgramId variable.
+  void setProgramId(const Program& program);
 
   // The object the variable refers to; RT_ERROR_TYPE_MISMATCH if it refers to another kind.
   Buffer getBuffer() const;
@@ -549,6 +579,7 @@ class ContextObj : public ScopedObj {
   Buffer getBufferFromId(int buffer_id) const;
   // The sampler rtTextureSamplerGetId gave `sampler_id`.
   TextureSampler getTextureSamplerFromId(int sampler_id) const;
+  Program getProgramFromId(int program_id) const;
 
   // Launches.
   void launch(unsigned int entry_point_index, RTsize image_width);
@@ -597,6 +628,9 @@ class ProgramObj : public ScopedObj {
   typedef RTprogram api_t;
   RTprogram get() const { return program_; }
   OPTIXPP_SCOPED_DECLS_()
+
+  // OptiX 3.6+ (rtProgramGetId): the id programs call it by through an rtCallableProgramId.
+  int getId() const;
 
  private:
   friend class Handle<ProgramObj>;
@@ -1285,6 +1319,9 @@ inline void VariableObj::set(const Transform& transform) {
 }
 inline void VariableObj::setBuffer(const Buffer& buffer) { set(buffer); }
 inline void VariableObj::setTextureSampler(const TextureSampler& sampler) { set(sampler); }
+inline void VariableObj::setProgramId(const Program& program) {
+  checkError(rtVariableSet1i(variable_, program->getId()));
+}
 
 inline RTobject VariableObj::GetObject(RTobjecttype expected, const char* kind) const {
   RTobject object = nullptr;
@@ -1612,6 +1649,12 @@ inline Buffer ContextObj::getBufferFromId(int buffer_id) const {
   return Buffer::take(b);
 }
 
+inline Program ContextObj::getProgramFromId(int program_id) const {
+  RTprogram p = nullptr;
+  checkError(rtContextGetProgramFromId(context_, program_id, &p));
+  return Program::take(p);
+}
+
 inline void ContextObj::launch(unsigned int entry_point_index, RTsize image_width) {
   checkError(rtContextLaunch1D(context_, entry_point_index, image_width));
 }
@@ -1724,6 +1767,11 @@ inline int3 ContextObj::getPrintLaunchIndex() const {
 inline ProgramObj::ProgramObj(RTprogram program)
     : ScopedObj(optixpp_detail::ContextOf(&rtProgramGetContext, program)), program_(program) {}
 OPTIXPP_SCOPED_DEFS_(ProgramObj, Program, program_)
+inline int ProgramObj::getId() const {
+  int id = 0;
+  checkError(rtProgramGetId(program_, &id));
+  return id;
+}
 
 // ---- Node children --------------------------------------------------------------------------
 

@@ -160,16 +160,18 @@ tessera_module_init(const TesseraRuntime* runtime, unsigned abi_version) {
 // rtDeclareVariable(type, name, semantic, annotation) [= initializer];
 // A variable declared inside namespaces registers under its qualified name ("ns::name"), which
 // is what the host declares, as in OptiX.
-#define rtDeclareVariable(type, name, semantic, annotation)                          \
-  extern __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name;   \
-  struct tessera_scope_of_##name {                                                   \
-    static const char* Where() { return __PRETTY_FUNCTION__; }                       \
-  };                                                                                 \
-  static ::tessera::detail::VariableRegistration tessera_variable_##name(            \
-      ::tessera::detail::QualifiedName(tessera_scope_of_##name::Where(),             \
-                                       "tessera_scope_of_" #name, #name),            \
-      #semantic, #annotation, #type, sizeof(type),                                   \
-      []() -> void* { return const_cast<void*>(static_cast<const void*>(&name)); }); \
+// The semantic of a bound callable program type (rtCallableProgramX) is rtCallableProgram
+// (SemanticOf, tessera/detail/bindless.h).
+#define rtDeclareVariable(type, name, semantic, annotation)                             \
+  extern __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name;      \
+  struct tessera_scope_of_##name {                                                      \
+    static const char* Where() { return __PRETTY_FUNCTION__; }                          \
+  };                                                                                    \
+  static ::tessera::detail::VariableRegistration tessera_variable_##name(               \
+      ::tessera::detail::QualifiedName(tessera_scope_of_##name::Where(),                \
+                                       "tessera_scope_of_" #name, #name),               \
+      ::tessera::detail::SemanticOf<type>(#semantic), #annotation, #type, sizeof(type), \
+      []() -> void* { return const_cast<void*>(static_cast<const void*>(&name)); });    \
   __attribute__((visibility("hidden"))) thread_local TESSERA_TLS type name
 
 #define rtDeclareAnnotation(variable, annotation)
@@ -277,25 +279,36 @@ struct BufferSize<T, 3> {
   using type = size_t3;
 };
 
-// rtBuffer<T, Dim>: a view of a buffer bound through the program's scope chain. Indices outside
-// the buffer raise RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS (or read zeroed scratch when off).
-template <typename T, int Dim = 1>
-class buffer {
-  static_assert(Dim >= 1 && Dim <= 3, "rtBuffer dimensionality must be 1, 2 or 3");
+}  // namespace optix
+
+namespace tessera::detail {
+
+// Raises a mark to `epoch`, never lowers it (a thread still in an older epoch must not hide a
+// newer write from the engine). Written only when lower: threads working on one block would
+// otherwise take turns owning its cache line with every access.
+inline void MarkAtLeast(unsigned char* mark, unsigned char epoch) {
+  unsigned char seen = __atomic_load_n(mark, __ATOMIC_RELAXED);
+  while (seen < epoch && !__atomic_compare_exchange_n(mark, &seen, epoch, /*weak=*/true,
+                                                      __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+  }
+}
+
+// Element access of rtBuffer and rtBufferId (one code for both, write marks included):
+// operator[] for every index type OptiX takes and size(). `Derived` gives View(), the buffer's
+// view, and OutOfBounds(x, y, z), what an index outside it reaches.
+template <typename Derived, typename T, int Dim>
+class BufferAccess {
+  static_assert(Dim >= 1 && Dim <= 3, "buffer dimensionality must be 1, 2 or 3");
 
  public:
-  buffer() : slot_(::tessera::detail::RegisterBuffer(this, sizeof(T), Dim)) {}
-  buffer(const buffer&) = delete;
-  buffer& operator=(const buffer&) = delete;
-
-  typename BufferSize<T, Dim>::type size() const {
-    const TesseraBufferView& v = View();
+  typename optix::BufferSize<T, Dim>::type size() const {
+    const TesseraBufferView& v = Self().View();
     if constexpr (Dim == 1) {
       return v.size[0];
     } else if constexpr (Dim == 2) {
-      return make_size_t2(v.size[0], v.size[1]);
+      return optix::make_size_t2(v.size[0], v.size[1]);
     } else {
-      return make_size_t3(v.size[0], v.size[1], v.size[2]);
+      return optix::make_size_t3(v.size[0], v.size[1], v.size[2]);
     }
   }
 
@@ -307,23 +320,23 @@ class buffer {
   T& operator[](long i) const { return At<1>(static_cast<unsigned long long>(i), 0, 0); }
   T& operator[](const uint2& i) const { return At<2>(i.x, i.y, 0); }
   T& operator[](const int2& i) const { return At<2>(Idx(i.x), Idx(i.y), 0); }
-  T& operator[](const size_t2& i) const { return At<2>(i.x, i.y, 0); }
+  T& operator[](const optix::size_t2& i) const { return At<2>(i.x, i.y, 0); }
   T& operator[](const uint3& i) const { return At<3>(i.x, i.y, i.z); }
   T& operator[](const int3& i) const { return At<3>(Idx(i.x), Idx(i.y), Idx(i.z)); }
-  T& operator[](const size_t3& i) const { return At<3>(i.x, i.y, i.z); }
+  T& operator[](const optix::size_t3& i) const { return At<3>(i.x, i.y, i.z); }
 
  private:
+  const Derived& Self() const { return static_cast<const Derived&>(*this); }
   static unsigned long long Idx(int i) { return static_cast<unsigned long long>(i); }
-  const TesseraBufferView& View() const { return ::tessera::detail::BufferTable()[slot_]; }
   // K: how many index components the caller gave; the others are 0. Dimensions past the
-  // buffer's own are 1 (the engine binds only buffers of this dimensionality), so a 0 there is
+  // buffer's own are 1 (the engine gives only buffers of this dimensionality), so a 0 there is
   // always inside and only the first max(K, Dim) components need a check.
   template <int K>
   T& At(unsigned long long x, unsigned long long y, unsigned long long z) const {
     constexpr int kChecked = K > Dim ? K : Dim;
-    const TesseraBufferView& v = View();
+    const TesseraBufferView& v = Self().View();
     if (x >= v.size[0] || (kChecked >= 2 && y >= v.size[1]) || (kChecked >= 3 && z >= v.size[2])) {
-      return *static_cast<T*>(::tessera::detail::Rt()->buffer_index_error(slot_, x, y, z));
+      return *static_cast<T*>(Self().OutOfBounds(x, y, z));
     }
     const unsigned long long i = kChecked == 1   ? x
                                  : kChecked == 2 ? y * v.size[0] + x
@@ -337,15 +350,26 @@ class buffer {
     }
     return static_cast<T*>(v.data)[i];
   }
+};
 
-  // Raises a mark to `epoch`, never lowers it (a thread still in an older epoch must not hide a
-  // newer write from the engine). Written only when lower: threads working on one block would
-  // otherwise take turns owning its cache line with every access.
-  static void MarkAtLeast(unsigned char* mark, unsigned char epoch) {
-    unsigned char seen = __atomic_load_n(mark, __ATOMIC_RELAXED);
-    while (seen < epoch && !__atomic_compare_exchange_n(mark, &seen, epoch, /*weak=*/true,
-                                                        __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
-    }
+}  // namespace tessera::detail
+
+namespace optix {
+
+// rtBuffer<T, Dim>: a view of a buffer bound through the program's scope chain. Indices outside
+// the buffer raise RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS (or read zeroed scratch when off).
+template <typename T, int Dim = 1>
+class buffer : public ::tessera::detail::BufferAccess<buffer<T, Dim>, T, Dim> {
+ public:
+  buffer() : slot_(::tessera::detail::RegisterBuffer(this, sizeof(T), Dim)) {}
+  buffer(const buffer&) = delete;
+  buffer& operator=(const buffer&) = delete;
+
+ private:
+  friend class ::tessera::detail::BufferAccess<buffer<T, Dim>, T, Dim>;
+  const TesseraBufferView& View() const { return ::tessera::detail::BufferTable()[slot_]; }
+  void* OutOfBounds(unsigned long long x, unsigned long long y, unsigned long long z) const {
+    return ::tessera::detail::Rt()->buffer_index_error(slot_, x, y, z);
   }
 
   unsigned slot_;
@@ -357,31 +381,8 @@ class buffer {
 
 #include "tessera/detail/texture.h"
 
-// ---- Not supported yet ----------------------------------------------------------------------
-// Declared so that a program using them stops at its declaration with a message naming the
-// feature, instead of an unknown-name error suggesting the host's RTtexturesampler
-// (docs/COMPATIBILITY.md "Program-side API"). The asserts depend on T: only a use fires them.
-namespace tessera::detail {
-template <typename T>
-inline constexpr bool kNotYet = sizeof(T) == 0;
-}  // namespace tessera::detail
-template <typename T, int Dim = 1>
-struct rtBufferId {
-  static_assert(::tessera::detail::kNotYet<T>,
-                "rtBufferId: Tessera has no buffer ids yet (OptiX 3.5+; docs/COMPATIBILITY.md)");
-};
-template <typename Signature>
-struct rtCallableProgramId {
-  static_assert(::tessera::detail::kNotYet<Signature>,
-                "rtCallableProgramId: Tessera has no bindless callable programs yet (OptiX 3.5+; "
-                "rtCallableProgram variables work; docs/COMPATIBILITY.md)");
-};
-template <typename Signature>
-struct rtCallableProgramX {
-  static_assert(::tessera::detail::kNotYet<Signature>,
-                "rtCallableProgramX: Tessera has no bindless callable programs yet (OptiX 3.5+; "
-                "rtCallableProgram variables work; docs/COMPATIBILITY.md)");
-};
+// rtBufferId, rtCallableProgramId, rtCallableProgramX (OptiX 3.5+).
+#include "tessera/detail/bindless.h"
 
 // ---- Tracing ---------------------------------------------------------------------------------
 template <typename T>

@@ -72,7 +72,7 @@ typedef enum {
   RT_FORMAT_UNSIGNED_INT4,
   RT_FORMAT_USER,
   RT_FORMAT_BUFFER_ID,
-  RT_FORMAT_PROGRAM_ID, /* OptiX 3.5 (listed for the values below) */
+  RT_FORMAT_PROGRAM_ID, /* OptiX 3.6+: an int id, as rtProgramGetId returns */
   RT_FORMAT_HALF,       /* OptiX 3.9: IEEE binary16, texture buffers */
   RT_FORMAT_HALF2,
   RT_FORMAT_HALF3,
@@ -171,6 +171,10 @@ typedef enum {
   RT_EXCEPTION_USER = 0x400,
   RT_EXCEPTION_ALL = 0x7FFFFFFF
 } RTexception;
+
+/* OptiX 3.5+: the ids no buffer or program has (rtBufferId, rtCallableProgramId). */
+typedef enum { RT_BUFFER_ID_NULL = 0 } RTbufferidnull;
+typedef enum { RT_PROGRAM_ID_NULL = 0 } RTprogramidnull;
 
 typedef enum {
   RT_SUCCESS = 0,
@@ -312,6 +316,12 @@ RTAPI RTresult rtProgramQueryVariable(RTprogram program, const char* name, RTvar
 RTAPI RTresult rtProgramRemoveVariable(RTprogram program, RTvariable v);
 RTAPI RTresult rtProgramGetVariableCount(RTprogram program, unsigned int* count);
 RTAPI RTresult rtProgramGetVariable(RTprogram program, unsigned int index, RTvariable* v);
+/* OptiX 3.6+: the program's id for rtCallableProgramId (positive, its object id); the program then
+ * reaches every device whether or not a variable names it. */
+RTAPI RTresult rtProgramGetId(RTprogram program, int* program_id);
+/* OptiX 3.6+: the live program of `context` with id `program_id`; RT_ERROR_INVALID_VALUE if none.
+ */
+RTAPI RTresult rtContextGetProgramFromId(RTcontext context, int program_id, RTprogram* program);
 
 /* ---- Group ------------------------------------------------------------------------------- */
 RTAPI RTresult rtGroupCreate(RTcontext context, RTgroup* group);

@@ -66,6 +66,16 @@ typedef struct {
   unsigned dimensionality;
   unsigned read_mode;
 } TesseraTextureDecl;
+/* The buffers programs reach by id (rtBufferId, version 8): entries[id] for id < count; an entry
+ * with a null view is no buffer. `dimensionality` 0: an unsized buffer, which fits any. */
+typedef struct {
+  const TesseraBufferView* view;
+  unsigned dimensionality;
+} TesseraBufferIdEntry;
+typedef struct {
+  unsigned long long count;
+  const TesseraBufferIdEntry* entries;
+} TesseraBufferIdTable;
 
 typedef struct {
   unsigned abi_version;
@@ -132,6 +142,25 @@ typedef struct {
    * when that exception is disabled). Views stay valid while the program runs. */
   const TesseraTextureView* (*texture_view)(unsigned slot);
   const TesseraTextureView* (*texture_by_id)(int id);
+  /* OptiX 3.5+ ids (version 8, tessera/detail/bindless.h). buffer_by_id: the view of the buffer
+   * with id `id` (rtBufferGetId) for an rtBufferId of elements of `element_size` bytes and
+   * `dimensionality`; an invalid id raises RT_EXCEPTION_BUFFER_ID_INVALID, or when that is
+   * disabled gives an empty view, whose every index then reaches buffer_id_index_error. */
+  const TesseraBufferView* (*buffer_by_id)(int id, size_t element_size, unsigned dimensionality);
+  /* An index outside the buffer of id `id` (or any index of an invalid id's empty view): as
+   * buffer_index_error; the scratch memory holds at least `element_size` bytes. */
+  void* (*buffer_id_index_error)(int id, size_t element_size, unsigned long long x,
+                                 unsigned long long y, unsigned long long z);
+  /* A call through an rtCallableProgramId: as callable_enter for the program of id `id`
+   * (rtProgramGetId), bound to its own scope and the context's. An invalid id raises
+   * RT_EXCEPTION_PROGRAM_ID_INVALID; when that is disabled it returns null (the call is skipped)
+   * if `skippable` (the caller can make up a result), else it fails the launch. */
+  void* (*callable_id_enter)(int id, int skippable, TesseraCallFrame* frame);
+  /* Where the running plan's buffers by id are: a `const TesseraBufferIdTable*` at this offset
+   * from the thread pointer (as buffer_table_offset), so that an rtBufferId access whose entry
+   * exists and fits its type costs no call; every other access calls buffer_by_id, which says
+   * why. The table may be empty (ids too sparse for an array): every access then calls. */
+  long long buffer_id_table_offset;
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
