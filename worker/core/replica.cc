@@ -437,9 +437,8 @@ void Replica::ApplyObject(const v1::Object& o) {
   switch (o.kind_case()) {
     case v1::Object::kProgram: {
       const auto& p = o.program();
-      programs[p.id()] =
-          ProgramRec{p.module_path(), p.module_hash(), p.function(), ToScope(p.variables()),
-                     p.has_id()};
+      programs[p.id()] = ProgramRec{p.module_path(), p.module_hash(), p.function(),
+                                    ToScope(p.variables()), p.has_id()};
       break;
     }
     case v1::Object::kBuffer:
