@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "tessera/image.h"
 #include "tessera/rt.h"
 #include "tessera/rt_ext.h"
 #include "tutorial/camera.h"
@@ -16,6 +17,9 @@
 
 #ifndef TESSERA_TUTORIAL_MODULE_DIR
 #error "TESSERA_TUTORIAL_MODULE_DIR must name the build's program module directory"
+#endif
+#ifndef TESSERA_TUTORIAL_ENVMAP
+#error "TESSERA_TUTORIAL_ENVMAP must name the environment map the build made"
 #endif
 
 namespace tessera::tutorial {
@@ -79,6 +83,69 @@ RTbuffer CreateLights(RTcontext context) {
   return buffer;
 }
 
+// A sampler of `buffer` with linear filtering and normalized coordinates, repeating along the
+// dimensions in `repeat` and clamping along the others.
+RTtexturesampler CreateSampler(RTcontext context, RTbuffer buffer, unsigned dimensions,
+                               const bool repeat[3]) {
+  RTtexturesampler sampler = nullptr;
+  RT_CHECK(context, rtTextureSamplerCreate(context, &sampler));
+  for (unsigned d = 0; d < dimensions; ++d) {
+    RT_CHECK(context, rtTextureSamplerSetWrapMode(
+                          sampler, d, repeat[d] ? RT_WRAP_REPEAT : RT_WRAP_CLAMP_TO_EDGE));
+  }
+  RT_CHECK(context, rtTextureSamplerSetFilteringModes(sampler, RT_FILTER_LINEAR, RT_FILTER_LINEAR,
+                                                      RT_FILTER_NONE));
+  RT_CHECK(context,
+           rtTextureSamplerSetIndexingMode(sampler, RT_TEXTURE_INDEX_NORMALIZED_COORDINATES));
+  RT_CHECK(context, rtTextureSamplerSetReadMode(sampler, RT_TEXTURE_READ_NORMALIZED_FLOAT));
+  RT_CHECK(context, rtTextureSamplerSetMaxAnisotropy(sampler, 1.0f));
+  RT_CHECK(context, rtTextureSamplerSetBuffer(sampler, 0, 0, buffer));
+  return sampler;
+}
+
+// The environment map: the image at `path` (an HDR image, float texels), around u, clamped at
+// the poles.
+RTtexturesampler CreateEnvmap(RTcontext context, const std::string& path) {
+  RTbuffer image = nullptr;
+  if (tesseraBufferCreateFromImage(context, path.c_str(), 0, &image) != RT_SUCCESS) {
+    throw TutorialError(std::string("environment map: ") + tesseraImageGetErrorString());
+  }
+  const bool repeat[3] = {true, false, false};
+  return CreateSampler(context, image, 2, repeat);
+}
+
+// A value in [0, 1) for each texel of the noise texture: a fixed integer hash of its position,
+// so that every run and every device set renders the same rust.
+float NoiseValue(unsigned x, unsigned y, unsigned z) {
+  unsigned h = x * 0x8da6b343u ^ y * 0xd8163841u ^ z * 0xcb1ab31fu;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
+}
+
+// The SDK tutorial's 64^3 noise texture, repeating in every dimension.
+RTtexturesampler CreateNoise(RTcontext context) {
+  constexpr unsigned kSize = 64;
+  RTbuffer buffer = nullptr;
+  RT_CHECK(context, rtBufferCreate(context, RT_BUFFER_INPUT, &buffer));
+  RT_CHECK(context, rtBufferSetFormat(buffer, RT_FORMAT_FLOAT));
+  RT_CHECK(context, rtBufferSetSize3D(buffer, kSize, kSize, kSize));
+  void* mapped = nullptr;
+  RT_CHECK(context, rtBufferMap(buffer, &mapped));
+  float* values = static_cast<float*>(mapped);
+  for (unsigned z = 0; z < kSize; ++z) {
+    for (unsigned y = 0; y < kSize; ++y) {
+      for (unsigned x = 0; x < kSize; ++x) *values++ = NoiseValue(x, y, z);
+    }
+  }
+  RT_CHECK(context, rtBufferUnmap(buffer));
+  const bool repeat[3] = {true, true, true};
+  return CreateSampler(context, buffer, 3, repeat);
+}
+
 void SetUpContext(RTcontext context, const StepConfig& step, const RenderOptions& options,
                   ProgramLoader& programs, RTbuffer output, RTbuffer lights) {
   RT_CHECK(context, rtContextSetRayTypeCount(context, 2));
@@ -98,9 +165,12 @@ void SetUpContext(RTcontext context, const StepConfig& step, const RenderOptions
   vars.Float("importance_cutoff", 0.01f);
   vars.Float3("ambient_light_color", 0.31f, 0.33f, 0.28f);
   vars.Float3("bg_color", kBackgroundColor[0], kBackgroundColor[1], kBackgroundColor[2]);
-  vars.Float3("horizon_color", 0.85f, 0.88f, 0.92f);
-  vars.Float3("ground_color", 0.3f, 0.3f, 0.3f);
   vars.Float3("bad_color", kBadColor[0], kBadColor[1], kBadColor[2]);
+  if (step.has_envmap()) {
+    vars.Object("envmap", CreateEnvmap(context, options.envmap.empty() ? TESSERA_TUTORIAL_ENVMAP
+                                                                       : options.envmap));
+  }
+  if (step.has_noise()) vars.Object("noise_texture", CreateNoise(context));
 
   const CameraFrame frame = ComputeFrame(
       TutorialCamera(), static_cast<float>(options.width) / static_cast<float>(options.height));
@@ -109,8 +179,7 @@ void SetUpContext(RTcontext context, const StepConfig& step, const RenderOptions
   vars.Float3("V", frame.V);
   vars.Float3("W", frame.W);
 
-  RT_CHECK(context, rtContextSetRayGenerationProgram(
-                        context, 0, programs.Get({"tutorial_camera", "pinhole_camera"})));
+  RT_CHECK(context, rtContextSetRayGenerationProgram(context, 0, programs.Get(step.camera)));
   RT_CHECK(context, rtContextSetExceptionProgram(context, 0,
                                                  programs.Get({"tutorial_camera", "exception"})));
   RT_CHECK(context, rtContextSetMissProgram(context, kRadianceRayType, programs.Get(step.miss)));

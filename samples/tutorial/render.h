@@ -15,6 +15,7 @@ struct RenderOptions {
   int width = 512;
   int height = 384;
   std::string module_dir;  // holds tutorial_*.so
+  std::string envmap;      // the environment map of steps 5 on: an image file; empty: the build's
 };
 
 // Colors the context sets, for tests that recognize them in the image.

@@ -96,7 +96,7 @@ TEST_P(TutorialEveryStepTest, FiniteNoExceptionPixelsNotUniform) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Tutorial, TutorialEveryStepTest,
-                         ::testing::Range(kFirstStep, kLastStep + 1));
+                         ::testing::Range(kFirstStep, kEnvironmentCameraStep + 1));
 
 // ---- Step by step ------------------------------------------------------------------------------
 
@@ -186,7 +186,7 @@ TEST(TutorialStep4, FloorReflects) {
   EXPECT_GT(MaxAbsDiff(after_shadow, before_shadow), 0.02f);
 }
 
-TEST(TutorialStep5, SkyGradientReplacesConstantBackground) {
+TEST(TutorialStep5, EnvironmentMapReplacesConstantBackground) {
   const Rgb sky = At(Rendered(5), 0.5f, 0.02f);
   const Rgb constant = At(Rendered(4), 0.5f, 0.02f);
   EXPECT_GT(MaxAbsDiff(sky, constant), 0.1f) << sky << " vs " << constant;
@@ -256,6 +256,21 @@ TEST(TutorialStep10, GlassShadowLighterThanOpaqueShadows) {
       << glass_shadow << " vs box shadow " << box_shadow;
   EXPECT_GT(glass_shadow.Luma(), opaque_chull_shadow.Luma() + 0.05f)
       << glass_shadow << " vs step 9 " << opaque_chull_shadow;
+}
+
+TEST(TutorialStep11, EnvironmentCameraSeesTheZenithAtTheTopAndTheFloorBelow) {
+  // The top row looks along the camera's up vector, well inside the environment map's zenith cap,
+  // where the sky is bg_color (samples/tutorial/make_sky.cc); the bottom row looks down at the
+  // floor.
+  const Image& image = Rendered(11);
+  for (float fx : {0.1f, 0.5f, 0.9f}) {
+    const Rgb up = At(image, fx, 0.0f);
+    EXPECT_NEAR(up.r, kBackgroundColor[0], 2e-3f) << up << " at x fraction " << fx;
+    EXPECT_NEAR(up.g, kBackgroundColor[1], 2e-3f) << up << " at x fraction " << fx;
+    EXPECT_NEAR(up.b, kBackgroundColor[2], 2e-3f) << up << " at x fraction " << fx;
+    const Rgb down = At(image, fx, 0.99f);
+    EXPECT_GT(MaxAbsDiff(up, down), 0.1f) << up << " vs " << down;
+  }
 }
 
 TEST(TutorialCamera, ProjectsLookatToImageCenter) {

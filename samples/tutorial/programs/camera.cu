@@ -41,3 +41,28 @@ RT_PROGRAM void exception() {
   rtPrintExceptionDetails();
   output_buffer[launch_index] = make_float4(bad_color.x, bad_color.y, bad_color.z, 1.f);
 }
+
+// Tutorial step 11: an environment camera, the whole sphere of directions around the eye as a
+// latitude-longitude image (x: azimuth around V, y: from straight down to straight up).
+RT_PROGRAM void env_camera() {
+  size_t2 screen = output_buffer.size();
+  float2 d = make_float2(launch_index) /
+                 make_float2(static_cast<float>(screen.x), static_cast<float>(screen.y)) *
+                 make_float2(2.0f * M_PIf, M_PIf) +
+             make_float2(M_PIf, 0.0f);
+  float3 angle = make_float3(cosf(d.x) * sinf(d.y), -cosf(d.y), sinf(d.x) * sinf(d.y));
+  float3 ray_origin = eye;
+  float3 ray_direction =
+      normalize(angle.x * normalize(U) + angle.y * normalize(V) + angle.z * normalize(W));
+
+  optix::Ray ray =
+      optix::make_Ray(ray_origin, ray_direction, radiance_ray_type, scene_epsilon, RT_DEFAULT_MAX);
+
+  PerRayData_radiance prd;
+  prd.importance = 1.f;
+  prd.depth = 0;
+
+  rtTrace(top_object, ray, prd);
+
+  output_buffer[launch_index] = make_float4(prd.result.x, prd.result.y, prd.result.z, 1.f);
+}

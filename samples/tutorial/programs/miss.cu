@@ -1,21 +1,20 @@
-// Miss programs: the constant background of steps 0-4 and the sky gradient that stands in for
-// the environment map from step 5 on (textures come later).
+// Miss programs: the constant background of steps 0-4 and the environment map of steps 5 to 11
+// (a latitude-longitude HDR image, as the SDK tutorial's envmap_miss reads it).
 #include "tutorial.h"
 
 rtDeclareVariable(float3, bg_color, , );
-rtDeclareVariable(float3, horizon_color, , );
-rtDeclareVariable(float3, ground_color, , );
 rtDeclareVariable(PerRayData_radiance, prd_radiance, rtPayload, );
 rtDeclareVariable(optix::Ray, ray, rtCurrentRay, );
+rtTextureSampler<float4, 2> envmap;
 
 RT_PROGRAM void miss() { prd_radiance.result = bg_color; }
 
-// bg_color at the zenith, horizon_color at the horizon, fading to ground_color below it.
-RT_PROGRAM void gradient_miss() {
-  float y = normalize(ray.direction).y;
-  if (y >= 0.0f) {
-    prd_radiance.result = lerp(horizon_color, bg_color, smoothstep(0.0f, 0.6f, y));
-  } else {
-    prd_radiance.result = lerp(horizon_color, ground_color, smoothstep(0.0f, 0.5f, -y));
-  }
+// The environment: u runs around the horizon from -z through +x, v from the nadir (0) to the
+// zenith (1).
+RT_PROGRAM void envmap_miss() {
+  float theta = atan2f(ray.direction.x, ray.direction.z);
+  float phi = M_PIf * 0.5f - acosf(ray.direction.y);
+  float u = (theta + M_PIf) * (0.5f * M_1_PIf);
+  float v = 0.5f * (1.0f + sinf(phi));
+  prd_radiance.result = make_float3(tex2D(envmap, u, v));
 }

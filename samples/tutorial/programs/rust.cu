@@ -1,5 +1,5 @@
 // Tutorial step 8: the box as rusty metal, a port of Larry Gritz's BMRT "rusty metal" shader as
-// the SDK tutorial does it, with procedural noise instead of a noise texture.
+// the SDK tutorial does it, with its 3D noise texture (noise.h).
 #include "noise.h"
 #include "shading.h"
 
