@@ -360,6 +360,7 @@ TesseraRuntime MakeRuntime() {
       &RtTriangleBarycentrics,
       &RtCallableEnter,
       &RtCallableLeave,
+      &RtTraceWithFlags,
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -

@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 7u
+#define TESSERA_MODULE_ABI_VERSION 8u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -111,6 +111,10 @@ typedef struct {
    * again, also while an exception unwinds the call. */
   void* (*callable_enter)(const void* variable, TesseraCallFrame* frame);
   void (*callable_leave)(TesseraCallFrame* frame);
+  /* OptiX 6 rtTrace with a visibility mask and RTrayflags (version 8); `trace` is this with mask
+   * 0xFF and no flags. */
+  void (*trace_with_flags)(unsigned long long node, const void* ray, void* payload,
+                           size_t payload_size, unsigned mask, unsigned flags);
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
