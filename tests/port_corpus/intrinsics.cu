@@ -15,6 +15,7 @@ rtBuffer<unsigned long long> atomic_ull;  // add, min, max, exch, cas, and, or, 
 rtBuffer<float> atomic_float;             // add, exch
 rtBuffer<double> atomic_double;           // add
 rtBuffer<unsigned int> hashes;            // tea<4> of each launch index, as sample_common.h has it
+rtBuffer<long long> clocks;               // clock() and clock64() as launch index 0 read them
 
 #include "sample_common.h"
 
@@ -60,4 +61,8 @@ RT_PROGRAM void run_cases() {
   const clock_t c0 = clock();
   const long long c1 = clock64();
   if (!(c1 >= static_cast<long long>(c0))) atomicAdd(&atomic_int[9], 1);
+  if (i == 0) {
+    clocks[0] = static_cast<long long>(c0);
+    clocks[1] = c1;
+  }
 }

@@ -7,6 +7,7 @@
 #endif
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -287,7 +288,21 @@ TEST_F(PortCorpusTest, IntrinsicsAndMathAgreeWithHostCodeToTheBit) {
   Fill(floats, std::vector<float>{0.f, 0.f});
   RTbuffer doubles = Buffer1D("atomic_double", RT_BUFFER_INPUT_OUTPUT, RT_FORMAT_USER, 1, 8);
   Fill(doubles, std::vector<double>{0.0});
+  RTbuffer clocks = Buffer1D("clocks", RT_BUFFER_OUTPUT, RT_FORMAT_USER, 2, 8);
+  const auto now = [] {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  };
+  const long long before = now();
   Ok(rtContextLaunch2D(ctx_, 0, kW, kH));
+  const long long after = now();
+  // clock() in a program is the monotonic nanosecond counter (not the process's CPU time, which
+  // is far below it), the one clock64() and the host's steady_clock read.
+  const std::vector<long long> c = Get<long long>(clocks, 2);
+  EXPECT_GE(c[0], before);
+  EXPECT_LE(c[0], c[1]);
+  EXPECT_LE(c[1], after);
 
   float expected[kIntrinsicCases];
   intrinsic_cases(expected);
