@@ -6,6 +6,10 @@
 # ${CMAKE_BINARY_DIR}/modules/<name>.so (a stable path for hosts) unless OUTPUT_DIRECTORY says
 # otherwise. One module per .cu, as OptiX compiles one PTX file per .cu (docs/install.md).
 # TESSERA_PROGRAM_MODULE_OPTIONS adds compile options (Tessera's own tree: warnings as errors).
+# The compile is the README's g++ line: __CUDACC__ defined, as nvcc defines it (optix.h then gives
+# the program-side API, and a program's own `#ifdef __CUDACC__` code is compiled), and each
+# include directory's optixu/ searched as well (OptiX SDK projects put include/optixu on the
+# path: `#include <optixu_math_namespace.h>`).
 # Used in Tessera's tree (TesseraHelpers.cmake) and installed with its CMake package.
 function(tessera_add_program_module)
   cmake_parse_arguments(A "" "TARGET;OUTPUT_DIRECTORY" "SOURCES;INCLUDES" ${ARGN})
@@ -24,7 +28,13 @@ function(tessera_add_program_module)
   set_source_files_properties(${A_SOURCES} PROPERTIES LANGUAGE CXX)
   target_compile_features(${A_TARGET} PRIVATE cxx_std_17)
   target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 ${TESSERA_PROGRAM_MODULE_OPTIONS})
-  target_include_directories(${A_TARGET} PRIVATE ${TESSERA_PROGRAM_INCLUDE_DIRS} ${A_INCLUDES})
+  target_compile_definitions(${A_TARGET} PRIVATE __CUDACC__)
+  set(_tessera_optixu_dirs)
+  foreach(_tessera_dir IN LISTS TESSERA_PROGRAM_INCLUDE_DIRS)
+    list(APPEND _tessera_optixu_dirs ${_tessera_dir}/optixu)
+  endforeach()
+  target_include_directories(${A_TARGET} PRIVATE ${TESSERA_PROGRAM_INCLUDE_DIRS}
+    ${_tessera_optixu_dirs} ${A_INCLUDES})
   # A generator expression keeps multi-config generators (Ninja Multi-Config) from adding a
   # per-configuration subdirectory: the path stays the one hosts are told.
   set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"

@@ -39,10 +39,18 @@ std::string CompilerName() {
   return cxx != nullptr && *cxx != '\0' ? cxx : "c++";
 }
 
-// The compiler command without input and output paths (they do not change the result).
+// The compiler command without input and output paths (they do not change the result): the
+// README's line. __CUDACC__ tells the headers (and the program's own, `#ifdef __CUDACC__`) that
+// this is program code, as nvcc does; each include directory's optixu/ is searched too, as OptiX
+// SDK projects put include/optixu on the path (`#include <optixu_math_namespace.h>`).
 std::vector<std::string> CompileFlags() {
-  std::vector<std::string> flags = {CompilerName(), "-std=c++17", "-O2", "-shared", "-fPIC"};
-  for (const std::string& dir : ProgramIncludeDirs()) flags.push_back("-I" + dir);
+  std::vector<std::string> flags = {CompilerName(), "-std=c++17", "-O2",
+                                    "-shared",      "-fPIC",      "-D__CUDACC__"};
+  for (const std::string& dir : ProgramIncludeDirs()) {
+    flags.push_back("-I" + dir);
+    std::error_code ec;
+    if (fs::is_directory(dir + "/optixu", ec)) flags.push_back("-I" + dir + "/optixu");
+  }
   flags.push_back("-x");
   flags.push_back("c++");
   return flags;

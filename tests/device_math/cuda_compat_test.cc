@@ -438,4 +438,59 @@ TEST(CudaMiscTest, Clock64IsMonotonicAndAdvances) {
   static_assert(std::is_same_v<decltype(clock64()), long long>);
 }
 
+// The 64-bit and double conversions: each rounding mode, and saturation (NaN gives 0).
+TEST(CudaIntrinsicsTest, WideConversions) {
+  EXPECT_EQ(__float2ull_rn(2.5f), 2ull);
+  EXPECT_EQ(__float2ull_rz(2.7f), 2ull);
+  EXPECT_EQ(__float2ull_ru(2.1f), 3ull);
+  EXPECT_EQ(__float2ull_rd(2.9f), 2ull);
+  EXPECT_EQ(__float2ull_rz(-3.0f), 0ull);
+  EXPECT_EQ(__float2ull_rn(1e30f), ~0ull);
+  EXPECT_EQ(__float2ull_rn(std::nanf("")), 0ull);
+  EXPECT_EQ(__float2ll_ru(-2.5f), -2ll);
+  EXPECT_EQ(__float2ll_rd(-2.5f), -3ll);
+  EXPECT_EQ(__double2uint_rn(3.5), 4u);
+  EXPECT_EQ(__double2uint_rz(-1.0), 0u);
+  EXPECT_EQ(__ull2float_rn(1ull << 40), 1099511627776.0f);
+  EXPECT_EQ(__int2double_rn(-7), -7.0);
+  EXPECT_EQ(__uint2double_rn(7u), 7.0);
+}
+
+// CUDA math API functions glibc lacks.
+TEST(CudaIntrinsicsTest, MathApiExtras) {
+  EXPECT_EQ(fdividef(1.0f, 4.0f), 0.25f);
+  EXPECT_EQ(norm3df(2.0f, 3.0f, 6.0f), 7.0f);
+  EXPECT_EQ(rnorm3df(0.0f, 3.0f, 4.0f), 0.2f);
+  EXPECT_EQ(norm4df(1.0f, 1.0f, 1.0f, 1.0f), 2.0f);
+  EXPECT_EQ(rnorm4df(2.0f, 2.0f, 2.0f, 2.0f), 0.25f);
+  EXPECT_FLOAT_EQ(rhypotf(3.0f, 4.0f), 0.2f);
+  EXPECT_NEAR(sinpif(0.5f), 1.0f, 1e-6f);
+  EXPECT_NEAR(cospif(1.0f), -1.0f, 1e-6f);
+  EXPECT_NEAR(sinpi(1.0 / 6.0), 0.5, 1e-12);
+  EXPECT_NEAR(cospi(1.0 / 3.0), 0.5, 1e-12);
+  float s = 0.0f, c = 0.0f;
+  sincospif(0.25f, &s, &c);
+  EXPECT_NEAR(s, std::sqrt(0.5f), 1e-6f);
+  EXPECT_NEAR(c, std::sqrt(0.5f), 1e-6f);
+}
+
+// The scoped atomics (atomicAdd_block, atomicCAS_system, ...) are the same operations.
+TEST(CudaAtomicsTest, ScopedFormsAreTheSameOperations) {
+  unsigned int u = 5;
+  EXPECT_EQ(atomicAdd_block(&u, 2u), 5u);
+  EXPECT_EQ(atomicAdd_system(&u, 3u), 7u);
+  EXPECT_EQ(u, 10u);
+  unsigned long long l = 1;
+  EXPECT_EQ(atomicCAS_system(&l, 1ull, 9ull), 1ull);
+  EXPECT_EQ(atomicMax_block(&l, 4ull), 9ull);
+  EXPECT_EQ(l, 9ull);
+  float f = 1.0f;
+  EXPECT_EQ(atomicExch_block(&f, 2.0f), 1.0f);
+  EXPECT_EQ(atomicInc_system(&u, 10u), 10u);
+  EXPECT_EQ(u, 0u);
+  int i = 6;
+  EXPECT_EQ(atomicXor_block(&i, 3), 6);
+  EXPECT_EQ(i, 5);
+}
+
 }  // namespace

@@ -563,6 +563,58 @@ TEST(MathTest, SamplingAndOrthonormalBasis) {
   }
 }
 
+// OptiX 6.5's color ramp: blue at 0, green at 0.5, red at 1, cyan and yellow between.
+TEST(MathTest, Temperature) {
+  EXPECT_FLOAT3_EQ(optix::temperature(0.0f), 0.0f, 0.0f, 0.5f);
+  EXPECT_FLOAT3_EQ(optix::temperature(0.25f), 0.0f, 0.5f, 1.0f);
+  EXPECT_FLOAT3_EQ(optix::temperature(0.5f), 0.0f, 1.0f, 0.0f);
+  EXPECT_FLOAT3_EQ(optix::temperature(0.75f), 1.0f, 1.0f, 0.0f);
+  EXPECT_FLOAT3_EQ(optix::temperature(1.0f), 1.0f, 0.0f, 0.0f);
+}
+
+// Azimuth in [0, 2 pi) from +x toward +y, elevation from the xy plane, radius.
+TEST(MathTest, CartToPol) {
+  EXPECT_FLOAT3_EQ(optix::cart_to_pol(make_float3(2.0f, 0.0f, 0.0f)), 0.0f, 0.0f, 2.0f);
+  EXPECT_FLOAT3_EQ(optix::cart_to_pol(make_float3(-1.0f, 0.0f, 0.0f)), M_PIf, 0.0f, 1.0f);
+  EXPECT_FLOAT3_EQ(cart_to_pol(make_float3(0.0f, -1.0f, 0.0f)), 1.5f * M_PIf, 0.0f, 1.0f);
+  EXPECT_FLOAT3_EQ(cart_to_pol(make_float3(0.0f, 0.0f, 3.0f)), 0.0f, M_PI_2f, 3.0f);
+  EXPECT_FLOAT3_EQ(cart_to_pol(make_float3(0.0f, 0.0f, -3.0f)), 0.0f, -M_PI_2f, 3.0f);
+  const float3 p = cart_to_pol(make_float3(1.0f, 1.0f, std::sqrt(2.0f)));
+  EXPECT_FLOAT3_NEAR(p, M_PI_4f, M_PI_4f, 2.0f, kEps);
+}
+
+// OptiX 6's 64-bit vector families: arithmetic, min/max/clamp, comparisons, conversions,
+// component access.
+TEST(MathTest, LongLongVectors) {
+  const longlong3 a = make_longlong3(-5, 10, 1ll << 40);
+  EXPECT_EQ((a + make_longlong3(1)).z, (1ll << 40) + 1);
+  EXPECT_EQ((-a).x, 5);
+  EXPECT_EQ((a * 2ll).y, 20);
+  EXPECT_EQ((a / 5ll).x, -1);
+  EXPECT_EQ(clamp(a, -2ll, 4ll).x, -2);
+  EXPECT_EQ(clamp(a, -2ll, 4ll).z, 4);
+  EXPECT_EQ(min(a, make_longlong3(0)).y, 0);
+  EXPECT_EQ(max(a, make_longlong3(0)).x, 0);
+  EXPECT_TRUE(a == make_longlong3(make_longlong2(-5, 10), 1ll << 40));
+  EXPECT_TRUE(a != make_longlong3(0));
+  EXPECT_EQ(make_longlong2(make_float2(2.7f, -1e30f)).y, std::numeric_limits<long long>::min());
+  EXPECT_EQ(make_longlong4(make_longlong2(1, 2), make_longlong2(3, 4)).w, 4);
+  EXPECT_EQ(make_longlong2(a).y, 10);
+  const ulonglong4 u = make_ulonglong4(1ull, 2ull, 3ull, ~0ull);
+  EXPECT_EQ(getByIndex(u, 3), ~0ull);
+  ulonglong4 v = u;
+  setByIndex(v, 0, 9ull);
+  EXPECT_EQ(v.x, 9ull);
+  EXPECT_EQ((u - make_ulonglong4(1ull)).x, 0ull);
+  EXPECT_EQ(min(u, make_ulonglong4(2ull)).w, 2ull);
+  EXPECT_EQ(optix::clamp(7ull, 1ull, 5ull), 5ull);
+  EXPECT_EQ(optix::make_ulonglong3(make_float3(3.9f, -1.0f, 0.0f)).x, 3ull);
+  EXPECT_EQ(optix::make_ulonglong3(make_float3(3.9f, -1.0f, 0.0f)).y, 0ull);  // saturates
+  longlong1 one = make_longlong1(4);
+  setByIndex(one, 0, getByIndex(one, 0) + 1);
+  EXPECT_EQ(one.x, 5);
+}
+
 TEST(MathNamesTest, QualifiedOptixNamesAreTheGlobalFunctions) {
   const float3 v = make_float3(3.0f, 0.0f, 4.0f);
   EXPECT_FLOAT3_EQ(optix::normalize(v), 0.6f, 0.0f, 0.8f);

@@ -306,4 +306,15 @@ TEST(MatrixTest, TranslateScaleFromBasis) {
   EXPECT_EQ(col.w, 0.0f);
 }
 
+// The linear part of a 4x4 transform.
+TEST(MatrixTest, MakeMatrix3x3) {
+  const optix::Matrix4x4 m = optix::Matrix4x4::translate(make_float3(7.0f, 8.0f, 9.0f)) *
+                             optix::Matrix4x4::scale(make_float3(2.0f, 3.0f, 4.0f));
+  const optix::Matrix3x3 l = optix::make_matrix3x3(m);
+  for (unsigned int r = 0; r < 3; ++r) {
+    for (unsigned int c = 0; c < 3; ++c) EXPECT_EQ(l(r, c), m(r, c)) << r << "," << c;
+  }
+  EXPECT_FLOAT_EQ(l.det(), 24.0f);
+}
+
 }  // namespace

@@ -368,6 +368,7 @@ TesseraRuntime MakeRuntime() {
       &RtBufferIdIndexError,
       &RtCallableIdEnter,
       0,  // buffer_id_table_offset, below
+      &RtTraceWithFlags,
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -

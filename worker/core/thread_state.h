@@ -60,7 +60,8 @@ struct Frame {
   size_t payload_size = 0;
   Hit hit;
   bool terminated = false;
-  Xform xform;  // the traversal's current transform
+  unsigned flags = 0;  // the RTrayflags the trace honours (RtTraceWithFlags)
+  Xform xform;         // the traversal's current transform
   // The payload before a program with several payload variables ran (ChoosePayload).
   std::vector<unsigned char> payload_before;
 };
@@ -471,6 +472,8 @@ inline void CallProgram(ThreadState& ts, const BoundProgram& p, int primitive = 
 
 // Traversal entry points (trace.cc).
 void RtTrace(unsigned long long node, const void* ray, void* payload, size_t payload_size);
+void RtTraceWithFlags(unsigned long long node, const void* ray, void* payload, size_t payload_size,
+                      unsigned mask, unsigned flags);
 int RtPotentialIntersection(float t);
 int RtReportIntersection(unsigned material);
 void RtIgnoreIntersection();

@@ -15,6 +15,20 @@
 namespace tessera::worker {
 namespace {
 
+// OptiX 6 RTrayflags (optix_declarations.h values). Tessera has no geometry or instance flags, so
+// every geometry runs its any-hit program unless the ray disables them: FORCE_ANYHIT (1 << 1)
+// changes nothing, and the two CULL_*_ANYHIT flags cull either everything or nothing.
+constexpr unsigned kRayFlagDisableAnyHit = 1u << 0;
+constexpr unsigned kRayFlagTerminateOnFirstHit = 1u << 2;
+constexpr unsigned kRayFlagDisableClosestHit = 1u << 3;
+constexpr unsigned kRayFlagCullBackFacing = 1u << 4;
+constexpr unsigned kRayFlagCullFrontFacing = 1u << 5;
+constexpr unsigned kRayFlagCullDisabledAnyHit = 1u << 6;
+constexpr unsigned kRayFlagCullEnabledAnyHit = 1u << 7;
+constexpr unsigned kRayFlagsKnown = (1u << 8) - 1;
+constexpr unsigned kRayFlagsRejected =
+    kRayFlagCullBackFacing | kRayFlagCullFrontFacing | ~kRayFlagsKnown;
+
 Mat Mul(const Mat& a, const Mat& b) {
   Mat c{};
   for (int i = 0; i < 4; ++i)
@@ -181,6 +195,7 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   f.hit.material = 0;
   f.hit.deferred = true;
   CopyWords(&f.hit.object_ray, &ray, sizeof(ray));  // rtTrace stored `ray` word by word
+  if (f.flags & kRayFlagTerminateOnFirstHit) f.terminated = true;
   // Only built-in triangles tell programs their barycentrics and face.
   if (info->plan->builtin_triangles) SetTriangleHit(f.hit, rh.hit, ray);
   CopyXform(f.hit.xform, f.xform);
@@ -304,7 +319,7 @@ void Commit(ThreadState& ts, Frame& f, const Hit& c, bool terminate) {
   CopyXform(f.hit.xform, f.xform);
   ts.is.committed = true;
   ts.is.ray.tmax = c.t;
-  if (terminate) f.terminated = true;
+  if (terminate || (f.flags & kRayFlagTerminateOnFirstHit)) f.terminated = true;
 }
 
 // Runs an any-hit program until it returns or ends itself: rtIgnoreIntersection and
@@ -397,7 +412,7 @@ bool FilterBuiltin(ThreadState& ts, Frame& f, const InstancePlan* ip, const RTCR
   const RayData object_ray = FromEmbree(ray, f.ray.ray_type);
   const unsigned material = ip->TriangleMaterial(hit.primID);
   const BoundProgram* ah = nullptr;  // TriangleMaterial checked `material`
-  if (f.ray.ray_type < ip->materials[material].size()) {
+  if (f.ray.ray_type < ip->materials[material].size() && !(f.flags & kRayFlagDisableAnyHit)) {
     ah = ip->materials[material][f.ray.ray_type].any_hit;
   }
   // Without an any-hit program the candidate is the closest so far, its attributes computed
@@ -411,6 +426,7 @@ bool FilterBuiltin(ThreadState& ts, Frame& f, const InstancePlan* ip, const RTCR
   if (ah == nullptr) {
     c.deferred = true;
     CopyWords(&c.object_ray, &object_ray, sizeof(object_ray));
+    if (f.flags & kRayFlagTerminateOnFirstHit) f.terminated = true;
     return true;
   }
   TriangleAttributes(ts, c, object_ray);
@@ -457,9 +473,22 @@ __attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) 
                    plan.ray_type_count, " ray types (", ts.current->name, ")"))};
 }
 
-}  // namespace
+// Ray flags Tessera cannot honour stop the launch, naming them, rather than being ignored.
+__attribute__((noinline)) void RejectRayFlags(const ThreadState& ts, unsigned flags) {
+  std::string names;
+  if (flags & kRayFlagCullBackFacing) names += " RT_RAY_FLAG_CULL_BACK_FACING_TRIANGLES";
+  if (flags & kRayFlagCullFrontFacing) names += " RT_RAY_FLAG_CULL_FRONT_FACING_TRIANGLES";
+  if (flags & ~kRayFlagsKnown) names += absl::StrFormat(" 0x%x", flags & ~kRayFlagsKnown);
+  throw FatalError{absl::UnimplementedError(absl::StrCat(
+      "rtTrace from ", ts.current->name, " with ray flags Tessera does not support:", names,
+      " (face culling needs a filter on every built-in triangle; docs/COMPATIBILITY.md)"))};
+}
 
-void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t payload_size) {
+// rtTrace with an OptiX 6 visibility mask and RTrayflags. Geometry has the default mask 0xFF (there
+// is no rtGeometryGroupSetVisibilityMask), so a mask with none of its low 8 bits set hits nothing.
+__attribute__((always_inline)) inline void Trace(unsigned long long node, const void* ray_ptr,
+                                                 void* payload, size_t payload_size, unsigned mask,
+                                                 unsigned flags) {
   // A program looping on rtTrace spends its time in the engine and Embree, where an interrupt
   // only leaves a request (interrupt.h).
   InterruptPoint();
@@ -493,6 +522,13 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
     }
   }
   const NodeInfo* top = ts.last_node;
+  if (__builtin_expect(flags & kRayFlagsRejected, 0)) RejectRayFlags(ts, flags);
+  // Culling every geometry (no visible mask bit; any-hit culled the way the flags ask) leaves the
+  // miss program.
+  const bool any_hit_disabled = flags & kRayFlagDisableAnyHit;
+  const bool cull_all = (mask & 0xFFu) == 0 ||
+                        ((flags & kRayFlagCullDisabledAnyHit) && any_hit_disabled) ||
+                        ((flags & kRayFlagCullEnabledAnyHit) && !any_hit_disabled);
 
   const BoundProgram* caller = ts.current;
   SuspendedSlots& suspended = Suspend(ts, ts.depth);
@@ -503,8 +539,11 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
   f.hit.t = ray.tmax;
   f.hit.instance = nullptr;
   f.terminated = false;
+  f.flags = flags;
   f.xform.active = false;
-  if (top->scene != nullptr) {  // a Group or GeometryGroup: no transform to apply
+  if (__builtin_expect(cull_all, 0)) {
+    // Nothing to traverse: the ray misses.
+  } else if (top->scene != nullptr) {  // a Group or GeometryGroup: no transform to apply
     IntersectScene(ts, *top->scene, ray, top->type == RT_OBJECTTYPE_GEOMETRY_GROUP);
   } else {
     TraverseNode(ts, node, top, ray);
@@ -524,7 +563,8 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
       }
     }
     const auto& groups = f.hit.instance->materials;
-    if (f.hit.material < groups.size() && ray.ray_type < groups[f.hit.material].size()) {
+    if (f.hit.material < groups.size() && ray.ray_type < groups[f.hit.material].size() &&
+        !(flags & kRayFlagDisableClosestHit)) {
       if (const BoundProgram* ch = groups[f.hit.material][ray.ray_type].closest_hit) {
         Shade(ts, *ch, f);
       }
@@ -544,6 +584,17 @@ void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t
     Resume(ts, suspended);
   }
   ReturnTo(ts, *caller, *suspended.module);
+}
+
+}  // namespace
+
+void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t payload_size) {
+  Trace(node, ray_ptr, payload, payload_size, 0xFFu, 0u);
+}
+
+void RtTraceWithFlags(unsigned long long node, const void* ray_ptr, void* payload,
+                      size_t payload_size, unsigned mask, unsigned flags) {
+  Trace(node, ray_ptr, payload, payload_size, mask, flags);
 }
 
 int RtPotentialIntersection(float t) {
@@ -606,7 +657,9 @@ int RtReportIntersection(unsigned material) {
   StoreAttributes(is_module, isp, c.attributes);
 
   const std::vector<HitGroup>& types = inst->materials[material];
-  const BoundProgram* ah = f.ray.ray_type < types.size() ? types[f.ray.ray_type].any_hit : nullptr;
+  const BoundProgram* ah = f.ray.ray_type < types.size() && !(f.flags & kRayFlagDisableAnyHit)
+                               ? types[f.ray.ray_type].any_hit
+                               : nullptr;
   if (ah == nullptr) {
     Commit(ts, f, c, false);
     return 1;

@@ -5,6 +5,10 @@
 #ifndef INTERNAL_OPTIX_DATATYPES_H_
 #define INTERNAL_OPTIX_DATATYPES_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 #include "../optixu/optixu_vector_types.h"
 
 // The "infinite" tmax OptiX programs pass for unbounded rays. A large finite value rather than

@@ -5,6 +5,10 @@
 #ifndef OPTIXU_OPTIXPP_H_
 #define OPTIXU_OPTIXPP_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 #include "optixu/optixpp_namespace.h"
 
 namespace optixu {

@@ -12,6 +12,10 @@
 #ifndef OPTIXU_OPTIXPP_NAMESPACE_H_
 #define OPTIXU_OPTIXPP_NAMESPACE_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 #include <atomic>
 #include <cstddef>
 #include <exception>

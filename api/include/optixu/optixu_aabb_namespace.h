@@ -8,6 +8,10 @@
 #ifndef OPTIXU_OPTIXU_AABB_NAMESPACE_H_
 #define OPTIXU_OPTIXU_AABB_NAMESPACE_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 #include <cfloat>
 #include <cmath>
 

@@ -4,6 +4,10 @@
 #ifndef OPTIXU_OPTIXU_MATH_H_
 #define OPTIXU_OPTIXU_MATH_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 #include "optixu_math_namespace.h"
 
 #endif  // OPTIXU_OPTIXU_MATH_H_

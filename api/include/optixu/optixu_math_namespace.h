@@ -14,13 +14,19 @@
 #ifndef OPTIXU_OPTIXU_MATH_NAMESPACE_H_
 #define OPTIXU_OPTIXU_MATH_NAMESPACE_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 #include <math.h>
 #include <sys/types.h>
 
 #include <cmath>
 
+// As OptiX's does: the host API, and under __CUDACC__ the program-side API (optix.h).
 #include "../internal/optix_datatypes.h"  // optix::Ray, for intersect_triangle
-#include "../tessera/cuda_compat.h"       // Global min/max for int and unsigned, as CUDA has them.
+#include "../optix.h"
+#include "../tessera/cuda_compat.h"  // Global min/max for int and unsigned, as CUDA has them.
 #include "optixu_vector_types.h"
 
 // ---- Constants ----------------------------------------------------------------------------------
@@ -61,6 +67,10 @@ inline float clamp(float f, float a, float b) {
 }
 inline int clamp(int f, int a, int b) { return ::max(a, ::min(f, b)); }
 inline unsigned int clamp(unsigned int f, unsigned int a, unsigned int b) {
+  return ::max(a, ::min(f, b));
+}
+inline long long clamp(long long f, long long a, long long b) { return ::max(a, ::min(f, b)); }
+inline unsigned long long clamp(unsigned long long f, unsigned long long a, unsigned long long b) {
   return ::max(a, ::min(f, b));
 }
 // Linear interpolation: a at t == 0, b at t == 1. In C++20 libstdc++'s <math.h> already puts
@@ -186,11 +196,21 @@ OPTIXU_INTEGER_VECTOR_(int4, int, 4)
 OPTIXU_INTEGER_VECTOR_(uint2, unsigned int, 2)
 OPTIXU_INTEGER_VECTOR_(uint3, unsigned int, 3)
 OPTIXU_INTEGER_VECTOR_(uint4, unsigned int, 4)
+// OptiX 6 adds the 64-bit families.
+OPTIXU_INTEGER_VECTOR_(longlong2, long long, 2)
+OPTIXU_INTEGER_VECTOR_(longlong3, long long, 3)
+OPTIXU_INTEGER_VECTOR_(longlong4, long long, 4)
+OPTIXU_INTEGER_VECTOR_(ulonglong2, unsigned long long, 2)
+OPTIXU_INTEGER_VECTOR_(ulonglong3, unsigned long long, 3)
+OPTIXU_INTEGER_VECTOR_(ulonglong4, unsigned long long, 4)
 
 // Unsigned vectors get no unary minus: it would silently wrap every component.
 inline int2 operator-(const int2& a) { return {-a.x, -a.y}; }
 inline int3 operator-(const int3& a) { return {-a.x, -a.y, -a.z}; }
 inline int4 operator-(const int4& a) { return {-a.x, -a.y, -a.z, -a.w}; }
+inline longlong2 operator-(const longlong2& a) { return {-a.x, -a.y}; }
+inline longlong3 operator-(const longlong3& a) { return {-a.x, -a.y, -a.z}; }
+inline longlong4 operator-(const longlong4& a) { return {-a.x, -a.y, -a.z, -a.w}; }
 
 #undef OPTIXU_INTEGER_VECTOR_
 #undef OPTIXU_FLOAT_VECTOR_
@@ -311,6 +331,34 @@ inline float2 square_to_disk(const float2& sample) {
   return make_float2(r * cosf(phi), r * sinf(phi));
 }
 
+// A color ramp over [0, 1] (blue, cyan, green, yellow, red) for false-color output: heat maps of
+// time or counts. Blue rises over [-0.25, 0.25] and falls over [0.25, 0.5], green rises over
+// [0, 0.5] and falls over [0.75, 1], red rises over [0.5, 0.75].
+inline float3 temperature(float t) {
+  const float b = t < 0.25f ? smoothstep(-0.25f, 0.25f, t) : 1.0f - smoothstep(0.25f, 0.5f, t);
+  const float g =
+      t < 0.5f ? smoothstep(0.0f, 0.5f, t) : (t < 0.75f ? 1.0f : 1.0f - smoothstep(0.75f, 1.0f, t));
+  const float r = smoothstep(0.5f, 0.75f, t);
+  return make_float3(r, g, b);
+}
+
+// Cartesian to polar: (azimuth in [0, 2 pi) measured from +x toward +y, elevation in
+// [-pi/2, pi/2] from the xy plane, radius). On the z axis the azimuth is 0 and the elevation
+// +-pi/2 (-pi/2 also for the origin).
+inline float3 cart_to_pol(const float3& v) {
+  const float radius = length(v);
+  const float r = tessera_detail::Sqrt(v.x * v.x + v.y * v.y);
+  if (!(r > 0.0f)) return make_float3(0.0f, v.z > 0.0f ? M_PI_2f : -M_PI_2f, radius);
+  float azimuth = atanf(v.y / v.x);
+  const float elevation = atanf(v.z / r);
+  if (v.x < 0.0f) {
+    azimuth += M_PIf;
+  } else if (v.y < 0.0f) {
+    azimuth += 2.0f * M_PIf;
+  }
+  return make_float3(azimuth, elevation, radius);
+}
+
 // ---- Component access by index ------------------------------------------------------------------
 // i must be in [0, N); out-of-range indices read or write the last component. Selecting the member,
 // rather than indexing past x, keeps this defined behavior in C++.
@@ -321,21 +369,29 @@ inline float2 square_to_disk(const float2& sample) {
 OPTIXU_BY_INDEX_(float1, float)
 OPTIXU_BY_INDEX_(int1, int)
 OPTIXU_BY_INDEX_(uint1, unsigned int)
+OPTIXU_BY_INDEX_(longlong1, long long)
+OPTIXU_BY_INDEX_(ulonglong1, unsigned long long)
 #undef OPTIXU_COMPONENT_
 #define OPTIXU_COMPONENT_(v, i) ((i) == 0 ? v.x : v.y)
 OPTIXU_BY_INDEX_(float2, float)
 OPTIXU_BY_INDEX_(int2, int)
 OPTIXU_BY_INDEX_(uint2, unsigned int)
+OPTIXU_BY_INDEX_(longlong2, long long)
+OPTIXU_BY_INDEX_(ulonglong2, unsigned long long)
 #undef OPTIXU_COMPONENT_
 #define OPTIXU_COMPONENT_(v, i) ((i) == 0 ? v.x : (i) == 1 ? v.y : v.z)
 OPTIXU_BY_INDEX_(float3, float)
 OPTIXU_BY_INDEX_(int3, int)
 OPTIXU_BY_INDEX_(uint3, unsigned int)
+OPTIXU_BY_INDEX_(longlong3, long long)
+OPTIXU_BY_INDEX_(ulonglong3, unsigned long long)
 #undef OPTIXU_COMPONENT_
 #define OPTIXU_COMPONENT_(v, i) ((i) == 0 ? v.x : (i) == 1 ? v.y : (i) == 2 ? v.z : v.w)
 OPTIXU_BY_INDEX_(float4, float)
 OPTIXU_BY_INDEX_(int4, int)
 OPTIXU_BY_INDEX_(uint4, unsigned int)
+OPTIXU_BY_INDEX_(longlong4, long long)
+OPTIXU_BY_INDEX_(ulonglong4, unsigned long long)
 #undef OPTIXU_COMPONENT_
 #undef OPTIXU_BY_INDEX_
 
@@ -434,6 +490,8 @@ inline float4 make_float4(const uint4& a) {
   }
 OPTIXU_INTEGER_CONVERSIONS_(int, int, uint)
 OPTIXU_INTEGER_CONVERSIONS_(uint, unsigned int, int)
+OPTIXU_INTEGER_CONVERSIONS_(longlong, long long, ulonglong)
+OPTIXU_INTEGER_CONVERSIONS_(ulonglong, unsigned long long, longlong)
 #undef OPTIXU_INTEGER_CONVERSIONS_
 
 // ---- Re-export into namespace optix -------------------------------------------------------------
@@ -456,6 +514,7 @@ using ::operator/=;
 using ::operator==;
 using ::operator!=;
 using ::bilerp;
+using ::cart_to_pol;
 using ::ceil;
 using ::clamp;
 using ::copysignf;
@@ -482,6 +541,7 @@ using ::reflect;
 using ::refract;
 using ::setByIndex;
 using ::smoothstep;
+using ::temperature;
 // Repeating these using-declarations picks up the conversion overloads added above.
 using ::cosine_sample_hemisphere;
 using ::make_float2;
@@ -490,9 +550,15 @@ using ::make_float4;
 using ::make_int2;
 using ::make_int3;
 using ::make_int4;
+using ::make_longlong2;
+using ::make_longlong3;
+using ::make_longlong4;
 using ::make_uint2;
 using ::make_uint3;
 using ::make_uint4;
+using ::make_ulonglong2;
+using ::make_ulonglong3;
+using ::make_ulonglong4;
 using ::square_to_disk;
 
 // An orthonormal frame around `normal` (unit length): inverse_transform takes a vector given in

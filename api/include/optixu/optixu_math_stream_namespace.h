@@ -6,6 +6,10 @@
 #ifndef OPTIXU_OPTIXU_MATH_STREAM_NAMESPACE_H_
 #define OPTIXU_OPTIXU_MATH_STREAM_NAMESPACE_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 #include <istream>
 #include <ostream>
 

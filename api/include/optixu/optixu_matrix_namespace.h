@@ -8,6 +8,10 @@
 #ifndef OPTIXU_OPTIXU_MATRIX_NAMESPACE_H_
 #define OPTIXU_OPTIXU_MATRIX_NAMESPACE_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 #include <cmath>
 
 #include "optixu_math_namespace.h"
@@ -147,6 +151,15 @@ using Matrix3x4 = Matrix<3, 4>;
 using Matrix4x2 = Matrix<4, 2>;
 using Matrix4x3 = Matrix<4, 3>;
 using Matrix4x4 = Matrix<4, 4>;
+
+// The upper-left 3x3 block of a 4x4 transform: its linear part, without the translation.
+inline Matrix3x3 make_matrix3x3(const Matrix4x4& m) {
+  Matrix3x3 r;
+  for (unsigned int row = 0; row < 3; ++row) {
+    for (unsigned int col = 0; col < 3; ++col) r(row, col) = m(row, col);
+  }
+  return r;
+}
 
 template <unsigned int M, unsigned int N>
 template <unsigned int R>

@@ -10,6 +10,10 @@
 #ifndef OPTIXU_OPTIXU_VECTOR_TYPES_H_
 #define OPTIXU_OPTIXU_VECTOR_TYPES_H_
 
+// clang-format off: before every other #include (see there)
+#include "../tessera/detail/program_prelude.h"
+// clang-format on
+
 // char1..char4: signed char components.
 struct char1 {
   signed char x;

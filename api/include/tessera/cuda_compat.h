@@ -3,16 +3,34 @@
 // intrinsics (__float_as_int, __saturatef, __popc, atomicAdd, ...) become inline functions with
 // the documented CUDA semantics. Everything is in the global namespace, where CUDA puts it.
 //
-// Deliberately absent:
-//   threadIdx, blockIdx, blockDim, gridDim, warpSize: a Tessera launch index is not a CUDA
-//     thread (the OptiX guide already tells programs to use rtLaunchIndex instead), so code that
-//     reads them should fail to compile rather than silently see zeros.
-//   Warp intrinsics (__shfl*, __ballot, __any, __all): there is no warp.
-//   clock(): the C library already declares `clock_t clock()` globally and a second
-//     declaration cannot differ only in return type, so programs get the C function (process
-//     CPU time, non-decreasing). clock64() below is a monotonic nanosecond counter.
+// What a program cannot have (threadIdx and the rest of the CUDA thread model, warp intrinsics,
+// surfaces) is declared in tessera/cuda_unsupported.h, so that a use fails with a message saying
+// why, rather than silently seeing zeros.
+//
+// clock() and clock64() are one monotonic nanosecond counter: like CUDA's cycle counters they are
+// meant for differences within one launch index. In a program module (__CUDACC__) the prelude
+// (tessera/detail/program_prelude.h) puts this clock() in place of the C library's, which is the
+// CPU time of the whole process, every thread's work included; in host code clock() stays C's.
+//
+// Macros: a program module is compiled with -D__CUDACC__, as nvcc defines it, and this header
+// then says CUDA 10.1 (__CUDACC_VER_MAJOR__/MINOR/BUILD), the toolkit OptiX 6.5 was built with,
+// for programs that choose code by CUDA version. __CUDA_ARCH__ stays undefined: programs and
+// CUDA-style headers put inline PTX and other GPU-only code under it, which g++ cannot compile,
+// and what they put in its #else (host) branch is plain C++ (`#if __CUDA_ARCH__ < 200` stubs of
+// OptiX 3 SDK samples compile too). __NVCC__ stays undefined: it names the nvcc driver, whose
+// pragmas and flags g++ does not take.
 #ifndef TESSERA_CUDA_COMPAT_H_
 #define TESSERA_CUDA_COMPAT_H_
+
+// clang-format off: before every other #include (see there)
+#include "tessera/detail/program_prelude.h"
+// clang-format on
+
+#if defined(__CUDACC__) && !defined(__CUDACC_VER_MAJOR__)
+#define __CUDACC_VER_MAJOR__ 10
+#define __CUDACC_VER_MINOR__ 1
+#define __CUDACC_VER_BUILD__ 0
+#endif
 
 // The C++ <math.h> comes first, for two reasons: it puts the float overloads of sqrt, pow,
 // floor, fabs... in the global namespace, which CUDA programs rely on (`pow(x, y)` with floats
@@ -169,6 +187,30 @@ inline long long __float2ll_rn(float x) {
 inline long long __float2ll_rz(float x) {
   return tessera::cuda_compat_detail::SaturatingCast<long long>(std::trunc(x));
 }
+inline long long __float2ll_ru(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<long long>(std::ceil(x));
+}
+inline long long __float2ll_rd(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<long long>(std::floor(x));
+}
+inline unsigned long long __float2ull_rn(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned long long>(std::nearbyint(x));
+}
+inline unsigned long long __float2ull_rz(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned long long>(std::trunc(x));
+}
+inline unsigned long long __float2ull_ru(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned long long>(std::ceil(x));
+}
+inline unsigned long long __float2ull_rd(float x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned long long>(std::floor(x));
+}
+inline unsigned int __double2uint_rn(double x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned int>(std::nearbyint(x));
+}
+inline unsigned int __double2uint_rz(double x) {
+  return tessera::cuda_compat_detail::SaturatingCast<unsigned int>(std::trunc(x));
+}
 inline int __double2int_rn(double x) {
   return tessera::cuda_compat_detail::SaturatingCast<int>(std::nearbyint(x));
 }
@@ -180,6 +222,9 @@ inline int __double2int_rz(double x) {
 inline float __int2float_rn(int i) { return static_cast<float>(i); }
 inline float __uint2float_rn(unsigned int u) { return static_cast<float>(u); }
 inline float __ll2float_rn(long long i) { return static_cast<float>(i); }
+inline float __ull2float_rn(unsigned long long u) { return static_cast<float>(u); }
+inline double __int2double_rn(int i) { return i; }
+inline double __uint2double_rn(unsigned int u) { return u; }
 inline float __double2float_rn(double x) { return static_cast<float>(x); }
 
 // ---- Single-precision intrinsics ----------------------------------------------------------------
@@ -215,6 +260,17 @@ inline float rsqrtf(float x) { return 1.0f / tessera_detail::Sqrt(x); }
 inline double rsqrt(double x) { return 1.0 / std::sqrt(x); }
 inline float rcbrtf(float x) { return 1.0f / std::cbrt(x); }
 inline double rcbrt(double x) { return 1.0 / std::cbrt(x); }
+inline float fdividef(float x, float y) { return x / y; }
+// Lengths of 3- and 4-vectors given as components (CUDA math API), and their reciprocals.
+inline float norm3df(float a, float b, float c) {
+  return tessera_detail::Sqrt(a * a + b * b + c * c);
+}
+inline float rnorm3df(float a, float b, float c) { return 1.0f / norm3df(a, b, c); }
+inline float norm4df(float a, float b, float c, float d) {
+  return tessera_detail::Sqrt(a * a + b * b + c * c + d * d);
+}
+inline float rnorm4df(float a, float b, float c, float d) { return 1.0f / norm4df(a, b, c, d); }
+inline float rhypotf(float x, float y) { return 1.0f / hypotf(x, y); }
 
 #if !defined(__USE_GNU)
 // glibc declares sincosf only for _GNU_SOURCE (which g++ defines by default); CUDA always has it.
@@ -240,6 +296,17 @@ inline float __tanf(float x) noexcept { return tanf(x); }
 inline void __sincosf(float x, float* s, float* c) noexcept {
   *s = sinf(x);
   *c = cosf(x);
+}
+// sin(pi x) and cos(pi x), CUDA math API (C23 names: a C library that declares them gets these
+// definitions for its declarations). pi x is rounded to float first, so large x loses what
+// CUDA's exact reduction keeps.
+inline float sinpif(float x) noexcept { return sinf(static_cast<float>(M_PI) * x); }
+inline float cospif(float x) noexcept { return cosf(static_cast<float>(M_PI) * x); }
+inline double sinpi(double x) noexcept { return sin(M_PI * x); }
+inline double cospi(double x) noexcept { return cos(M_PI * x); }
+inline void sincospif(float x, float* s, float* c) noexcept {
+  *s = sinpif(x);
+  *c = cospif(x);
 }
 }  // extern "C"
 
@@ -439,6 +506,29 @@ TESSERA_CUDA_ATOMIC_BITWISE_(unsigned int)
 TESSERA_CUDA_ATOMIC_BITWISE_(unsigned long long)
 #undef TESSERA_CUDA_ATOMIC_BITWISE_
 
+// The scoped forms (CUDA 8, sm_60): every scope is the whole process here, as for the fences.
+#define TESSERA_CUDA_ATOMIC_SCOPES_(name)                   \
+  template <typename... A>                                  \
+  inline auto name##_block(A... a)->decltype(name(a...)) {  \
+    return name(a...);                                      \
+  }                                                         \
+  template <typename... A>                                  \
+  inline auto name##_system(A... a)->decltype(name(a...)) { \
+    return name(a...);                                      \
+  }
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicAdd)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicSub)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicExch)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicMin)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicMax)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicInc)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicDec)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicCAS)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicAnd)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicOr)
+TESSERA_CUDA_ATOMIC_SCOPES_(atomicXor)
+#undef TESSERA_CUDA_ATOMIC_SCOPES_
+
 // ---- Fences, barriers, memory, time -------------------------------------------------------------
 // Every CUDA fence scope (block, device, system) is the whole process here.
 inline void __threadfence() { __atomic_thread_fence(__ATOMIC_SEQ_CST); }
@@ -456,11 +546,17 @@ inline T __ldg(const T* address) {
 }
 
 // A monotonic counter in nanoseconds. Like CUDA's cycle counter it is only meaningful as a
-// difference between two readings; unlike it, it is comparable across threads.
+// difference between two readings; unlike it, it is comparable across threads. clock() in
+// program modules is the same counter (top of this file).
 inline long long clock64() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
              std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
+
+// Host code (a .cpp sharing a header with programs) needs no messages, and may see CUDA's own.
+#if defined(__CUDACC__)
+#include "tessera/cuda_unsupported.h"
+#endif
 
 #endif  // TESSERA_CUDA_COMPAT_H_

@@ -1,6 +1,9 @@
-// Program-side API: what an OptiX 3 program written in CUDA C needs to compile as C++ and run on
+// Program-side API: what an OptiX 3-6 program written in CUDA C needs to compile as C++ and run on
 // Tessera. A program module is a shared library built from such code with
-//   g++ -std=c++17 -O2 -shared -fPIC -x c++ -I<tessera include dirs> prog.cu -o prog.so
+//   g++ -std=c++17 -O2 -shared -fPIC -x c++ -D__CUDACC__ -I<tessera>/api/include
+//       -I<tessera>/api/include/optixu prog.cu -o prog.so
+// (optix.h includes this header only where __CUDACC__ is defined, as OptiX's includes
+// optix_device.h; included by name it works without).
 //
 // How it works: every rtDeclareVariable is a thread_local object registered (name, semantic,
 // size, slot address) with the module's registry; before a program runs the engine copies the
@@ -14,6 +17,10 @@
 // where the default model for -fPIC code pays one call per variable access.
 #ifndef TESSERA_DEVICE_H_
 #define TESSERA_DEVICE_H_
+
+// clang-format off: before every other #include (see there)
+#include "tessera/detail/program_prelude.h"
+// clang-format on
 
 #if __cplusplus < 201703L
 #error \
@@ -34,6 +41,10 @@
 #include "tessera/cuda_compat.h"
 #include "tessera/detail/module_abi.h"
 #include "tessera/rt.h"
+
+// optix.h in host code defines these two to say that the program-side API needs __CUDACC__.
+#undef rtDeclareVariable
+#undef rtBuffer
 
 #define RT_PROGRAM extern "C" __attribute__((visibility("default"), used))
 // Exported under its own name as well, so that rtProgramCreateFromPTXFile finds it for an
@@ -385,9 +396,44 @@ class buffer : public ::tessera::detail::BufferAccess<buffer<T, Dim>, T, Dim> {
 #include "tessera/detail/bindless.h"
 
 // ---- Tracing ---------------------------------------------------------------------------------
+// OptiX 6 ray flags and visibility mask, with OptiX's names and values. The engine honours
+// DISABLE_ANYHIT, TERMINATE_ON_FIRST_HIT (the first hit found is the one shaded),
+// DISABLE_CLOSESTHIT and the mask (every geometry has the default mask 0xFF: a mask with none of
+// those bits misses everything); FORCE_ANYHIT and the CULL_*_ANYHIT flags follow from there being
+// no geometry or instance flags. Face culling fails the launch with a message
+// (docs/COMPATIBILITY.md).
+typedef enum {
+  RT_RAY_FLAG_NONE = 0u,
+  RT_RAY_FLAG_DISABLE_ANYHIT = 1u << 0,
+  RT_RAY_FLAG_FORCE_ANYHIT = 1u << 1,
+  RT_RAY_FLAG_TERMINATE_ON_FIRST_HIT = 1u << 2,
+  RT_RAY_FLAG_DISABLE_CLOSESTHIT = 1u << 3,
+  RT_RAY_FLAG_CULL_BACK_FACING_TRIANGLES = 1u << 4,
+  RT_RAY_FLAG_CULL_FRONT_FACING_TRIANGLES = 1u << 5,
+  RT_RAY_FLAG_CULL_DISABLED_ANYHIT = 1u << 6,
+  RT_RAY_FLAG_CULL_ENABLED_ANYHIT = 1u << 7
+} RTrayflags;
+typedef unsigned int RTvisibilitymask;
+enum { RT_VISIBILITY_ALL = 0xFFu };
+
+// rtTrace(top, ray, payload [, mask, flags]): traces `ray` from `top`, running the programs the
+// hit (or miss) selects, which read and write `payload`.
 template <typename T>
 inline void rtTrace(rtObject top, const optix::Ray& ray, T& payload) {
   ::tessera::detail::Rt()->trace(top.handle, &ray, &payload, sizeof(T));
+}
+template <typename T>
+inline void rtTrace(rtObject top, const optix::Ray& ray, T& payload, RTvisibilitymask mask,
+                    RTrayflags flags = RT_RAY_FLAG_NONE) {
+  ::tessera::detail::Rt()->trace_with_flags(top.handle, &ray, &payload, sizeof(T), mask, flags);
+}
+// OptiX 5-6: the ray's time for motion blur. Tessera has no motion blur (no motion transforms or
+// geometry), so every time sees the same scene and the argument is ignored.
+template <typename T>
+inline void rtTrace(rtObject top, const optix::Ray& ray, float /*time*/, T& payload,
+                    RTvisibilitymask mask = RT_VISIBILITY_ALL,
+                    RTrayflags flags = RT_RAY_FLAG_NONE) {
+  ::tessera::detail::Rt()->trace_with_flags(top.handle, &ray, &payload, sizeof(T), mask, flags);
 }
 
 inline bool rtPotentialIntersection(float t) {

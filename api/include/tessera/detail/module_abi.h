@@ -161,6 +161,10 @@ typedef struct {
    * exists and fits its type costs no call; every other access calls buffer_by_id, which says
    * why. The table may be empty (ids too sparse for an array): every access then calls. */
   long long buffer_id_table_offset;
+  /* OptiX 6 rtTrace with a visibility mask and RTrayflags (version 8); `trace` is this with mask
+   * 0xFF and no flags. */
+  void (*trace_with_flags)(unsigned long long node, const void* ray, void* payload,
+                           size_t payload_size, unsigned mask, unsigned flags);
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and
