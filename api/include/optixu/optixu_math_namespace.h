@@ -496,6 +496,14 @@ OPTIXU_INTEGER_CONVERSIONS_(ulonglong, unsigned long long, longlong)
 
 // ---- Re-export into namespace optix -------------------------------------------------------------
 // A using-declaration brings in the overloads declared before it, so this block stays last.
+// saturate(x): x clamped to [0, 1], for float and the float vectors, as HLSL and CUDA programs
+// spell __saturatef. A function template, so that a program's own non-template saturate() (many
+// define one) is preferred over it instead of colliding with it.
+template <typename T>
+inline T saturate(const T& x) {
+  return clamp(x, 0.0f, 1.0f);
+}
+
 namespace optix {
 // The <sys/types.h> names OptiX programs use for unsigned scalars (rtBuffer<uint>, ...).
 using ::uint;
@@ -517,6 +525,7 @@ using ::bilerp;
 using ::cart_to_pol;
 using ::ceil;
 using ::clamp;
+using ::saturate;
 using ::copysignf;
 using ::cross;
 using ::dot;

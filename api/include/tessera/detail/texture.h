@@ -27,7 +27,9 @@
 #define cudaTextureType2DLayered 0xF2
 #define cudaTextureTypeCubemapLayered 0xFC
 #endif
-#if !defined(__CUDACC__)
+// CUDA's driver_types.h declares it too; a program module compiled by Tessera has no CUDA headers
+// (it defines __CUDACC__ all the same: docs/programs.md "Compiling programs").
+#if !defined(__DRIVER_TYPES_H__)
 enum cudaTextureReadMode { cudaReadModeElementType = 0, cudaReadModeNormalizedFloat = 1 };
 #endif
 
