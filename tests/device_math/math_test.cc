@@ -664,3 +664,25 @@ TEST(MathNamesTest, ArgumentDependentLookupFindsGlobalFunctions) {
   EXPECT_FLOAT3_EQ(v * 2.0f + v, 0.0f, 6.0f, 0.0f);
 }
 }  // namespace shadowing
+
+namespace saturate_test {
+// A program's own saturate, as many define: preferred over the header's function template.
+float saturate(float x) { return x < 0.5f ? 0.25f : 0.75f; }
+float Own(float x) { return saturate(x); }
+}  // namespace saturate_test
+
+TEST(MathTest, SaturateClampsToTheUnitIntervalAndYieldsToAProgramsOwn) {
+  EXPECT_EQ(saturate(-2.0f), 0.0f);
+  EXPECT_EQ(saturate(0.3f), 0.3f);
+  EXPECT_EQ(saturate(7.0f), 1.0f);
+  const float3 v = saturate(make_float3(-1.0f, 0.5f, 3.0f));
+  EXPECT_EQ(v.x, 0.0f);
+  EXPECT_EQ(v.y, 0.5f);
+  EXPECT_EQ(v.z, 1.0f);
+  const float4 w = optix::saturate(make_float4(2.0f, -0.5f, 0.25f, 1.0f));
+  EXPECT_EQ(w.x, 1.0f);
+  EXPECT_EQ(w.y, 0.0f);
+  EXPECT_EQ(w.z, 0.25f);
+  EXPECT_EQ(w.w, 1.0f);
+  EXPECT_EQ(saturate_test::Own(0.9f), 0.75f);
+}
