@@ -19,35 +19,13 @@ namespace {
 constexpr char kModule[] = "bindless_programs";
 constexpr unsigned kWidth = 8, kHeight = 6;
 
-class BindlessTest : public OnDevicesFixture {
+class BindlessTest : public GridFixture {
  protected:
+  BindlessTest() : GridFixture(kWidth, kHeight) {}
   void SetUp() override {
-    OnDevicesFixture::SetUp();
+    GridFixture::SetUp();
     const RTsize tile[2] = {2, 2};
     Ok(tesseraContextSetTileSize(ctx_, 2, tile));
-    result_ = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, kWidth, kHeight);
-  }
-
-  std::vector<float> Launch() {
-    const RTresult code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
-    EXPECT_EQ(code, RT_SUCCESS) << Error(code);
-    return ReadAs<float>(result_);
-  }
-  std::string FailedLaunch() {
-    const RTresult code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
-    EXPECT_NE(code, RT_SUCCESS);
-    return Error(code);
-  }
-
-  template <typename F>
-  void ExpectEach(const std::vector<float>& values, F expected) {
-    ASSERT_EQ(values.size(), kWidth * kHeight);
-    for (unsigned y = 0; y < kHeight; ++y) {
-      for (unsigned x = 0; x < kWidth; ++x) {
-        EXPECT_EQ(values[y * kWidth + x], expected(x, y))
-            << "launch index (" << x << ", " << y << ")";
-      }
-    }
   }
 
   // An unbound buffer of `format` (RT_FORMAT_USER: elements of `element_size`) holding `values`.
@@ -88,8 +66,6 @@ class BindlessTest : public OnDevicesFixture {
   void RayGen(const char* function) {
     Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, function)));
   }
-
-  RTbuffer result_ = nullptr;
 };
 
 TEST_P(BindlessTest, ABufferOfBufferIdsReachesBuffersNoVariableNames) {

@@ -19,37 +19,9 @@ constexpr char kOther[] = "callable_other_programs";
 constexpr char kPlain[] = "callable_plain_programs";
 constexpr unsigned kWidth = 6, kHeight = 3;
 
-class CallableTest : public OnDevicesFixture {
+class CallableTest : public GridFixture {
  protected:
-  void SetUp() override {
-    OnDevicesFixture::SetUp();
-    result_ = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, kWidth, kHeight);
-  }
-
-  // Launches and returns the result buffer; fails the test with the launch's message.
-  std::vector<float> Launch() {
-    const RTresult code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
-    EXPECT_EQ(code, RT_SUCCESS) << Error(code);
-    return ReadAs<float>(result_);
-  }
-
-  // The message of a launch that must fail.
-  std::string FailedLaunch() {
-    const RTresult code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
-    EXPECT_NE(code, RT_SUCCESS);
-    return Error(code);
-  }
-
-  template <typename F>
-  void ExpectEach(const std::vector<float>& values, F expected) {
-    ASSERT_EQ(values.size(), kWidth * kHeight);
-    for (unsigned y = 0; y < kHeight; ++y) {
-      for (unsigned x = 0; x < kWidth; ++x) {
-        EXPECT_EQ(values[y * kWidth + x], expected(static_cast<float>(x), static_cast<float>(y)))
-            << "launch index (" << x << ", " << y << ")";
-      }
-    }
-  }
+  CallableTest() : GridFixture(kWidth, kHeight) {}
 
   RTvariable ProgramVar(RTprogram p, const char* name) {
     RTvariable v = nullptr;
@@ -64,8 +36,6 @@ class CallableTest : public OnDevicesFixture {
     Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "trace_raygen")));
     return i;
   }
-
-  RTbuffer result_ = nullptr;
 };
 
 TEST_P(CallableTest, RayGenerationCallsWhatTheHostSetsWithTheCalleesOwnVariables) {

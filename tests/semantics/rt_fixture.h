@@ -133,6 +133,47 @@ class OnDevicesFixture : public RtFixture, public ::testing::WithParamInterface<
   }
 };
 
+// OnDevicesFixture with a width x height float OUTPUT buffer `result` that launches fill: launches
+// that must succeed or fail, and a check of every element.
+class GridFixture : public OnDevicesFixture {
+ protected:
+  GridFixture(unsigned width, unsigned height) : width_(width), height_(height) {}
+  void SetUp() override {
+    OnDevicesFixture::SetUp();
+    result_ = Buffer2D("result", RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT, width_, height_);
+  }
+
+  // Launches and returns the result buffer; fails the test with the launch's message.
+  std::vector<float> Launch() {
+    const RTresult code = rtContextLaunch2D(ctx_, 0, width_, height_);
+    EXPECT_EQ(code, RT_SUCCESS) << Error(code);
+    return ReadAs<float>(result_);
+  }
+
+  // The message of a launch that must fail.
+  std::string FailedLaunch() {
+    const RTresult code = rtContextLaunch2D(ctx_, 0, width_, height_);
+    EXPECT_NE(code, RT_SUCCESS);
+    return Error(code);
+  }
+
+  // Every element equals expected(x, y) of its launch index (unsigned components; a lambda that
+  // takes floats gets them converted).
+  template <typename F>
+  void ExpectEach(const std::vector<float>& values, F expected) {
+    ASSERT_EQ(values.size(), size_t{width_} * height_);
+    for (unsigned y = 0; y < height_; ++y) {
+      for (unsigned x = 0; x < width_; ++x) {
+        EXPECT_EQ(values[y * width_ + x], expected(x, y))
+            << "launch index (" << x << ", " << y << ")";
+      }
+    }
+  }
+
+  const unsigned width_, height_;
+  RTbuffer result_ = nullptr;
+};
+
 // A test name for a device spec parameter: "inproc" -> "Inproc", "local:2" -> "Local2".
 inline std::string DeviceName(const ::testing::TestParamInfo<const char*>& info) {
   std::string name;
