@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "../semantics/rt_fixture.h"
 #include "intrinsic_cases.h"
+#include "port_corpus_fixture.h"
 #include "sample_common.h"
 
 namespace tessera::testing {
@@ -34,59 +34,6 @@ TEST(PortCorpusHostTest, SharedHeaderTakesItsHostBranch) {
   EXPECT_GE(r, 0.0f);
   EXPECT_LT(r, 1.0f);
 }
-
-// ---- Programs
-// ------------------------------------------------------------------------------------
-
-constexpr const char* kDeviceSets[] = {"inproc", "local:1", "local:3"};
-
-class PortCorpusTest : public RtFixture {
- protected:
-  // A fresh context on `spec` with one entry point and `ray_types` ray types.
-  void UseDevices(const char* spec, unsigned ray_types) {
-    if (ctx_ != nullptr) rtContextDestroy(ctx_);
-    ctx_ = nullptr;
-    Ok(rtContextCreate(&ctx_));
-    Ok(tesseraContextSetDeviceSpec(ctx_, spec));
-    Ok(rtContextSetEntryPointCount(ctx_, 1));
-    Ok(rtContextSetRayTypeCount(ctx_, ray_types));
-  }
-  RTbuffer Buffer1D(const std::string& name, unsigned type, RTformat format, size_t n,
-                    size_t element_size = 0) {
-    RTbuffer b = nullptr;
-    EXPECT_EQ(rtBufferCreate(ctx_, type, &b), RT_SUCCESS);
-    EXPECT_EQ(rtBufferSetFormat(b, format), RT_SUCCESS);
-    if (format == RT_FORMAT_USER) {
-      EXPECT_EQ(rtBufferSetElementSize(b, element_size), RT_SUCCESS);
-    }
-    EXPECT_EQ(rtBufferSetSize1D(b, n), RT_SUCCESS);
-    EXPECT_EQ(rtVariableSetObject(ContextVar(name), b), RT_SUCCESS);
-    return b;
-  }
-  template <typename T>
-  void Fill(RTbuffer b, const std::vector<T>& values) {
-    void* p = nullptr;
-    ASSERT_EQ(rtBufferMap(b, &p), RT_SUCCESS);
-    std::memcpy(p, values.data(), values.size() * sizeof(T));
-    ASSERT_EQ(rtBufferUnmap(b), RT_SUCCESS);
-  }
-  template <typename T>
-  std::vector<T> Get(RTbuffer b, size_t n) {
-    std::vector<T> out(n);
-    void* p = nullptr;
-    EXPECT_EQ(rtBufferMap(b, &p), RT_SUCCESS);
-    if (p != nullptr) std::memcpy(out.data(), p, n * sizeof(T));
-    rtBufferUnmap(b);
-    return out;
-  }
-  void SetFloat3(const char* name, float x, float y, float z) {
-    Ok(rtVariableSet3f(ContextVar(name), x, y, z));
-  }
-  // Spheres (center, radius) in the buffer sphere.cu reads.
-  void Spheres(const std::vector<Float4>& spheres) {
-    Fill(Buffer1D("spheres", RT_BUFFER_INPUT, RT_FORMAT_FLOAT4, spheres.size()), spheres);
-  }
-};
 
 // ---- The SDK-style scene ----------------------------------------------------------------------
 
