@@ -36,18 +36,23 @@ mkdir -p "$libs"
 worker="$build/worker/service/tessera-worker"
 files=("$worker")
 for f in "$@"; do files+=("$(realpath "$f")"); done  # staged under their absolute paths
-mapfile -t modules < <(find "$build" -name '*.so' -path '*modules*' -o -name 'libtessera*.so*')
+# libtessera_image is left out unless an executable links it: it pulls in OpenImageIO's whole
+# dependency tree (over 300 MB), past what the device tool carries.
+mapfile -t modules < <(find "$build" -name '*.so' -path '*modules*' -o -name 'libtessera*.so*' \
+  ! -name 'libtessera_image*')
 files+=("${modules[@]}")
 
 echo "collecting ${#files[@]} files and the libraries they load" >&2
 for f in "${files[@]}"; do
   mkdir -p "$stage$(dirname "$f")"
   cp -L "$f" "$stage$f"
+  strip --strip-debug "$stage$f"  # RelWithDebInfo: debug sections are most of a build's bytes
   { ldd "$f" 2>/dev/null || true; } | awk '/=>/ && $3 ~ /^\// {print $3} /^\t\/lib64/ {print $1}' | while read -r lib; do
     cp -Ln "$lib" "$libs/" 2>/dev/null || true
   done
 done
 cp -L /lib64/ld-linux-x86-64.so.2 "$libs/"
+for lib in "$libs"/libtessera*; do strip --strip-debug "$lib"; done
 
 cat >"$libs/run" <<'SCRIPT'
 #!/bin/sh
