@@ -6,6 +6,7 @@
 
 #include "api_test_util.h"
 #include "gtest/gtest.h"
+#include "optix_gl_interop.h"
 #include "tessera/rt.h"
 
 namespace tessera::test {
@@ -343,6 +344,37 @@ TEST_F(HostContextTest, ContextsAreIndependent) {
   ASSERT_EQ(rtContextDeclareVariable(ctx, "b", &v), RT_SUCCESS);
   EXPECT_EQ(rtVariableSetObject(v, theirs), RT_ERROR_INVALID_VALUE);
   EXPECT_EQ(rtContextDestroy(other), RT_SUCCESS);
+}
+
+// OpenGL interop is declared (applications build) and refused by name: devices have no OpenGL
+// context. An application that falls back to plain buffers when it fails runs unchanged.
+TEST_F(HostContextTest, OpenGlInteropIsRefusedNamingTheFunction) {
+  RTbuffer buffer = reinterpret_cast<RTbuffer>(1);
+  RTresult r = rtBufferCreateFromGLBO(ctx, RT_BUFFER_OUTPUT, 7, &buffer);
+  EXPECT_EQ(r, RT_ERROR_NOT_SUPPORTED);
+  EXPECT_EQ(buffer, nullptr);
+  std::string message = ErrorString(ctx, r);
+  EXPECT_NE(message.find("rtBufferCreateFromGLBO"), std::string::npos) << message;
+  EXPECT_NE(message.find("OpenGL interop is not supported"), std::string::npos) << message;
+  EXPECT_NE(message.find("rtBufferCreate "), std::string::npos) << message;
+
+  RTtexturesampler sampler = nullptr;
+  r = rtTextureSamplerCreateFromGLImage(ctx, 3, RT_TARGET_GL_TEXTURE_2D, &sampler);
+  EXPECT_EQ(r, RT_ERROR_NOT_SUPPORTED);
+  EXPECT_NE(ErrorString(ctx, r).find("rtTextureSamplerCreateFromGLImage"), std::string::npos);
+
+  ASSERT_EQ(rtBufferCreate(ctx, RT_BUFFER_OUTPUT, &buffer), RT_SUCCESS);  // the fallback
+  unsigned gl_id = 5;
+  EXPECT_EQ(rtBufferGetGLBOId(buffer, &gl_id), RT_ERROR_NOT_SUPPORTED);
+  EXPECT_EQ(gl_id, 0u);
+  EXPECT_EQ(rtBufferGLRegister(buffer), RT_ERROR_NOT_SUPPORTED);
+  EXPECT_EQ(rtBufferGLUnregister(buffer), RT_ERROR_NOT_SUPPORTED);
+  ASSERT_EQ(rtTextureSamplerCreate(ctx, &sampler), RT_SUCCESS);
+  EXPECT_EQ(rtTextureSamplerGetGLImageId(sampler, &gl_id), RT_ERROR_NOT_SUPPORTED);
+  EXPECT_EQ(rtTextureSamplerGLRegister(sampler), RT_ERROR_NOT_SUPPORTED);
+  EXPECT_EQ(rtTextureSamplerGLUnregister(sampler), RT_ERROR_NOT_SUPPORTED);
+  // A null handle is the handle's error, as everywhere.
+  EXPECT_EQ(rtBufferGLRegister(nullptr), RT_ERROR_INVALID_VALUE);
 }
 
 }  // namespace

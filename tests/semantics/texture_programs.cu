@@ -9,6 +9,7 @@ using namespace optix;
 rtDeclareVariable(uint2, launch_index, rtLaunchIndex, );
 rtDeclareVariable(uint2, launch_dim, rtLaunchDim, );
 rtDeclareVariable(int, tex_id, , );
+rtDeclareVariable(int, bytes_id, , );
 rtDeclareVariable(float, lod, , );
 rtDeclareVariable(float2, offset, , );
 rtTextureSampler<float4, 2> tex;
@@ -50,6 +51,13 @@ RT_PROGRAM void sample_unbound() {
 RT_PROGRAM void sample_bytes() {
   const float2 c = Coordinates();
   declared_out[launch_index] = tex2D(bytes_tex, c.x, c.y);
+}
+
+// bytes_tex declared and by id (bytes_id): an RGBA8 image as a program reads its colours.
+RT_PROGRAM void sample_bytes_both() {
+  const float2 c = Coordinates();
+  declared_out[launch_index] = tex2D(bytes_tex, c.x, c.y);
+  bindless_out[launch_index] = rtTex2D<float4>(bytes_id, c.x, c.y);
 }
 
 RT_PROGRAM void record_exception() {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rt_fixture.h"
+#include "tessera/detail/texture_sampling.h"
 
 namespace tessera::testing {
 namespace {
@@ -190,6 +191,73 @@ TEST_P(TextureTest, NormalizedFloatReadsOfBytes) {
     EXPECT_EQ(out[i][1], 1.f);
     EXPECT_FLOAT_EQ(out[i][2], 0.2f);
     EXPECT_FLOAT_EQ(out[i][3], i / 255.f);
+  }
+}
+
+// An RGBA8 image read bilinearly as floats, the commonest texture, takes the engine's fast path
+// (tessera/detail/texture_fast.h) for clamp and repeat; mirror and mixed modes take the general
+// one. Every mode gives what the general sampling functions give on the host, texel for texel, at
+// coordinates between texels and past the edges, declared and by id, also when the id is too
+// sparse for the engine's table.
+TEST_P(TextureTest, BilinearBytesMatchTheGeneralPathInEveryWrapMode) {
+  constexpr unsigned kW = 5, kH = 3;
+  std::vector<unsigned char> bytes(kW * kH * 4);
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<unsigned char>(i * 97 + 13);
+  for (int sparse = 0; sparse < 2; ++sparse) {
+    if (sparse == 1) {  // the next sampler's id lies past the engine's array
+      for (int i = 0; i < 9000; ++i) {
+        RTmaterial m = nullptr;
+        Ok(rtMaterialCreate(ctx_, &m));
+      }
+    }
+    RTbuffer b = nullptr;
+    Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &b));
+    Ok(rtBufferSetFormat(b, RT_FORMAT_UNSIGNED_BYTE4));
+    Ok(rtBufferSetSize2D(b, kW, kH));
+    void* p = nullptr;
+    Ok(rtBufferMap(b, &p));
+    std::memcpy(p, bytes.data(), bytes.size());
+    Ok(rtBufferUnmap(b));
+    RTtexturesampler s = Sampler(b);
+    Ok(rtTextureSamplerSetReadMode(s, RT_TEXTURE_READ_NORMALIZED_FLOAT));
+    Ok(rtTextureSamplerSetFilteringModes(s, RT_FILTER_LINEAR, RT_FILTER_LINEAR, RT_FILTER_NONE));
+    Ok(rtVariableSetObject(ContextVar("bytes_tex"), s));
+    Ok(rtVariableSet1i(ContextVar("bytes_id"), Id(s)));
+    if (sparse == 1) {
+      ASSERT_GT(Id(s), 9000);
+    }
+    Ok(rtVariableSet2f(ContextVar("offset"), -1.3f, 0.45f));
+    RayGen("sample_bytes_both");
+
+    TesseraTextureView v{};
+    v.levels[0] = {bytes.data(), kW, kH, 1};
+    v.level_count = 1;
+    v.dimensionality = 2;
+    v.format = RT_FORMAT_UNSIGNED_BYTE4;
+    v.element_size = 4;
+    v.min_filter = v.mag_filter = RT_FILTER_LINEAR;
+    v.mip_filter = RT_FILTER_NONE;
+    v.read_mode = RT_TEXTURE_READ_NORMALIZED_FLOAT;
+    v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
+    v.mip_level_clamp[1] = 1000.f;
+    const RTwrapmode modes[][2] = {{RT_WRAP_CLAMP_TO_EDGE, RT_WRAP_CLAMP_TO_EDGE},
+                                   {RT_WRAP_REPEAT, RT_WRAP_REPEAT},
+                                   {RT_WRAP_MIRROR, RT_WRAP_MIRROR},
+                                   {RT_WRAP_REPEAT, RT_WRAP_CLAMP_TO_BORDER}};
+    for (const auto& m : modes) {
+      Ok(rtTextureSamplerSetWrapMode(s, 0, m[0]));
+      Ok(rtTextureSamplerSetWrapMode(s, 1, m[1]));
+      v.wrap[0] = m[0];
+      v.wrap[1] = m[1];
+      Launch();
+      ExpectBoth(
+          [&](unsigned x, unsigned y) {
+            const float4 f = tessera::texture::Sample2D<float4>(v, (x + 0.5f - 1.3f) / kSide,
+                                                                (y + 0.5f + 0.45f) / kSide);
+            return Float4{f.x, f.y, f.z, f.w};
+          },
+          sparse == 1 ? "sparse id" : "dense id");
+    }
   }
 }
 

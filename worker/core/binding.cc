@@ -236,6 +236,9 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
       case Semantic::kDistance:
         b.distance.push_back({i, CopySize(v.size, sizeof(float))});
         continue;
+      case Semantic::kCurrentTime:
+        b.time.push_back({i, CopySize(v.size, sizeof(float))});
+        continue;
       case Semantic::kAttribute: {
         absl::StatusOr<size_t> offset = attributes.Offset(v.attribute, v.size, b.name);
         if (!offset.ok()) return offset.status();

@@ -84,7 +84,7 @@ struct BoundProgram {
   std::vector<Attribute> attributes;
   // Variables declared with each semantic (a module may declare one several times, e.g. a
   // radiance and a shadow payload).
-  std::vector<SlotRef> launch_index, launch_dim, ray, payload, distance;
+  std::vector<SlotRef> launch_index, launch_dim, ray, payload, distance, time;
   // rtCallableProgram variables: the program each names through this binding's scopes (0: none)
   // and the engine's binding of it with this binding's outer scopes (plan.cc), whose address
   // `copies` puts in the variable's slot.

@@ -38,6 +38,7 @@ absl::Status ParseSemantic(const std::string& module, ModuleVariable& v, const c
       {"rtLaunchIndex", Semantic::kLaunchIndex},       {"rtLaunchDim", Semantic::kLaunchDim},
       {"rtCurrentRay", Semantic::kCurrentRay},         {"rtPayload", Semantic::kPayload},
       {"rtIntersectionDistance", Semantic::kDistance}, {"rtCallableProgram", Semantic::kCallable},
+      {"rtCurrentTime", Semantic::kCurrentTime},
   };
   for (const auto& [name, semantic] : kBuiltins) {
     if (s == name) {
@@ -260,7 +261,8 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
     const auto* initial = static_cast<const unsigned char*>(d.address());
     v.initial.assign(initial, initial + d.size);
     if (v.semantic == Semantic::kCurrentRay || v.semantic == Semantic::kPayload ||
-        v.semantic == Semantic::kDistance || v.semantic == Semantic::kAttribute) {
+        v.semantic == Semantic::kDistance || v.semantic == Semantic::kAttribute ||
+        v.semantic == Semantic::kCurrentTime) {
       module->per_call_.push_back(static_cast<unsigned>(module->variables_.size()));
       module->per_call_bytes_ += v.size;
     }

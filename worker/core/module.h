@@ -24,6 +24,7 @@ enum class Semantic {
   kCurrentRay,
   kPayload,
   kDistance,
+  kCurrentTime,  // rtCurrentTime: the time of the ray being traced (0 in a launch's own programs)
   kAttribute,
   kCallable,  // rtCallableProgram: the slot holds the engine's binding of the program it names
 };

@@ -295,15 +295,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   plan->print_index = ctx.print_index;
   plan->print_buffer_size = ctx.print_buffer_size;
 
-  for (const auto& [id, sampler] : replica.texture_samplers) {
-    absl::StatusOr<TesseraTextureView> view = MakeTextureView(replica, id);
-    const int key = static_cast<int>(id);
-    if (view.ok()) {
-      plan->textures_by_id.emplace(key, *view);
-    } else {
-      plan->texture_problems.emplace(key, view.status());
-    }
-  }
+  PlanTextures(replica, plan->textures);
 
   CallableBinder callables(replica, *plan);
   auto bind = [&](ProgramKind kind, uint64_t id,

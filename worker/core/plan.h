@@ -17,6 +17,7 @@
 #include "binding.h"
 #include "bindless.h"
 #include "replica.h"
+#include "texture_views.h"
 
 namespace tessera::worker {
 
@@ -155,10 +156,7 @@ struct LaunchPlan {
   // variables name: what RefreshGraph starts from.
   std::unordered_map<uint64_t, absl::Status> bind_problems;
   std::vector<uint64_t> roots;
-  // Every sampler the replica holds, by id (rtTextureSamplerGetId; TesseraRuntime::texture_by_id),
-  // or why programs cannot read it (no buffer, say), said when one tries.
-  std::unordered_map<int, TesseraTextureView> textures_by_id;
-  std::unordered_map<int, absl::Status> texture_problems;
+  TextureTable textures;   // every sampler the replica holds, by id (texture_views.h)
   BindlessTable bindless;  // buffers and programs by id (bindless.h)
   SceneCache* scenes = nullptr;
   size_t max_depth = 8;

@@ -84,6 +84,7 @@ ThreadState& CreateThreadState() {
 void UsePlan(ThreadState& ts, const LaunchPlan& plan) {
   ts.plan = &plan;
   t_buffer_ids = &plan.bindless.fast;
+  t_texture_ids = &plan.textures.fast;
   if (ts.plan_serial == plan.serial) return;
   ts.plan_serial = plan.serial;
   ts.frames.resize(plan.max_depth + 1);
@@ -362,19 +363,24 @@ TesseraRuntime MakeRuntime() {
       &RtTriangleBarycentrics,
       &RtCallableEnter,
       &RtCallableLeave,
-      &RtTextureView,
       &RtTextureById,
       &RtBufferById,
       &RtBufferIdIndexError,
       &RtCallableIdEnter,
       0,  // buffer_id_table_offset, below
       &RtTraceWithFlags,
+      0,  // texture_table_offset, below
+      0,  // texture_id_table_offset, below
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -
                           static_cast<const char*>(__builtin_thread_pointer());
   r.buffer_id_table_offset = reinterpret_cast<const char*>(&t_buffer_ids) -
                              static_cast<const char*>(__builtin_thread_pointer());
+  r.texture_table_offset = reinterpret_cast<const char*>(&t_texture_table) -
+                           static_cast<const char*>(__builtin_thread_pointer());
+  r.texture_id_table_offset = reinterpret_cast<const char*>(&t_texture_ids) -
+                              static_cast<const char*>(__builtin_thread_pointer());
   return r;
 }
 

@@ -2,6 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "tessera/detail/mip_levels.h"
+#include "tessera/detail/texture_fast.h"
 #include "tessera/rt.h"
 
 namespace tessera::worker {
@@ -70,7 +71,37 @@ absl::StatusOr<TesseraTextureView> MakeTextureView(const Replica& replica, uint6
   v.mip_level_clamp[1] = s->mip_level_clamp_max;
   v.mip_level_bias = s->mip_level_bias;
   v.id = static_cast<int>(sampler_id);
+  v.fast = texture::FastKind(v);
   return v;
+}
+
+namespace {
+const TesseraTextureIdTable kNoTextureIds = {0, nullptr};
+}  // namespace
+
+__thread const TesseraTextureIdTable* t_texture_ids __attribute__((tls_model("initial-exec"))) =
+    &kNoTextureIds;
+__thread const TesseraTextureView* t_texture_table __attribute__((tls_model("initial-exec"))) =
+    nullptr;
+
+void PlanTextures(const Replica& replica, TextureTable& table) {
+  std::vector<std::pair<uint64_t, uint32_t>> ids;
+  for (const auto& [id, sampler] : replica.texture_samplers) {
+    absl::StatusOr<TesseraTextureView> view = MakeTextureView(replica, id);
+    ids.emplace_back(id, static_cast<uint32_t>(table.samplers.size()));
+    table.samplers.push_back(view.ok() ? TextureById{*view, absl::OkStatus()}
+                                       : TextureById{TesseraTextureView{}, view.status()});
+  }
+  table.index.Build(std::move(ids));
+  if (table.index.dense()) {
+    for (const auto& [id, sampler] : replica.texture_samplers) {
+      const TextureById& t = table.samplers[table.index.Find(static_cast<long long>(id))];
+      if (!t.problem.ok()) continue;
+      if (table.fast_views.size() <= id) table.fast_views.resize(id + 1, nullptr);
+      table.fast_views[id] = &t.view;
+    }
+  }
+  table.fast = {table.fast_views.size(), table.fast_views.data()};
 }
 
 const char* TextureShapeMismatch(unsigned declared, const TesseraTextureView& v) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "absl/status/statusor.h"
+#include "bindless.h"
 #include "replica.h"
 #include "tessera/detail/texture_view.h"
 
@@ -21,8 +22,31 @@ absl::StatusOr<TesseraTextureView> MakeTextureView(const Replica& replica, uint6
 // when it does, else what the declaration wants ("a 2D buffer").
 const char* TextureShapeMismatch(unsigned declared, const TesseraTextureView& view);
 
-// TesseraRuntime::texture_view and texture_by_id (texture_runtime.cc).
-const TesseraTextureView* RtTextureView(unsigned slot);
+// Every sampler of a plan by id (rtTex*): its view, or why programs cannot read it (no buffer,
+// say), said when one tries rather than when the plan is made.
+struct TextureById {
+  TesseraTextureView view;
+  absl::Status problem;
+};
+struct TextureTable {
+  IdIndex index;
+  std::vector<TextureById> samplers;
+  // The readable views again, as programs read them without a call (TesseraTextureIdTable): by
+  // id while `index` is dense, else none.
+  std::vector<const TesseraTextureView*> fast_views;
+  TesseraTextureIdTable fast{0, nullptr};
+};
+void PlanTextures(const Replica& replica, TextureTable& table);
+
+// What modules read at fixed offsets from the thread pointer (TesseraRuntime::
+// texture_table_offset, texture_id_table_offset): the running program's views, set whenever
+// control passes to a program, and the running plan's table, set by UsePlan.
+extern __thread const TesseraTextureView* t_texture_table
+    __attribute__((tls_model("initial-exec")));
+extern __thread const TesseraTextureIdTable* t_texture_ids
+    __attribute__((tls_model("initial-exec")));
+
+// TesseraRuntime::texture_by_id (texture_runtime.cc).
 const TesseraTextureView* RtTextureById(int id);
 
 }  // namespace tessera::worker

@@ -61,6 +61,7 @@ struct Frame {
   Hit hit;
   bool terminated = false;
   unsigned flags = 0;  // the RTrayflags the trace honours (RtTraceWithFlags)
+  float time = 0.f;    // rtCurrentTime of the programs the ray runs
   Xform xform;         // the traversal's current transform
   // The payload before a program with several payload variables ran (ChoosePayload).
   std::vector<unsigned char> payload_before;
@@ -223,6 +224,7 @@ inline void ReturnTo(ThreadState& ts, const BoundProgram& p, ModuleState& ms) {
   ts.current = &p;
   ts.current_module = &ms;
   t_buffer_table = p.table.data();
+  t_texture_table = p.textures.data();
 }
 // The native stack a launch index may use for nested calls. Measured from where its tile began,
 // not from the thread's end, so that where deep recursion runs out does not depend on the thread,
@@ -393,6 +395,13 @@ inline void Apply(ModuleState& ms, const BoundProgram& p) {
   ms.loaded = &p;
 }
 
+// rtCurrentTime of `p`: the time of the ray being traced; a launch's own programs see 0.
+inline void WriteTime(const ThreadState& ts, const ModuleState& ms, const BoundProgram& p) {
+  static constexpr float kLaunchTime[4] = {};  // as wide as any slot CopySize allows
+  const float* time = ts.depth > 0 ? &ts.frames[ts.depth - 1].time : kLaunchTime;
+  WriteSlots<sizeof(float)>(ms, p.time, time);
+}
+
 // Makes `p` the running program: saves a suspended caller's slots if `p` would overwrite them,
 // loads `p`'s bindings and the launch index/dim semantics. Inline: it runs for every program.
 inline void Enter(ThreadState& ts, const BoundProgram& p) {
@@ -413,6 +422,7 @@ inline void Enter(ThreadState& ts, const BoundProgram& p) {
     for (const BoundProgram::Attribute& a : p.attributes) std::memset(ms.slots[a.var], 0, a.size);
     ms.index_written = ts.index_serial;
   }
+  if (__builtin_expect(!p.time.empty(), 0)) WriteTime(ts, ms, p);
 }
 
 // Suspends the running program's module across a nested call, in `s`; Resume restores it if
@@ -473,7 +483,7 @@ inline void CallProgram(ThreadState& ts, const BoundProgram& p, int primitive = 
 // Traversal entry points (trace.cc).
 void RtTrace(unsigned long long node, const void* ray, void* payload, size_t payload_size);
 void RtTraceWithFlags(unsigned long long node, const void* ray, void* payload, size_t payload_size,
-                      unsigned mask, unsigned flags);
+                      unsigned mask, unsigned flags, int has_time, float time);
 int RtPotentialIntersection(float t);
 int RtReportIntersection(unsigned material);
 void RtIgnoreIntersection();

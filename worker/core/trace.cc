@@ -486,9 +486,11 @@ __attribute__((noinline)) void RejectRayFlags(const ThreadState& ts, unsigned fl
 
 // rtTrace with an OptiX 6 visibility mask and RTrayflags. Geometry has the default mask 0xFF (there
 // is no rtGeometryGroupSetVisibilityMask), so a mask with none of its low 8 bits set hits nothing.
+// A ray without a time of its own (has_time 0) takes its caller's: the traced ray's, or 0 in a
+// launch's own programs.
 __attribute__((always_inline)) inline void Trace(unsigned long long node, const void* ray_ptr,
                                                  void* payload, size_t payload_size, unsigned mask,
-                                                 unsigned flags) {
+                                                 unsigned flags, bool has_time, float time) {
   // A program looping on rtTrace spends its time in the engine and Embree, where an interrupt
   // only leaves a request (interrupt.h).
   InterruptPoint();
@@ -532,6 +534,7 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
 
   const BoundProgram* caller = ts.current;
   SuspendedSlots& suspended = Suspend(ts, ts.depth);
+  if (!has_time) time = ts.depth > 0 ? ts.frames[ts.depth - 1].time : 0.f;
   Frame& f = ts.frames[ts.depth++];
   CopyWords(&f.ray, &ray, sizeof(ray));  // `ray` has just been stored word by word
   f.payload = payload;
@@ -540,6 +543,7 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   f.hit.instance = nullptr;
   f.terminated = false;
   f.flags = flags;
+  f.time = time;
   f.xform.active = false;
   if (__builtin_expect(cull_all, 0)) {
     // Nothing to traverse: the ray misses.
@@ -584,17 +588,21 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
     Resume(ts, suspended);
   }
   ReturnTo(ts, *caller, *suspended.module);
+  // A ray generation program gets back no per-call values (Resume), and its time may have been
+  // overwritten by a program of its module that this ray ran.
+  if (__builtin_expect(!caller->time.empty(), 0)) WriteTime(ts, *suspended.module, *caller);
 }
 
 }  // namespace
 
 void RtTrace(unsigned long long node, const void* ray_ptr, void* payload, size_t payload_size) {
-  Trace(node, ray_ptr, payload, payload_size, 0xFFu, 0u);
+  Trace(node, ray_ptr, payload, payload_size, 0xFFu, 0u, false, 0.f);
 }
 
 void RtTraceWithFlags(unsigned long long node, const void* ray_ptr, void* payload,
-                      size_t payload_size, unsigned mask, unsigned flags) {
-  Trace(node, ray_ptr, payload, payload_size, mask, flags);
+                      size_t payload_size, unsigned mask, unsigned flags, int has_time,
+                      float time) {
+  Trace(node, ray_ptr, payload, payload_size, mask, flags, has_time != 0, time);
 }
 
 int RtPotentialIntersection(float t) {

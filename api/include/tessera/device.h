@@ -79,18 +79,26 @@ inline const TesseraRuntime* Rt() { return g_runtime; }
 #define TESSERA_TLS __attribute__((tls_model("local-dynamic")))
 
 inline long long g_buffer_table_offset = 0;
+inline long long g_texture_table_offset = 0;
+inline long long g_texture_id_table_offset = 0;
+
+// The pointer the engine keeps in static TLS at `offset` from the thread pointer
+// (TesseraRuntime::buffer_table_offset and the like): one load, no call.
+template <typename T>
+inline T* AtThreadPointer(long long offset) {
+  T* p;
+#if defined(__x86_64__)
+  __asm__("movq %%fs:(%1), %0" : "=r"(p) : "r"(offset));
+#else
+  p = *reinterpret_cast<T* const*>(static_cast<const char*>(__builtin_thread_pointer()) + offset);
+#endif
+  return p;
+}
 
 // The running program's buffer views. Not volatile: the table stays the same for the whole run
 // of a program (nested programs restore it before control returns), so the compiler may keep it.
 inline const TesseraBufferView* BufferTable() {
-  const TesseraBufferView* table;
-#if defined(__x86_64__)
-  __asm__("movq %%fs:(%1), %0" : "=r"(table) : "r"(g_buffer_table_offset));
-#else
-  table = *reinterpret_cast<const TesseraBufferView* const*>(
-      static_cast<const char*>(__builtin_thread_pointer()) + g_buffer_table_offset);
-#endif
-  return table;
+  return AtThreadPointer<const TesseraBufferView>(g_buffer_table_offset);
 }
 
 // The name of a variable declared inside namespaces, as the host names it (OptiX guide: "ns::v").
@@ -160,6 +168,8 @@ tessera_module_init(const TesseraRuntime* runtime, unsigned abi_version) {
   auto& r = tessera::detail::Registry();
   tessera::detail::g_runtime = runtime;
   tessera::detail::g_buffer_table_offset = runtime->buffer_table_offset;
+  tessera::detail::g_texture_table_offset = runtime->texture_table_offset;
+  tessera::detail::g_texture_id_table_offset = runtime->texture_id_table_offset;
   r.info.abi_version = TESSERA_MODULE_ABI_VERSION;
   r.info.variable_count = static_cast<unsigned>(r.variables.size());
   r.info.variables = r.variables.data();
@@ -425,15 +435,18 @@ inline void rtTrace(rtObject top, const optix::Ray& ray, T& payload) {
 template <typename T>
 inline void rtTrace(rtObject top, const optix::Ray& ray, T& payload, RTvisibilitymask mask,
                     RTrayflags flags = RT_RAY_FLAG_NONE) {
-  ::tessera::detail::Rt()->trace_with_flags(top.handle, &ray, &payload, sizeof(T), mask, flags);
+  ::tessera::detail::Rt()->trace_with_flags(top.handle, &ray, &payload, sizeof(T), mask, flags, 0,
+                                            0.f);
 }
-// OptiX 5-6: the ray's time for motion blur. Tessera has no motion blur (no motion transforms or
-// geometry), so every time sees the same scene and the argument is ignored.
+// OptiX 5-6: the ray's time for motion blur, which the programs it runs read as rtCurrentTime (a
+// ray traced without one takes its caller's). Tessera has no motion transforms or geometry, so
+// every time sees the same scene.
 template <typename T>
-inline void rtTrace(rtObject top, const optix::Ray& ray, float /*time*/, T& payload,
+inline void rtTrace(rtObject top, const optix::Ray& ray, float time, T& payload,
                     RTvisibilitymask mask = RT_VISIBILITY_ALL,
                     RTrayflags flags = RT_RAY_FLAG_NONE) {
-  ::tessera::detail::Rt()->trace_with_flags(top.handle, &ray, &payload, sizeof(T), mask, flags);
+  ::tessera::detail::Rt()->trace_with_flags(top.handle, &ray, &payload, sizeof(T), mask, flags, 1,
+                                            time);
 }
 
 inline bool rtPotentialIntersection(float t) {

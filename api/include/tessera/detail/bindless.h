@@ -17,15 +17,7 @@ namespace tessera::detail {
 
 // The running plan's buffers by id (TesseraRuntime::buffer_id_table_offset); never null.
 inline const TesseraBufferIdTable* BufferIdTable() {
-  const long long offset = Rt()->buffer_id_table_offset;
-  const TesseraBufferIdTable* table;
-#if defined(__x86_64__)
-  __asm__("movq %%fs:(%1), %0" : "=r"(table) : "r"(offset));
-#else
-  table = *reinterpret_cast<const TesseraBufferIdTable* const*>(
-      static_cast<const char*>(__builtin_thread_pointer()) + offset);
-#endif
-  return table;
+  return AtThreadPointer<const TesseraBufferIdTable>(Rt()->buffer_id_table_offset);
 }
 
 }  // namespace tessera::detail

@@ -13,7 +13,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 8u
+#define TESSERA_MODULE_ABI_VERSION 9u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -77,6 +77,13 @@ typedef struct {
   const TesseraBufferIdEntry* entries;
 } TesseraBufferIdTable;
 
+/* The samplers programs reach by id (rtTex*, version 9): views[id] for id < count; a null entry
+ * is no sampler a program can read. */
+typedef struct {
+  unsigned long long count;
+  const TesseraTextureView* const* views;
+} TesseraTextureIdTable;
+
 typedef struct {
   unsigned abi_version;
   unsigned variable_count;
@@ -136,11 +143,10 @@ typedef struct {
    * again, also while an exception unwinds the call. */
   void* (*callable_enter)(const void* variable, TesseraCallFrame* frame);
   void (*callable_leave)(TesseraCallFrame* frame);
-  /* Texture samplers (version 8). texture_view: the running program's view for rtTextureSampler
-   * slot `slot`, null when no scope binds a sampler to it. texture_by_id: the view of the sampler
-   * rtTextureSamplerGetId gave `id`; any other id raises RT_EXCEPTION_TEXTURE_ID_INVALID (null
-   * when that exception is disabled). Views stay valid while the program runs. */
-  const TesseraTextureView* (*texture_view)(unsigned slot);
+  /* Texture samplers (version 8). texture_by_id: the view of the sampler rtTextureSamplerGetId
+   * gave `id`; any other id raises RT_EXCEPTION_TEXTURE_ID_INVALID (null when that exception is
+   * disabled). Views stay valid while the program runs. Programs read views without a call
+   * through texture_table_offset and texture_id_table_offset (below). */
   const TesseraTextureView* (*texture_by_id)(int id);
   /* OptiX 3.5+ ids (version 8, tessera/detail/bindless.h). buffer_by_id: the view of the buffer
    * with id `id` (rtBufferGetId) for an rtBufferId of elements of `element_size` bytes and
@@ -161,10 +167,18 @@ typedef struct {
    * exists and fits its type costs no call; every other access calls buffer_by_id, which says
    * why. The table may be empty (ids too sparse for an array): every access then calls. */
   long long buffer_id_table_offset;
-  /* OptiX 6 rtTrace with a visibility mask and RTrayflags (version 8); `trace` is this with mask
-   * 0xFF and no flags. */
+  /* OptiX 6 rtTrace with a visibility mask and RTrayflags (version 8), and the OptiX 5 ray time
+   * (version 9: rtCurrentTime of the programs the ray runs; has_time 0 takes the caller's, as
+   * `trace` does); `trace` is this with mask 0xFF, no flags and no time. */
   void (*trace_with_flags)(unsigned long long node, const void* ray, void* payload,
-                           size_t payload_size, unsigned mask, unsigned flags);
+                           size_t payload_size, unsigned mask, unsigned flags, int has_time,
+                           float time);
+  /* Version 9, read as buffer_table_offset: a `const TesseraTextureView*` indexed by
+   * rtTextureSampler slot, the running program's views (level_count 0 where no scope binds a
+   * sampler), and a `const TesseraTextureIdTable*`, the running plan's samplers by id (never
+   * null; empty when ids are too sparse for an array: every rtTex* then calls texture_by_id). */
+  long long texture_table_offset;
+  long long texture_id_table_offset;
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and

@@ -107,7 +107,12 @@ class rtTextureSampler {
   rtTextureSampler& operator=(const rtTextureSampler&) = delete;
 
   // The running program's view of the sampler bound to this declaration; null when none is.
-  const TesseraTextureView* View() const { return ::tessera::detail::Rt()->texture_view(slot_); }
+  // Every binding of a program has a view per declaration of its module (level_count 0: none).
+  const TesseraTextureView* View() const {
+    const TesseraTextureView& v = ::tessera::detail::AtThreadPointer<const TesseraTextureView>(
+        ::tessera::detail::g_texture_table_offset)[slot_];
+    return v.level_count != 0 ? &v : nullptr;
+  }
 
  private:
   unsigned slot_;
@@ -190,9 +195,19 @@ typedef int rtTextureId;
 #define RT_TEXTURE_ID_NULL 0
 
 namespace tessera::detail {
+// The view of sampler `id`: from the plan's table indexed by id without a call; any id the table
+// lacks asks the engine, which raises RT_EXCEPTION_TEXTURE_ID_INVALID with the reason.
+inline const TesseraTextureView* TextureById(rtTextureId id) {
+  const TesseraTextureIdTable* t =
+      AtThreadPointer<const TesseraTextureIdTable>(g_texture_id_table_offset);
+  const unsigned long long u = static_cast<unsigned>(id);  // a negative id is past the end
+  if (u < t->count && t->views[u] != nullptr) return t->views[u];
+  return Rt()->texture_by_id(id);
+}
+
 template <typename T, typename Sample>
 inline T SampleId(rtTextureId id, Sample&& sample) {
-  return SampleOr0<T>(Rt()->texture_by_id(id), sample);
+  return SampleOr0<T>(TextureById(id), sample);
 }
 }  // namespace tessera::detail
 
@@ -256,7 +271,7 @@ inline T rtTex2DGather(rtTextureId id, float x, float y) {
 
 // The size of level 0 of the sampler `id` names (rtTexSize, OptiX 3.9); zeros for no sampler.
 inline uint3 rtTexSize(rtTextureId id) {
-  const TesseraTextureView* v = ::tessera::detail::Rt()->texture_by_id(id);
+  const TesseraTextureView* v = ::tessera::detail::TextureById(id);
   if (v == nullptr || v->level_count == 0) return uint3{0, 0, 0};
   return uint3{v->levels[0].width, v->levels[0].height, v->levels[0].depth};
 }

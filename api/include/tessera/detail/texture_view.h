@@ -37,7 +37,8 @@ typedef struct {
   float max_anisotropy;     /* accepted; 1 means none */
   float mip_level_clamp[2]; /* min, max level */
   float mip_level_bias;
-  int id; /* rtTextureSamplerGetId */
+  int id;        /* rtTextureSamplerGetId */
+  unsigned fast; /* a lookup path for this view alone (tessera/detail/texture_fast.h); 0: none */
 } TesseraTextureView;
 
 #ifdef __cplusplus
