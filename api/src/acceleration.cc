@@ -91,9 +91,10 @@ absl::Status Acceleration::Restore(AccelerationBlob blob) {
     for (const char* t : info->traversers) paired = paired || (t != nullptr && blob.traverser == t);
   }
   if (!paired) {
-    return RtError(RT_ERROR_INVALID_VALUE,
-                   absl::StrCat("acceleration data refused: builder '", blob.builder,
-                                "' with traverser '", blob.traverser, "' is not a pair Tessera builds"));
+    return RtError(
+        RT_ERROR_INVALID_VALUE,
+        absl::StrCat("acceleration data refused: builder '", blob.builder, "' with traverser '",
+                     blob.traverser, "' is not a pair Tessera builds"));
   }
   builder_ = blob.builder;
   traverser_ = blob.traverser;

@@ -71,22 +71,21 @@ absl::Status Refused(const std::string& why) {
 }  // namespace
 
 const std::string& AccelerationDataPlatform() {
-  static const auto* platform = new std::string(absl::StrCat(
-      "tessera-embree3 ",
+  static const auto* platform = new std::string(absl::StrCat("tessera-embree3 ",
 #if defined(__x86_64__)
-      "x86_64",
+                                                             "x86_64",
 #elif defined(__aarch64__)
-      "aarch64",
+                                                             "aarch64",
 #else
-      "unknown-cpu",
+                                                             "unknown-cpu",
 #endif
-      "-linux ",
+                                                             "-linux ",
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-      "little-endian"
+                                                             "little-endian"
 #else
-      "big-endian"
+                                                             "big-endian"
 #endif
-      ));
+                                                             ));
   return *platform;
 }
 
@@ -155,8 +154,8 @@ absl::StatusOr<AccelerationBlob> DecodeAccelerationBlob(const void* data, size_t
   std::string platform;
   if (!r.Str(&platform)) return malformed;
   if (platform != AccelerationDataPlatform()) {
-    return Refused(absl::StrCat("made on '", platform, "'; this is '", AccelerationDataPlatform(),
-                                "'"));
+    return Refused(
+        absl::StrCat("made on '", platform, "'; this is '", AccelerationDataPlatform(), "'"));
   }
   AccelerationBlob blob;
   uint32_t count = 0;

@@ -99,11 +99,11 @@ absl::Status ReadBounds(Context& context, const Acceleration& a, const Accelerat
       const v1::PrimitiveBounds& c = reply->children(static_cast<int>(i));
       if (!c.has_bounds()) continue;
       if (c.bounds().size() != inputs[i].primitive_count * 6 * sizeof(float)) {
-        return RtError(RT_ERROR_UNKNOWN,
-                       absl::StrCat(a.Describe(), ": device '", slot.desc.name, "' sent ",
-                                    c.bounds().size(), " bytes of bounds for child ", i, " of ",
-                                    node.Describe(), ", which has ", inputs[i].primitive_count,
-                                    " primitives"));
+        return RtError(
+            RT_ERROR_UNKNOWN,
+            absl::StrCat(a.Describe(), ": device '", slot.desc.name, "' sent ", c.bounds().size(),
+                         " bytes of bounds for child ", i, " of ", node.Describe(), ", which has ",
+                         inputs[i].primitive_count, " primitives"));
       }
       std::vector<float>& out = blob->bounds[i];
       out.resize(inputs[i].primitive_count * 6);
@@ -111,19 +111,18 @@ absl::Status ReadBounds(Context& context, const Acceleration& a, const Accelerat
     }
     return absl::OkStatus();
   }
-  return RtError(RT_ERROR_INVALID_VALUE,
-                 absl::StrCat(a.Describe(), " is not built on any device (", why, "); ",
-                              LaunchFirst()));
+  return RtError(RT_ERROR_INVALID_VALUE, absl::StrCat(a.Describe(), " is not built on any device (",
+                                                      why, "); ", LaunchFirst()));
 }
 
 }  // namespace
 
 absl::StatusOr<const std::string*> ExtractAccelerationData(Context& context, Acceleration& a) {
   if (a.dirty()) {
-    return RtError(RT_ERROR_INVALID_VALUE,
-                   absl::StrCat(a.Describe(),
-                                " is dirty: its data can only be read once a launch built it; ",
-                                LaunchFirst()));
+    return RtError(
+        RT_ERROR_INVALID_VALUE,
+        absl::StrCat(a.Describe(), " is dirty: its data can only be read once a launch built it; ",
+                     LaunchFirst()));
   }
   Acceleration::Extracted& done = a.extracted();
   if (!done.bytes.empty() && done.build_epoch == a.build_epoch() && done.version == a.version()) {

@@ -158,8 +158,8 @@ RTresult rtAccelerationSetData(RTacceleration acceleration, const void* data, RT
     if (bounds_bytes > tessera::kMaxCarriedBoundsBytes) {
       return RtError(RT_ERROR_INVALID_VALUE,
                      absl::StrCat("acceleration data refused: it carries ", bounds_bytes,
-                                  " bytes of bounds, more than the ", tessera::kMaxCarriedBoundsBytes,
-                                  " Tessera writes"));
+                                  " bytes of bounds, more than the ",
+                                  tessera::kMaxCarriedBoundsBytes, " Tessera writes"));
     }
     for (const auto& [name, value] : blob->properties) {  // they travel to devices as strings
       TS_RETURN_IF_ERROR(CheckUtf8(name.c_str(), "a restored property name"));

@@ -419,8 +419,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
         info->bounds = accel->cached_bounds[child].bounds;
       } else {
         // Bounds a program leaves unwritten stay NaN: invalid, so that primitive is never hit.
-        info->bounds.assign(size_t{g.primitive_count} * 6,
-                            std::numeric_limits<float>::quiet_NaN());
+        info->bounds.assign(size_t{g.primitive_count} * 6, std::numeric_limits<float>::quiet_NaN());
         if (absl::Status s = RunBounds(plan, *ip.bounds, gi.geometry, info->bounds); !s.ok()) {
           return s;
         }
