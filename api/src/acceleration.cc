@@ -80,7 +80,31 @@ const std::string& Acceleration::Property(const std::string& name) const {
 void Acceleration::MarkDirty() {
   ++build_epoch_;
   dirty_ = true;
+  restored_.reset();  // a rebuild runs the bounding-box programs again
   Touch();
+}
+
+absl::Status Acceleration::Restore(AccelerationBlob blob) {
+  const BuilderInfo* info = FindBuilder(blob.builder);
+  bool paired = false;
+  if (info != nullptr) {
+    for (const char* t : info->traversers) paired = paired || (t != nullptr && blob.traverser == t);
+  }
+  if (!paired) {
+    return RtError(
+        RT_ERROR_INVALID_VALUE,
+        absl::StrCat("acceleration data refused: builder '", blob.builder, "' with traverser '",
+                     blob.traverser, "' is not a pair Tessera builds"));
+  }
+  builder_ = blob.builder;
+  traverser_ = blob.traverser;
+  properties_ = blob.properties;
+  ++build_epoch_;  // devices build again, from the blob's bounds
+  dirty_ = false;
+  restored_ = std::make_unique<AccelerationBlob>(std::move(blob));
+  restore_check_ = RestoreCheck::kPending;
+  Touch();
+  return absl::OkStatus();
 }
 
 absl::Status Acceleration::CheckComplete() const {

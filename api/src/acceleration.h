@@ -6,9 +6,11 @@
 #define TESSERA_API_SRC_ACCELERATION_H_
 
 #include <map>
+#include <memory>
 #include <string>
 
 #include "absl/status/status.h"
+#include "acceleration_blob.h"
 #include "object.h"
 
 namespace tessera::api {
@@ -40,12 +42,41 @@ class Acceleration : public Object {
   // Builder and traverser are set and belong together (Table 2).
   absl::Status CheckComplete() const;
 
+  // rtAccelerationSetData (docs/acceleration_data.md): takes the blob's builder, traverser and
+  // properties, and a new build epoch that devices build from the blob's bounds; not dirty after,
+  // "as if a regular construction had been performed". Changes nothing when the blob names a
+  // builder or traverser this Tessera does not know.
+  absl::Status Restore(AccelerationBlob blob);
+  // What Restore took, until MarkDirty (or a change below the acceleration) drops it. Null if none.
+  const AccelerationBlob* restored() const { return restored_.get(); }
+  // Whether the launch that first lowers the restored blob found it built over the graph the
+  // acceleration is on now (acceleration_data.cc CheckRestoredAccelerations): only then do its
+  // bounds ship to devices.
+  enum class RestoreCheck { kPending, kMatches, kMismatch };
+  RestoreCheck restore_check() const { return restore_check_; }
+  void set_restore_check(RestoreCheck check) {
+    restore_check_ = check;
+    if (check == RestoreCheck::kMatches) Touch();  // ships again, now with the bounds
+  }
+
+  // The blob rtAccelerationGetDataSize made, reused by rtAccelerationGetData while the build
+  // epoch and version are the same (the two calls must agree on its size).
+  struct Extracted {
+    uint64_t build_epoch = 0;
+    uint64_t version = 0;
+    std::string bytes;
+  };
+  Extracted& extracted() { return extracted_; }
+
  private:
   std::string builder_;
   std::string traverser_;
   std::map<std::string, std::string> properties_;
   uint64_t build_epoch_ = 1;
   bool dirty_ = true;
+  std::unique_ptr<AccelerationBlob> restored_;
+  RestoreCheck restore_check_ = RestoreCheck::kPending;
+  Extracted extracted_;
 };
 
 }  // namespace tessera::api

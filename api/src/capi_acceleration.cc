@@ -1,8 +1,15 @@
 // rtAcceleration*.
+#include <cstring>
+#include <string>
+#include <vector>
+
 #include "absl/strings/str_cat.h"
 #include "acceleration.h"
+#include "acceleration_data.h"
 #include "boundary.h"
 #include "scope_api.h"
+#include "status.h"
+#include "tessera/scheduler/device.h"
 #include "validate.h"
 
 using namespace tessera::api;  // NOLINT: C entry points only
@@ -115,27 +122,50 @@ RTresult rtAccelerationGetProperty(RTacceleration acceleration, const char* name
   });
 }
 
-// Acceleration data caching: devices build their own structures, so there is nothing to hand
-// out. GetDataSize reports 0 and SetData is accepted and ignored (the structure stays dirty and
-// is rebuilt), as documented in COMPATIBILITY.md.
+// Acceleration data caching (OptiX 3 guide 3.6.5, docs/acceleration_data.md): the blob carries
+// the builder, traverser, properties, what the structure was built over, and the bounds the
+// bounding-box programs gave, which devices reuse instead of running the programs again.
 RTresult rtAccelerationGetDataSize(RTacceleration acceleration, RTsize* size) {
-  return Call<Acceleration>(__func__, acceleration, [&](Acceleration&) -> absl::Status {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
     TS_RETURN_IF_ERROR(NotNull(size, "size pointer"));
-    *size = 0;
+    absl::StatusOr<const std::string*> blob = ExtractAccelerationData(*a.context(), a);
+    if (!blob.ok()) return blob.status();
+    *size = (*blob)->size();
     return absl::OkStatus();
   });
 }
 
-// The data size is 0, so `data` may be what malloc(0) returned, null included.
+// Writes rtAccelerationGetDataSize's count of bytes (the same blob, made once per build).
 RTresult rtAccelerationGetData(RTacceleration acceleration, void* data) {
-  return Call<Acceleration>(__func__, acceleration,
-                            [&](Acceleration&) -> absl::Status { return absl::OkStatus(); });
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(data, "data pointer"));
+    absl::StatusOr<const std::string*> blob = ExtractAccelerationData(*a.context(), a);
+    if (!blob.ok()) return blob.status();
+    std::memcpy(data, (*blob)->data(), (*blob)->size());
+    return absl::OkStatus();
+  });
 }
 
+// A blob that is not one this Tessera wrote leaves the acceleration as it was, so that the
+// guide's "if SetData fails, MarkDirty" works.
 RTresult rtAccelerationSetData(RTacceleration acceleration, const void* data, RTsize size) {
-  return Call<Acceleration>(__func__, acceleration, [&](Acceleration&) -> absl::Status {
+  return Call<Acceleration>(__func__, acceleration, [&](Acceleration& a) -> absl::Status {
     if (size > 0) TS_RETURN_IF_ERROR(NotNull(data, "data pointer"));
-    return absl::OkStatus();
+    absl::StatusOr<AccelerationBlob> blob = DecodeAccelerationBlob(data, size);
+    if (!blob.ok()) return blob.status();
+    uint64_t bounds_bytes = 0;
+    for (const std::vector<float>& b : blob->bounds) bounds_bytes += b.size() * sizeof(float);
+    if (bounds_bytes > tessera::kMaxCarriedBoundsBytes) {
+      return RtError(RT_ERROR_INVALID_VALUE,
+                     absl::StrCat("acceleration data refused: it carries ", bounds_bytes,
+                                  " bytes of bounds, more than the ",
+                                  tessera::kMaxCarriedBoundsBytes, " Tessera writes"));
+    }
+    for (const auto& [name, value] : blob->properties) {  // they travel to devices as strings
+      TS_RETURN_IF_ERROR(CheckUtf8(name.c_str(), "a restored property name"));
+      TS_RETURN_IF_ERROR(CheckUtf8(value.c_str(), "a restored property value"));
+    }
+    return a.Restore(*std::move(blob));
   });
 }
 

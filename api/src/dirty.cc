@@ -34,7 +34,7 @@ bool Propagates(Kind child, Kind parent) {
 
 }  // namespace
 
-void NotifyStructureChanged(Object* changed) {
+void NotifyStructureChanged(Object* changed, const Object* keep_restored) {
   absl::flat_hash_set<Object*> seen;
   std::vector<Object*> stack{changed};
   while (!stack.empty()) {
@@ -42,8 +42,11 @@ void NotifyStructureChanged(Object* changed) {
     stack.pop_back();
     if (!seen.insert(node).second) continue;
     if (node->kind() == Kind::kGeometryGroup || node->kind() == Kind::kGroup) {
-      if (Object* accel = static_cast<AcceleratedNode*>(node)->acceleration()) {
-        static_cast<Acceleration*>(accel)->MarkDirty();
+      auto* accel = static_cast<Acceleration*>(static_cast<AcceleratedNode*>(node)->acceleration());
+      // An acceleration just attached with restored data keeps it: the launch checks it against
+      // the graph below (acceleration_data.cc), as OptiX leaves attaching to the application.
+      if (accel != nullptr && (accel != keep_restored || accel->restored() == nullptr)) {
+        accel->MarkDirty();
       }
     }
     for (const auto& [parent, count] : node->parents()) {

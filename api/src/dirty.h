@@ -10,8 +10,8 @@ namespace tessera::api {
 
 // `changed` is a buffer a geometry refers to, a geometry, an instance or a node whose children,
 // programs, primitive count or matrix changed. Every acceleration on a GeometryGroup or Group at
-// or above it is marked dirty.
-void NotifyStructureChanged(Object* changed);
+// or above it is marked dirty, but `keep_restored` while it holds rtAccelerationSetData's data.
+void NotifyStructureChanged(Object* changed, const Object* keep_restored = nullptr);
 
 }  // namespace tessera::api
 

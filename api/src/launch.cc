@@ -17,6 +17,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "acceleration.h"
+#include "acceleration_data.h"
 #include "buffer.h"
 #include "context.h"
 #include "gather.h"
@@ -478,6 +479,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   // What devices will hold is what ships now: buffer layouts and host writes are taken before the
   // timeout callback can change them.
   LaunchGather gather(*this);
+  CheckRestoredAccelerations(*this);  // before lowering: decides which restored bounds ship
   {
     // Every device lost while taking its update (a worker's session dropped while the host was
     // idle, or all workers killed at that moment): the devices start again, with the whole state,

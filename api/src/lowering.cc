@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "acceleration.h"
+#include "acceleration_data.h"
 #include "buffer.h"
 #include "context.h"
 #include "geometry.h"
@@ -211,6 +212,7 @@ void LowerObject(const Context& c, Object& o, int ordinal, v1::Object* out) {
       m->set_traverser(a.traverser());
       for (const auto& [k, v] : a.properties()) (*m->mutable_properties())[k] = v;
       m->set_build_epoch(a.build_epoch());
+      LowerRestoredBounds(a, m);
       break;
     }
     case Kind::kContext:

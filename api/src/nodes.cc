@@ -18,7 +18,7 @@ AcceleratedNode::AcceleratedNode(Kind kind, Context* context, uint64_t id)
 void AcceleratedNode::SetAcceleration(Acceleration* acceleration) {
   acceleration_.Set(0, acceleration);
   Touch();
-  NotifyStructureChanged(this);
+  NotifyStructureChanged(this, acceleration);
 }
 
 void AcceleratedNode::SetChildCount(unsigned count) {

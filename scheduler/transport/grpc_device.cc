@@ -280,6 +280,16 @@ absl::Status GrpcDevice::Launch(const v1::LaunchRequest& request, const std::ato
   return absl::OkStatus();
 }
 
+absl::StatusOr<v1::AccelerationBoundsReply> GrpcDevice::AccelerationBounds(
+    const v1::AccelerationBoundsRequest& request) {
+  grpc::ClientContext context;
+  context.set_deadline(DeadlineIn(SilenceDeadline()));
+  v1::AccelerationBoundsReply reply;
+  const grpc::Status status = stub_->worker->AccelerationBounds(&context, request, &reply);
+  if (!status.ok()) return FromGrpcStatus(status, address_);
+  return reply;
+}
+
 absl::Status GrpcDevice::LostOrFailed(absl::Status status) {
   if (status.code() == absl::StatusCode::kUnavailable) lost_ = true;
   if (process_ != nullptr) {

@@ -54,6 +54,9 @@ class GrpcDevice : public Device {
   // milliseconds (the call is cancelled, which sets the worker's cancel flag).
   absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                       const std::function<void(v1::TileResult&&)>& on_result) override;
+  // Asks the worker, within the silence deadline (TESSERA_WORKER_TIMEOUT).
+  absl::StatusOr<v1::AccelerationBoundsReply> AccelerationBounds(
+      const v1::AccelerationBoundsRequest& request) override;
 
   // Asks the worker again.
   absl::StatusOr<WorkerHealth> Health(absl::Duration timeout = absl::Seconds(10)) const;

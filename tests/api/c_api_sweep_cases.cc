@@ -433,6 +433,7 @@ std::vector<CallCase> NullPointerCases() {
       N(rtAccelerationGetProperty(w.acceleration, nullptr, &w.str)),
       N(rtAccelerationGetProperty(w.acceleration, "fresh_name", nullptr)),
       N(rtAccelerationGetDataSize(w.acceleration, nullptr)),
+      N(rtAccelerationGetData(w.acceleration, nullptr)),
       N(rtAccelerationSetData(w.acceleration, nullptr, 1)),
       N(rtAccelerationIsDirty(w.acceleration, nullptr)),
       N(rtGeometryInstanceCreate(w.ctx, nullptr)),

@@ -361,16 +361,21 @@ TEST_F(HostGraphTest, AccelerationSettings) {
   ASSERT_EQ(rtAccelerationGetProperty(a, "refit", &s), RT_SUCCESS);
   EXPECT_STREQ(s, "");
 
-  // Acceleration data caching is accepted and does nothing (COMPATIBILITY.md).
+  // A new acceleration is dirty: it has no data yet, and data that is not Tessera's is refused
+  // without changing it (tests/semantics/acceleration_data_test.cc has the round trips).
   RTsize size = 99;
-  ASSERT_EQ(rtAccelerationGetDataSize(a, &size), RT_SUCCESS);
-  EXPECT_EQ(size, 0u);
-  EXPECT_EQ(rtAccelerationGetData(a, nullptr), RT_SUCCESS);
+  EXPECT_EQ(rtAccelerationGetDataSize(a, &size), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(size, 99u);
+  char out[4] = {};
+  EXPECT_EQ(rtAccelerationGetData(a, out), RT_ERROR_INVALID_VALUE);
   const char blob[4] = {1, 2, 3, 4};
-  EXPECT_EQ(rtAccelerationSetData(a, blob, sizeof(blob)), RT_SUCCESS);
+  EXPECT_EQ(rtAccelerationSetData(a, blob, sizeof(blob)), RT_ERROR_INVALID_VALUE);
+  EXPECT_EQ(rtAccelerationSetData(a, nullptr, 0), RT_ERROR_INVALID_VALUE);
   int dirty = 0;
   ASSERT_EQ(rtAccelerationIsDirty(a, &dirty), RT_SUCCESS);
   EXPECT_EQ(dirty, 1);
+  ASSERT_EQ(rtAccelerationGetBuilder(a, &s), RT_SUCCESS);
+  EXPECT_STREQ(s, "Trbvh");
   ASSERT_EQ(rtAccelerationMarkDirty(a), RT_SUCCESS);
 }
 

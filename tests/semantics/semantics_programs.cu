@@ -184,6 +184,11 @@ RT_PROGRAM void counted_sphere_bounds(int prim, float result_box[6]) {
   atomicAdd(&bounds_calls[0], 1u);
   sphere_bounds(prim, result_box);
 }
+// mesh_bounds, counted likewise.
+RT_PROGRAM void counted_mesh_bounds(int prim, float result_box[6]) {
+  atomicAdd(&bounds_calls[0], 1u);
+  mesh_bounds(prim, result_box);
+}
 // The same, counting in element `bounds_slot` (a geometry's variable): one counter per geometry.
 rtDeclareVariable(unsigned int, bounds_slot, , );
 RT_PROGRAM void slot_counted_sphere_bounds(int prim, float result_box[6]) {

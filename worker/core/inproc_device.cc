@@ -435,6 +435,12 @@ class InprocDevice : public Device {
     return absl::OkStatus();
   }
 
+  absl::StatusOr<v1::AccelerationBoundsReply> AccelerationBounds(
+      const v1::AccelerationBoundsRequest& request) override {
+    std::lock_guard<std::mutex> call_lock(call_mu_);  // builds happen inside Launch calls
+    return scenes_.AccelerationBounds(request);
+  }
+
  private:
   // How many write epochs a call runs in: one unless results go out while the call traces and
   // several threads would otherwise wait while one sends (a single thread has no one to wait for

@@ -97,6 +97,10 @@ struct SceneEntry {
   // Levels of nodes below this one (a Transform counts as one): a node that several parents
   // share is checked against the depth limit without walking its subgraph again.
   int height = 0;
+  // GeometryGroups: the acceleration and build epoch the scene was built for, by which
+  // rtAccelerationGetData finds the bounds in `geometries` (AccelerationBounds).
+  uint64_t acceleration = 0;
+  uint64_t build_epoch = 0;
   std::vector<std::unique_ptr<GeometryInfo>> geometries;
   std::vector<std::unique_ptr<ChildInfo>> children;
   std::array<float, 6> bounds{};
@@ -199,6 +203,9 @@ class SceneCache {
     auto it = entries_.find(id);
     return it == entries_.end() ? nullptr : it->second.get();
   }
+  // Device::AccelerationBounds over the scenes kept (acceleration_bounds.cc).
+  absl::StatusOr<v1::AccelerationBoundsReply> AccelerationBounds(
+      const v1::AccelerationBoundsRequest& request) const;
 
  private:
   absl::StatusOr<const SceneEntry*> Node(LaunchPlan& plan, NodeRef ref, int depth);

@@ -85,6 +85,27 @@ absl::Status CheckSampler(const v1::TextureSampler& t) {
   return absl::OkStatus();
 }
 
+// Restored bounds hold 6 floats per primitive, and no more than one acceleration's data carries.
+absl::Status CheckAcceleration(const v1::Acceleration& a) {
+  uint64_t total = 0;
+  for (int i = 0; i < a.cached_bounds_size(); ++i) {
+    const v1::PrimitiveBounds& c = a.cached_bounds(i);
+    const uint64_t expected = c.has_bounds() ? c.primitive_count() * 6 * sizeof(float) : 0;
+    total += c.bounds().size();
+    if (c.primitive_count() > kMaxCarriedBoundsBytes || c.bounds().size() != expected) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "acceleration #", a.id(), ": restored bounds of child ", i, " hold ", c.bounds().size(),
+          " bytes for ", c.primitive_count(), " primitives (expected ", expected, ")"));
+    }
+  }
+  if (total > kMaxCarriedBoundsBytes) {
+    return absl::InvalidArgumentError(absl::StrCat("acceleration #", a.id(), ": ", total,
+                                                   " bytes of restored bounds (at most ",
+                                                   kMaxCarriedBoundsBytes, ")"));
+  }
+  return absl::OkStatus();
+}
+
 // Embree counts primitives in 32 bits (so does rtGeometrySetPrimitiveCount), and a user geometry
 // keeps 24 bytes of bounds per primitive while its acceleration builds.
 absl::Status CheckGeometry(const v1::Geometry& g) {
@@ -327,6 +348,9 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
     if (o.has_texture_sampler()) {
       if (absl::Status s = CheckSampler(o.texture_sampler()); !s.ok()) return s;
     }
+    if (o.has_acceleration()) {
+      if (absl::Status s = CheckAcceleration(o.acceleration()); !s.ok()) return s;
+    }
     if (o.has_transform() &&
         (o.transform().matrix_size() != 16 || o.transform().inverse_size() != 16)) {
       return absl::InvalidArgumentError(
@@ -498,8 +522,15 @@ void Replica::ApplyObject(const v1::Object& o) {
     }
     case v1::Object::kAcceleration: {
       const auto& a = o.acceleration();
-      AccelRec r{a.builder(), a.traverser(), {}, a.build_epoch()};
+      AccelRec r{a.builder(), a.traverser(), {}, a.build_epoch(), {}};
       for (const auto& [k, v] : a.properties()) r.properties[k] = v;
+      for (const v1::PrimitiveBounds& c : a.cached_bounds()) {  // sizes checked before
+        CachedBounds& cb = r.cached_bounds.emplace_back();
+        cb.primitive_count = c.primitive_count();
+        cb.has_bounds = c.has_bounds();
+        cb.bounds.resize(c.bounds().size() / sizeof(float));
+        std::memcpy(cb.bounds.data(), c.bounds().data(), c.bounds().size());
+      }
       accelerations[a.id()] = std::move(r);
       break;
     }

@@ -89,10 +89,18 @@ struct InstanceRec {
   std::vector<uint64_t> materials;
   Scope vars;
 };
+// Bounds rtAccelerationSetData restored for one child of a GeometryGroup (Acceleration
+// .cached_bounds): used instead of running its bounding-box program when the counts agree.
+struct CachedBounds {
+  uint64_t primitive_count = 0;
+  bool has_bounds = false;
+  std::vector<float> bounds;  // 6 per primitive
+};
 struct AccelRec {
   std::string builder, traverser;
   std::map<std::string, std::string> properties;
   uint64_t build_epoch = 0;
+  std::vector<CachedBounds> cached_bounds;
 };
 struct GeometryGroupRec {
   uint64_t acceleration = 0;

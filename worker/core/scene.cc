@@ -337,6 +337,8 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
   auto entry = std::make_unique<SceneEntry>();
   entry->stamp = stamp;
   entry->plan_serial = plan.serial;
+  entry->acceleration = gg->acceleration;
+  entry->build_epoch = accel->build_epoch;
   entry->scene = rtcNewScene(device_);
   bool any_filter = false;
   for (uint64_t gid : gg->children) any_filter |= plan.instances[gid].has_any_hit;
@@ -409,10 +411,18 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
         return absl::FailedPreconditionError(absl::StrCat(
             "geometry #", gi.geometry, " needs an intersection and a bounding box program"));
       }
-      // Bounds a program leaves unwritten stay NaN: invalid, so that primitive is never hit.
-      info->bounds.assign(size_t{g.primitive_count} * 6, std::numeric_limits<float>::quiet_NaN());
-      if (absl::Status s = RunBounds(plan, *ip.bounds, gi.geometry, info->bounds); !s.ok()) {
-        return s;
+      // Bounds rtAccelerationSetData restored for this child are what its program gave when
+      // they were saved: the same build without running it (the host checked the fingerprint).
+      const size_t child = entry->geometries.size();
+      if (child < accel->cached_bounds.size() && accel->cached_bounds[child].has_bounds &&
+          accel->cached_bounds[child].primitive_count == g.primitive_count) {
+        info->bounds = accel->cached_bounds[child].bounds;
+      } else {
+        // Bounds a program leaves unwritten stay NaN: invalid, so that primitive is never hit.
+        info->bounds.assign(size_t{g.primitive_count} * 6, std::numeric_limits<float>::quiet_NaN());
+        if (absl::Status s = RunBounds(plan, *ip.bounds, gi.geometry, info->bounds); !s.ok()) {
+          return s;
+        }
       }
       geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
       rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(g.primitive_count));

@@ -481,6 +481,27 @@ grpc::Status WorkerService::EndSession(grpc::ServerContext* context,
   return grpc::Status::OK;
 }
 
+grpc::Status WorkerService::AccelerationBounds(grpc::ServerContext* context,
+                                               const v1::AccelerationBoundsRequest* request,
+                                               v1::AccelerationBoundsReply* reply) {
+  Use use = UseExisting(request->session_id());
+  if (!use) {
+    absl::MutexLock lock(&mu_);
+    return ToGrpcStatus(Missing(request->session_id(), "a state delta must come first"));
+  }
+  use.get()->mu.Lock();  // after the running Apply or Launch
+  Held held{use.get()};
+  if (use.get()->device == nullptr) {
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        absl::StrCat("no state for session ", request->session_id()));
+  }
+  absl::StatusOr<v1::AccelerationBoundsReply> bounds =
+      use.get()->device->AccelerationBounds(*request);
+  if (!bounds.ok()) return ToGrpcStatus(bounds.status());
+  *reply = *std::move(bounds);
+  return grpc::Status::OK;
+}
+
 grpc::Status WorkerService::Health(grpc::ServerContext* context, const v1::HealthRequest* request,
                                    v1::HealthReply* reply) {
   reply->set_device_name(name_);

@@ -66,6 +66,10 @@ class WorkerService final : public v1::Worker::Service {
   // Forgets the session once its running call (if any) ended.
   grpc::Status EndSession(grpc::ServerContext* context, const v1::EndSessionRequest* request,
                           v1::EndSessionReply* reply) override;
+  // The session's device answers (Device::AccelerationBounds), after its running call.
+  grpc::Status AccelerationBounds(grpc::ServerContext* context,
+                                  const v1::AccelerationBoundsRequest* request,
+                                  v1::AccelerationBoundsReply* reply) override;
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "absl/status/statusor.h"
 #include "tessera/v1/launch.pb.h"
 #include "tessera/v1/state.pb.h"
 
@@ -46,7 +47,23 @@ class Device {
   // other (its written regions belong to one call), so a second call waits inside the device.
   virtual absl::Status Launch(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
                               const std::function<void(v1::TileResult&&)>& on_result) = 0;
+
+  // The primitive bounds this device's bounding-box programs gave when it last built GeometryGroup
+  // `request.geometry_group()` with acceleration `request.acceleration()` at
+  // `request.build_epoch()`, for rtAccelerationGetData (docs/acceleration_data.md). Bounds past
+  // kMaxCarriedBoundsBytes in all are left out (has_bounds false). FAILED_PRECONDITION when the
+  // device holds no such build (it ran no launch since, or none reached the group).
+  virtual absl::StatusOr<v1::AccelerationBoundsReply> AccelerationBounds(
+      const v1::AccelerationBoundsRequest& request) {
+    (void)request;
+    return absl::UnimplementedError("this device keeps no acceleration data");
+  }
 };
+
+// The most bytes of primitive bounds one acceleration's data carries (about 1.4 million
+// primitives): they travel in one message each way (rtAccelerationGetData's reply, the
+// Acceleration object of a state delta), which must stay under the wire's 64 MiB.
+inline constexpr uint64_t kMaxCarriedBoundsBytes = uint64_t{32} << 20;
 
 // Marks the TileResult that carries the written regions of a Launch call.
 inline constexpr uint32_t kFinalTileIndex = 0xFFFFFFFFu;
