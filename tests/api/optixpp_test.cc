@@ -944,9 +944,13 @@ TEST_F(OptixppTest, AccelerationProperties) {
   EXPECT_TRUE(a->isDirty());
   a->markDirty();
   EXPECT_TRUE(a->isDirty());
-  EXPECT_EQ(a->getDataSize(), 0u);
-  a->getData(nullptr);
-  a->setData("", 0);
+  // A dirty acceleration has no data, and an empty blob is none Tessera wrote
+  // (docs/acceleration_data.md; tests/semantics/acceleration_data_test.cc round-trips real data).
+  ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { a->getDataSize(); });
+  std::vector<char> data(64);
+  ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { a->getData(data.data()); });
+  ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { a->setData("", 0); });
+  EXPECT_EQ(a->getBuilder(), "TriangleKdTree");  // a refused blob changes nothing
   a->validate();
   ExpectThrows(RT_ERROR_INVALID_VALUE, [&] { a->setBuilder("Magic"); });
   EXPECT_EQ(ctx_->createAcceleration("TriangleKdTree")->getTraverser(), "KdTree");
