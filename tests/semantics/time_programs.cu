@@ -13,7 +13,7 @@ struct Times {
 
 rtDeclareVariable(uint2, launch_index, rtLaunchIndex, );
 rtDeclareVariable(float, current_time, rtCurrentTime, );
-rtDeclareVariable(Times, times, rtPayload, );
+rtDeclareVariable(Times, ray_times, rtPayload, );
 rtDeclareVariable(rtObject, top, , );
 rtBuffer<float, 2> result;
 
@@ -35,14 +35,14 @@ RT_PROGRAM void trace_times() {
 // Row 0 traces its nested ray at time 0.75, other rows without a time (the nested ray takes this
 // ray's).
 RT_PROGRAM void miss_times() {
-  if (times.depth == 0) {
+  if (ray_times.depth == 0) {
     Times nested{-1.f, -1.f, 1};
     if (launch_index.y == 0) {
       rtTrace(top, Probe(), 0.75f, nested);
     } else {
       rtTrace(top, Probe(), nested);
     }
-    times.inner = nested.outer;
+    ray_times.inner = nested.outer;
   }
-  times.outer = current_time;
+  ray_times.outer = current_time;
 }
