@@ -103,8 +103,8 @@ inline OptixResult optixUtilComputeStackSizesCssCCTree(
       directCallableStackSizeFromState, continuationStackSize);
 }
 
-/* Guide section 6.7.1: a path tracer whose raygen traces camera rays that spawn one level of
- * shadow or secondary rays (programs of the groups given); trace depth 2, no callables. */
+/* Guide section 6.7.1, listing 6.19: camera rays (miss MS1, closest hits CH1) whose closest
+ * hits trace shadow rays (MS2, CH2); trace depth 2, no any-hit, intersection or callables. */
 inline OptixResult optixUtilComputeStackSizesSimplePathTracer(
     OptixProgramGroup programGroupRG, OptixProgramGroup programGroupMS1,
     const OptixProgramGroup* programGroupCH1, unsigned int programGroupCH1Count,
@@ -125,23 +125,20 @@ inline OptixResult optixUtilComputeStackSizesSimplePathTracer(
   if (result != OPTIX_SUCCESS) return result;
   result = optixProgramGroupGetStackSize(programGroupMS2, &ms2, pipeline);
   if (result != OPTIX_SUCCESS) return result;
-  unsigned int cssCH1 = 0, cssCH2 = 0, cssISAH1 = 0, cssISAH2 = 0;
+  unsigned int cssCH1 = 0, cssCH2 = 0;
   for (unsigned int i = 0; i < programGroupCH1Count; ++i) {
     result = optixProgramGroupGetStackSize(programGroupCH1[i], &ch1, pipeline);
     if (result != OPTIX_SUCCESS) return result;
     cssCH1 = tesseraOptixMaxU_(cssCH1, ch1.cssCH);
-    cssISAH1 = tesseraOptixMaxU_(cssISAH1, ch1.cssIS + ch1.cssAH);
   }
   for (unsigned int i = 0; i < programGroupCH2Count; ++i) {
     result = optixProgramGroupGetStackSize(programGroupCH2[i], &ch2, pipeline);
     if (result != OPTIX_SUCCESS) return result;
     cssCH2 = tesseraOptixMaxU_(cssCH2, ch2.cssCH);
-    cssISAH2 = tesseraOptixMaxU_(cssISAH2, ch2.cssIS + ch2.cssAH);
   }
-  /* Camera rays from raygen, secondary rays from the first closest-hit or miss level. */
-  const unsigned int level2 = tesseraOptixMaxU_(tesseraOptixMaxU_(cssCH2, ms2.cssMS), cssISAH2);
+  /* Listing 6.19: MS2 and CH2 run only below CH1. */
   const unsigned int level1 =
-      tesseraOptixMaxU_(tesseraOptixMaxU_(cssCH1, ms1.cssMS) + level2, cssISAH1);
+      tesseraOptixMaxU_(ms1.cssMS, cssCH1 + tesseraOptixMaxU_(ms2.cssMS, cssCH2));
   *directCallableStackSizeFromTraversal = 0;
   *directCallableStackSizeFromState = 0;
   *continuationStackSize = rg.cssRG + level1;
