@@ -24,6 +24,8 @@
 #error "optix_device.h: OptiX 7 programs are C++ (compile the .cu file with g++ -x c++)"
 #endif
 
+/* nvcc makes the C math library (sqrtf, fminf, ...) visible in every .cu file. */
+#include <math.h>
 #include <string.h>
 
 #include <type_traits>
@@ -120,11 +122,11 @@ inline void Trace(unsigned int type, OptixTraversableHandle handle, float3 rayOr
                                   SBTstride,
                                   missSBTIndex,
                                   type};
-  unsigned int values[sizeof...(Payload) + 1] = {payload..., 0u};
+  // The engine reads and writes the caller's variables itself: SDK programs pass payload
+  // variables they never initialized (closest-hit and miss programs set them), which a copy here
+  // would read.
+  unsigned int* const values[sizeof...(Payload) + 1] = {&payload..., nullptr};
   rt()->trace(&ray, sizeof...(Payload), values);
-  unsigned int i = 0;
-  ((payload = values[i++]), ...);
-  (void)i;
 }
 }  // namespace tessera_optix7
 

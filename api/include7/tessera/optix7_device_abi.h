@@ -115,8 +115,10 @@ typedef struct TesseraOptix7Runtime {
   void (*launch_dimensions)(unsigned int out[3]);
   CUdeviceptr (*sbt_data_pointer)(void);
 
-  /* ---- Tracing. `payload` holds num_payload values, in and out (0..32). */
-  void (*trace)(const TesseraOptix7Trace* ray, unsigned int num_payload, unsigned int* payload);
+  /* ---- Tracing. `payload` points at the caller's num_payload (0..32) payload variables,
+   * which the engine reads when the ray starts and writes when it ends. */
+  void (*trace)(const TesseraOptix7Trace* ray, unsigned int num_payload,
+                unsigned int* const* payload);
   unsigned int (*get_payload)(unsigned int index);
   void (*set_payload)(unsigned int index, unsigned int value);
   void (*set_payload_types)(unsigned int types);
