@@ -8,6 +8,9 @@
 #                                           code and of program modules (kept out of
 #                                           <includedir> itself, where a real OptiX SDK's
 #                                           optix.h may be)
+#   <includedir>/tessera/optix7/            the OptiX 7 include root (optix.h of OptiX 7.7,
+#                                           cuda_runtime.h, ...), Tessera::optix7; declarations
+#                                           only so far (docs/optix7.md)
 #   <libdir>/cmake/Tessera/                 find_package(Tessera): Tessera::tessera and
 #                                           tessera_add_program_module()
 # libtessera finds the worker and the headers relative to itself (scheduler/src/install_paths.cc),
@@ -30,6 +33,11 @@ install(TARGETS tessera tessera_image EXPORT TesseraTargets
 install(TARGETS tessera-worker RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/api/include/
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tessera)
+target_include_directories(tessera_optix7_headers INTERFACE
+  $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/tessera/optix7>)
+install(TARGETS tessera_optix7_headers EXPORT TesseraTargets)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/api/include7/
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tessera/optix7)
 install(EXPORT TesseraTargets NAMESPACE Tessera:: DESTINATION ${TESSERA_INSTALL_CMAKEDIR})
 
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/TesseraConfig.cmake.in

@@ -1,0 +1,27 @@
+# cmake -DNM=<nm> -DMODULE=<module.so> -DSYMBOLS="a;b;c" -P check_module_symbols.cmake
+# Fails unless the program module exports every symbol in SYMBOLS (nm -D, defined symbols): the
+# engine finds OptiX 7 entry points and the launch-parameter variable by name.
+cmake_minimum_required(VERSION 3.25)
+execute_process(COMMAND ${NM} -D --defined-only ${MODULE} OUTPUT_VARIABLE out
+                RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "nm -D ${MODULE} failed (${rc})")
+endif()
+string(REPLACE "\n" ";" lines "${out}")
+set(exported "")
+foreach(line IN LISTS lines)
+  if(line MATCHES "^[0-9a-fA-F]+ [A-Za-z] (.+)$")
+    list(APPEND exported "${CMAKE_MATCH_1}")
+  endif()
+endforeach()
+set(missing "")
+foreach(symbol IN LISTS SYMBOLS)
+  if(NOT symbol IN_LIST exported)
+    list(APPEND missing "${symbol}")
+  endif()
+endforeach()
+if(missing)
+  message(FATAL_ERROR "${MODULE} does not export: ${missing}")
+endif()
+list(LENGTH SYMBOLS n)
+message(STATUS "${MODULE} exports all ${n} expected symbols")
