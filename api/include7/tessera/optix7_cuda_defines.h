@@ -40,8 +40,12 @@
 #ifndef __forceinline__
 #define __forceinline__ inline
 #endif
+// Empty, not __attribute__((noinline)): libstdc++ 12 writes `__attribute__((__noinline__))`
+// (<memory>'s shared_ptr_base.h), which that definition turns into an error in every file that
+// includes a C++ library header after this one. Empty, it leaves `__attribute__(())` there, and
+// a program's `__noinline__` only loses a hint that changes no result.
 #ifndef __noinline__
-#define __noinline__ __attribute__((noinline))
+#define __noinline__
 #endif
 #ifndef __align__
 #define __align__(n) __attribute__((aligned(n)))

@@ -1,0 +1,406 @@
+// The CUDA runtime subset of OptiX 7 applications (include7/cuda_runtime_api.h) over Tessera's
+// device memory: one device, all work done in host order (every call has finished when it returns,
+// so streams and events only order what is already ordered), memory in the arena that workers map
+// at the same addresses (docs/device_memory.md).
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+#include <new>
+#include <set>
+#include <string>
+#include <thread>
+
+#include "cuda_runtime_api.h"
+#include "host_device_memory.h"
+
+namespace tessera::optix7 {
+namespace {
+
+// CUDA's error state: the last error of the calling thread, until cudaGetLastError reads it.
+thread_local cudaError_t t_last_error = cudaSuccess;
+
+cudaError_t Result(cudaError_t e) {
+  if (e != cudaSuccess) t_last_error = e;
+  return e;
+}
+
+HostDeviceMemory* Memory() {
+  absl::StatusOr<HostDeviceMemory*> m = HostDeviceMemory::Get();
+  return m.ok() ? *m : nullptr;
+}
+
+uintptr_t Address(const void* p) { return reinterpret_cast<uintptr_t>(p); }
+
+// Where a cudaMemcpy's pointer must point for its kind: device memory must lie in one live
+// allocation, host memory outside the arena.
+bool Fits(HostDeviceMemory& m, const void* p, size_t count, bool device) {
+  if (device) return m.IsAllocated(Address(p), count);
+  return !m.InArena(Address(p));
+}
+
+struct Stream {
+  unsigned flags = 0;
+};
+struct Event {
+  unsigned flags = 0;
+  bool recorded = false;
+  std::chrono::steady_clock::time_point when;
+};
+
+// Live stream and event handles: a handle that is not one (destroyed, null, a stand-in such as
+// cudaStreamLegacy, garbage) is an error, never a crash.
+class Handles {
+ public:
+  void Add(const void* h) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    live_.insert(h);
+  }
+  bool Remove(const void* h) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return live_.erase(h) == 1;
+  }
+  bool Has(const void* h) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return live_.count(h) == 1;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::set<const void*> live_;
+};
+Handles& Streams() {
+  static Handles* h = new Handles;
+  return *h;
+}
+Handles& Events() {
+  static Handles* h = new Handles;
+  return *h;
+}
+// A stream argument: null (the default stream), CUDA's stand-ins, or a live stream.
+bool ValidStream(cudaStream_t s) {
+  return s == nullptr || s == cudaStreamLegacy || s == cudaStreamPerThread || Streams().Has(s);
+}
+
+}  // namespace
+}  // namespace tessera::optix7
+
+using tessera::optix7::HostDeviceMemory;
+using tessera::optix7::Result;
+using tessera::optix7::t_last_error;
+
+extern "C" {
+
+// ---- Errors ------------------------------------------------------------------------------------
+
+cudaError_t cudaGetLastError(void) {
+  const cudaError_t e = t_last_error;
+  t_last_error = cudaSuccess;
+  return e;
+}
+
+cudaError_t cudaPeekAtLastError(void) { return t_last_error; }
+
+const char* cudaGetErrorName(cudaError_t error) {
+  switch (error) {
+#define TESSERA_CUDA_ERROR_NAME(e) \
+  case e:                          \
+    return #e;
+    TESSERA_CUDA_ERROR_NAME(cudaSuccess)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidValue)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorMemoryAllocation)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorInitializationError)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidPitchValue)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidDevicePointer)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidMemcpyDirection)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorNoDevice)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidDevice)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidResourceHandle)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorNotReady)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorIllegalAddress)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorLaunchFailure)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorNotSupported)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorUnknown)
+#undef TESSERA_CUDA_ERROR_NAME
+    default:
+      return "cudaErrorUnknown";
+  }
+}
+
+const char* cudaGetErrorString(cudaError_t error) {
+  switch (error) {
+    case cudaSuccess:
+      return "no error";
+    case cudaErrorInvalidValue:
+      return "invalid argument";
+    case cudaErrorMemoryAllocation:
+      return "out of memory (Tessera's device memory: its range is full, or it could not be "
+             "reserved at TESSERA_DEVICE_MEMORY_BASE)";
+    case cudaErrorInitializationError:
+      return "initialization error: Tessera could not reserve its device memory range (set "
+             "TESSERA_DEVICE_MEMORY_BASE to a free range)";
+    case cudaErrorInvalidPitchValue:
+      return "invalid pitch argument";
+    case cudaErrorInvalidDevicePointer:
+      return "invalid device pointer (not the start of a cudaMalloc allocation)";
+    case cudaErrorInvalidMemcpyDirection:
+      return "invalid copy direction for memcpy (a pointer is not where the kind says: device "
+             "memory must lie in one cudaMalloc allocation, host memory outside device memory)";
+    case cudaErrorInvalidDevice:
+      return "invalid device ordinal";
+    case cudaErrorInvalidResourceHandle:
+      return "invalid resource handle";
+    case cudaErrorNotReady:
+      return "device not ready";
+    default:
+      return cudaGetErrorName(error);
+  }
+}
+
+// ---- Devices -----------------------------------------------------------------------------------
+
+cudaError_t cudaGetDeviceCount(int* count) {
+  if (count == nullptr) return Result(cudaErrorInvalidValue);
+  *count = 1;  // launches are tiled over every Tessera device (TESSERA_DEVICES)
+  return cudaSuccess;
+}
+
+cudaError_t cudaSetDevice(int device) {
+  return device == 0 ? cudaSuccess : Result(cudaErrorInvalidDevice);
+}
+
+cudaError_t cudaGetDevice(int* device) {
+  if (device == nullptr) return Result(cudaErrorInvalidValue);
+  *device = 0;
+  return cudaSuccess;
+}
+
+cudaError_t cudaGetDeviceProperties(struct cudaDeviceProp* prop, int device) {
+  if (prop == nullptr) return Result(cudaErrorInvalidValue);
+  if (device != 0) return Result(cudaErrorInvalidDevice);
+  std::memset(prop, 0, sizeof(*prop));
+  std::strncpy(prop->name, "Tessera CPU device", sizeof(prop->name) - 1);
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  prop->totalGlobalMem = m != nullptr ? m->capacity() : 0;
+  prop->warpSize = 1;  // a launch index is not a warp lane
+  prop->maxThreadsPerBlock = 1;
+  prop->maxThreadsDim[0] = prop->maxThreadsDim[1] = prop->maxThreadsDim[2] = 1;
+  prop->maxGridSize[0] = prop->maxGridSize[1] = prop->maxGridSize[2] = 0x7fffffff;
+  prop->memPitch = prop->totalGlobalMem;
+  prop->textureAlignment = tessera::memory::DeviceAllocator::kAlignment;
+  prop->texturePitchAlignment = tessera::memory::DeviceAllocator::kAlignment;
+  prop->multiProcessorCount = static_cast<int>(std::thread::hardware_concurrency());
+  prop->canMapHostMemory = 0;
+  return cudaSuccess;
+}
+
+cudaError_t cudaDeviceSynchronize(void) { return cudaSuccess; }  // every call has finished
+
+cudaError_t cudaDriverGetVersion(int* version) {
+  if (version == nullptr) return Result(cudaErrorInvalidValue);
+  *version = 12000;
+  return cudaSuccess;
+}
+
+cudaError_t cudaRuntimeGetVersion(int* version) { return cudaDriverGetVersion(version); }
+
+cudaError_t cudaMemGetInfo(size_t* free, size_t* total) {
+  if (free == nullptr || total == nullptr) return Result(cudaErrorInvalidValue);
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr) return Result(cudaErrorInitializationError);
+  *total = m->capacity();
+  *free = m->capacity() - m->bytes_in_use();
+  return cudaSuccess;
+}
+
+// ---- Memory ------------------------------------------------------------------------------------
+
+cudaError_t cudaMalloc(void** ptr, size_t size) {
+  if (ptr == nullptr) return Result(cudaErrorInvalidValue);
+  *ptr = nullptr;
+  if (size == 0) return cudaSuccess;  // as CUDA: no allocation, a null pointer
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr) return Result(cudaErrorMemoryAllocation);
+  absl::StatusOr<uintptr_t> address = m->Allocate(size);
+  if (!address.ok()) return Result(cudaErrorMemoryAllocation);
+  *ptr = reinterpret_cast<void*>(*address);
+  return cudaSuccess;
+}
+
+cudaError_t cudaFree(void* ptr) {
+  if (ptr == nullptr) return cudaSuccess;  // cudaFree(0): the usual way to initialize CUDA
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr || !m->Free(tessera::optix7::Address(ptr)).ok()) {
+    return Result(cudaErrorInvalidDevicePointer);
+  }
+  return cudaSuccess;
+}
+
+cudaError_t cudaMallocHost(void** ptr, size_t size) {
+  if (ptr == nullptr) return Result(cudaErrorInvalidValue);
+  // Page-locked memory has no meaning here: plain host memory, aligned like an allocation.
+  *ptr = size == 0 ? nullptr : ::operator new (size, std::align_val_t{256}, std::nothrow);
+  return size == 0 || *ptr != nullptr ? cudaSuccess : Result(cudaErrorMemoryAllocation);
+}
+
+cudaError_t cudaFreeHost(void* ptr) {
+  if (ptr != nullptr) ::operator delete (ptr, std::align_val_t{256});
+  return cudaSuccess;
+}
+
+cudaError_t cudaMallocPitch(void** ptr, size_t* pitch, size_t width, size_t height) {
+  if (pitch == nullptr) return Result(cudaErrorInvalidValue);
+  constexpr size_t kAlign = tessera::memory::DeviceAllocator::kAlignment;
+  *pitch = (width + kAlign - 1) / kAlign * kAlign;
+  return cudaMalloc(ptr, *pitch * height);
+}
+
+cudaError_t cudaMemcpy(void* dst, const void* src, size_t count, enum cudaMemcpyKind kind) {
+  if (count == 0) return cudaSuccess;
+  if (dst == nullptr || src == nullptr) return Result(cudaErrorInvalidValue);
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr) return Result(cudaErrorInitializationError);
+  if (kind == cudaMemcpyDefault) {  // unified addressing: the pointers say where they point
+    const bool d = m->InArena(tessera::optix7::Address(dst));
+    const bool s = m->InArena(tessera::optix7::Address(src));
+    kind = d ? (s ? cudaMemcpyDeviceToDevice : cudaMemcpyHostToDevice)
+             : (s ? cudaMemcpyDeviceToHost : cudaMemcpyHostToHost);
+  }
+  bool dst_device, src_device;
+  switch (kind) {
+    case cudaMemcpyHostToHost:
+      dst_device = src_device = false;
+      break;
+    case cudaMemcpyHostToDevice:
+      dst_device = true;
+      src_device = false;
+      break;
+    case cudaMemcpyDeviceToHost:
+      dst_device = false;
+      src_device = true;
+      break;
+    case cudaMemcpyDeviceToDevice:
+      dst_device = src_device = true;
+      break;
+    default:
+      return Result(cudaErrorInvalidMemcpyDirection);
+  }
+  if (!tessera::optix7::Fits(*m, dst, count, dst_device) ||
+      !tessera::optix7::Fits(*m, src, count, src_device)) {
+    return Result(cudaErrorInvalidMemcpyDirection);
+  }
+  std::memmove(dst, src, count);
+  if (dst_device) m->MarkWritten(tessera::optix7::Address(dst), count);
+  return cudaSuccess;
+}
+
+cudaError_t cudaMemcpyAsync(void* dst, const void* src, size_t count, enum cudaMemcpyKind kind,
+                            cudaStream_t stream) {
+  if (!tessera::optix7::ValidStream(stream)) return Result(cudaErrorInvalidResourceHandle);
+  return cudaMemcpy(dst, src, count, kind);  // done in host order
+}
+
+cudaError_t cudaMemcpy2D(void* dst, size_t dpitch, const void* src, size_t spitch, size_t width,
+                         size_t height, enum cudaMemcpyKind kind) {
+  if (width > dpitch || width > spitch) return Result(cudaErrorInvalidPitchValue);
+  for (size_t row = 0; row < height; ++row) {
+    const cudaError_t e = cudaMemcpy(static_cast<char*>(dst) + row * dpitch,
+                                     static_cast<const char*>(src) + row * spitch, width, kind);
+    if (e != cudaSuccess) return e;
+  }
+  return cudaSuccess;
+}
+
+cudaError_t cudaMemset(void* ptr, int value, size_t count) {
+  if (count == 0) return cudaSuccess;
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr) return Result(cudaErrorInitializationError);
+  if (!m->IsAllocated(tessera::optix7::Address(ptr), count)) {
+    return Result(cudaErrorInvalidValue);
+  }
+  std::memset(ptr, value, count);
+  m->MarkWritten(tessera::optix7::Address(ptr), count);
+  return cudaSuccess;
+}
+
+cudaError_t cudaMemsetAsync(void* ptr, int value, size_t count, cudaStream_t stream) {
+  if (!tessera::optix7::ValidStream(stream)) return Result(cudaErrorInvalidResourceHandle);
+  return cudaMemset(ptr, value, count);
+}
+
+// ---- Streams and events (all work is done when its call returns) -------------------------------
+
+cudaError_t cudaStreamCreateWithFlags(cudaStream_t* stream, unsigned int flags) {
+  if (stream == nullptr) return Result(cudaErrorInvalidValue);
+  *stream = reinterpret_cast<cudaStream_t>(new tessera::optix7::Stream{flags});
+  tessera::optix7::Streams().Add(*stream);
+  return cudaSuccess;
+}
+
+cudaError_t cudaStreamCreate(cudaStream_t* stream) { return cudaStreamCreateWithFlags(stream, 0); }
+
+cudaError_t cudaStreamDestroy(cudaStream_t stream) {
+  if (!tessera::optix7::Streams().Remove(stream)) return Result(cudaErrorInvalidResourceHandle);
+  delete reinterpret_cast<tessera::optix7::Stream*>(stream);
+  return cudaSuccess;
+}
+
+cudaError_t cudaStreamSynchronize(cudaStream_t stream) {
+  return tessera::optix7::ValidStream(stream) ? cudaSuccess
+                                              : Result(cudaErrorInvalidResourceHandle);
+}
+cudaError_t cudaStreamQuery(cudaStream_t stream) { return cudaStreamSynchronize(stream); }
+cudaError_t cudaStreamWaitEvent(cudaStream_t stream, cudaEvent_t event, unsigned int) {
+  if (!tessera::optix7::ValidStream(stream) || !tessera::optix7::Events().Has(event)) {
+    return Result(cudaErrorInvalidResourceHandle);
+  }
+  return cudaSuccess;
+}
+
+cudaError_t cudaEventCreateWithFlags(cudaEvent_t* event, unsigned int flags) {
+  if (event == nullptr) return Result(cudaErrorInvalidValue);
+  auto* e = new tessera::optix7::Event;
+  e->flags = flags;
+  *event = reinterpret_cast<cudaEvent_t>(e);
+  tessera::optix7::Events().Add(*event);
+  return cudaSuccess;
+}
+
+cudaError_t cudaEventCreate(cudaEvent_t* event) { return cudaEventCreateWithFlags(event, 0); }
+
+cudaError_t cudaEventDestroy(cudaEvent_t event) {
+  if (!tessera::optix7::Events().Remove(event)) return Result(cudaErrorInvalidResourceHandle);
+  delete reinterpret_cast<tessera::optix7::Event*>(event);
+  return cudaSuccess;
+}
+
+cudaError_t cudaEventRecord(cudaEvent_t event, cudaStream_t stream) {
+  if (!tessera::optix7::Events().Has(event) || !tessera::optix7::ValidStream(stream)) {
+    return Result(cudaErrorInvalidResourceHandle);
+  }
+  auto* e = reinterpret_cast<tessera::optix7::Event*>(event);
+  e->recorded = true;
+  e->when = std::chrono::steady_clock::now();
+  return cudaSuccess;
+}
+
+cudaError_t cudaEventSynchronize(cudaEvent_t event) {
+  return tessera::optix7::Events().Has(event) ? cudaSuccess
+                                              : Result(cudaErrorInvalidResourceHandle);
+}
+
+cudaError_t cudaEventQuery(cudaEvent_t event) { return cudaEventSynchronize(event); }
+
+cudaError_t cudaEventElapsedTime(float* ms, cudaEvent_t start, cudaEvent_t end) {
+  if (ms == nullptr) return Result(cudaErrorInvalidValue);
+  if (!tessera::optix7::Events().Has(start) || !tessera::optix7::Events().Has(end)) {
+    return Result(cudaErrorInvalidResourceHandle);
+  }
+  const auto* a = reinterpret_cast<const tessera::optix7::Event*>(start);
+  const auto* b = reinterpret_cast<const tessera::optix7::Event*>(end);
+  if (!a->recorded || !b->recorded) return Result(cudaErrorInvalidResourceHandle);
+  *ms = std::chrono::duration<float, std::milli>(b->when - a->when).count();
+  return cudaSuccess;
+}
+
+}  // extern "C"

@@ -1,0 +1,96 @@
+#include "host_device_memory.h"
+
+#include <cstdlib>
+#include <string>
+
+#include "absl/strings/str_cat.h"
+
+namespace tessera::optix7 {
+namespace {
+
+absl::StatusOr<uintptr_t> ArenaBase() {
+  const char* text = std::getenv("TESSERA_DEVICE_MEMORY_BASE");
+  if (text == nullptr || *text == '\0') return memory::kDefaultArenaBase;
+  char* end = nullptr;
+  const unsigned long long base = std::strtoull(text, &end, 16);
+  if (end == text || *end != '\0') {
+    return absl::InvalidArgumentError(
+        absl::StrCat("TESSERA_DEVICE_MEMORY_BASE='", text, "' is not a hexadecimal address"));
+  }
+  return static_cast<uintptr_t>(base);
+}
+
+}  // namespace
+
+HostDeviceMemory::HostDeviceMemory(std::unique_ptr<memory::DeviceArena> arena)
+    : arena_(std::move(arena)),
+      allocator_(arena_->base(), arena_->size(), memory::DeviceArena::PageSize()) {}
+
+absl::StatusOr<HostDeviceMemory*> HostDeviceMemory::Get() {
+  static absl::StatusOr<HostDeviceMemory*>* const memory = [] {
+    auto* result = new absl::StatusOr<HostDeviceMemory*>(nullptr);
+    absl::StatusOr<uintptr_t> base = ArenaBase();
+    if (!base.ok()) {
+      *result = base.status();
+      return result;
+    }
+    auto arena = memory::DeviceArena::Reserve(*base, memory::kDefaultArenaSize);
+    if (!arena.ok()) {
+      *result = arena.status();
+    } else {
+      *result = new HostDeviceMemory(*std::move(arena));  // lives as long as the process
+    }
+    return result;
+  }();
+  return *memory;
+}
+
+absl::StatusOr<uintptr_t> HostDeviceMemory::Allocate(size_t bytes) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  absl::StatusOr<uintptr_t> address = allocator_.Allocate(bytes);
+  if (!address.ok()) return address;
+  if (absl::Status s = arena_->Commit(*address, bytes); !s.ok()) {
+    (void)allocator_.Free(*address);
+    return s;
+  }
+  return address;
+}
+
+absl::Status HostDeviceMemory::Free(uintptr_t address) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  absl::StatusOr<memory::DeviceAllocator::Freed> freed = allocator_.Free(address);
+  if (!freed.ok()) return freed.status();
+  if (freed->release_end > freed->release_begin) {
+    return arena_->Release(freed->release_begin, freed->release_end - freed->release_begin);
+  }
+  return absl::OkStatus();
+}
+
+bool HostDeviceMemory::IsAllocated(uintptr_t address, size_t length) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return allocator_.Find(address, length) != nullptr;
+}
+
+bool HostDeviceMemory::InArena(uintptr_t address) const { return arena_->Contains(address, 0); }
+
+void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length) {
+  if (length == 0) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  const uintptr_t base = arena_->base();
+  const uintptr_t first = base + (address - base) / kChunkBytes * kChunkBytes;
+  for (uintptr_t c = first; c < address + length; c += kChunkBytes) written_.insert(c);
+}
+
+std::vector<uintptr_t> HostDeviceMemory::TakeWrittenChunks() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<uintptr_t> chunks(written_.begin(), written_.end());
+  written_.clear();
+  return chunks;
+}
+
+size_t HostDeviceMemory::bytes_in_use() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return allocator_.bytes_in_use();
+}
+
+}  // namespace tessera::optix7
