@@ -1,0 +1,65 @@
+// Embree scenes of OptiX 7 accelerations: built by each worker from the descriptor optixAccelBuild
+// left in device memory (worker/memory/accel_format.h), lazily and cached by the descriptor's
+// content hash, so that the same geometry is built once whatever handle or launch names it
+// (docs/device_memory.md, "Accelerations").
+#ifndef TESSERA_WORKER_CORE_OPTIX7_SCENE_H_
+#define TESSERA_WORKER_CORE_OPTIX7_SCENE_H_
+
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "accel_format.h"
+
+namespace tessera::worker {
+
+struct Optix7Scene {
+  ~Optix7Scene();
+  RTCScene scene = nullptr;
+  memory::AccelKind kind = memory::AccelKind::kTriangles;
+  // GAS: the build input of each Embree geometry (geomID), whose primitive IDs count from 0 in
+  // the input; IAS: the child scene of each instance.
+  std::vector<uint32_t> input_of_geometry;
+  std::vector<const Optix7Scene*> children;
+  // Per custom-primitive geometry, where its boxes are: what its bounds function reads (reserved
+  // up front, so that the addresses Embree holds stay put).
+  std::vector<const float*> custom_boxes;
+  // The descriptor the scene was built from, in device memory (valid while the memory is).
+  const memory::AccelHeader* header = nullptr;
+};
+
+class Optix7SceneCache {
+ public:
+  // How many bytes of device memory can be read from an address (0: none, not device memory):
+  // what keeps a handle an instance names from sending a read anywhere.
+  using Readable = std::function<size_t(uint64_t address)>;
+  // `intersect`: the intersection function of custom primitives (the engine's, which runs the
+  // hit group's intersection program); their bounds come from the descriptor.
+  Optix7SceneCache(RTCDevice device, RTCIntersectFunctionN intersect, Readable readable)
+      : device_(device), intersect_(intersect), readable_(std::move(readable)) {}
+  Optix7SceneCache(const Optix7SceneCache&) = delete;
+  Optix7SceneCache& operator=(const Optix7SceneCache&) = delete;
+
+  // The scene of the descriptor at `handle`. INVALID_ARGUMENT for a handle that is no descriptor;
+  // UNIMPLEMENTED for an instance whose child is itself an instance build (Embree here has one
+  // instance level; deeper instancing goes through the engine's own traversal, not yet built).
+  absl::StatusOr<const Optix7Scene*> Get(uint64_t handle);
+
+  size_t built() const { return built_; }
+
+ private:
+  RTCDevice device_;
+  RTCIntersectFunctionN intersect_;
+  Readable readable_;
+  std::unordered_map<uint64_t, std::unique_ptr<Optix7Scene>> by_hash_;
+  size_t built_ = 0;
+};
+
+}  // namespace tessera::worker
+
+#endif  // TESSERA_WORKER_CORE_OPTIX7_SCENE_H_
