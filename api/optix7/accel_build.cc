@@ -9,6 +9,7 @@
 #include "accel_format.h"
 #include "hash.h"
 #include "host_device_memory.h"
+#include "tessera/detail/half.h"
 
 namespace tessera::optix7 {
 namespace {
@@ -43,19 +44,6 @@ unsigned VertexBytes(OptixVertexFormat f) {
   }
 }
 
-float HalfToFloat(uint16_t h) {
-  const uint32_t sign = (h >> 15) & 1, exponent = (h >> 10) & 0x1f, mantissa = h & 0x3ff;
-  float value;
-  if (exponent == 0) {
-    value = std::ldexp(static_cast<float>(mantissa), -24);
-  } else if (exponent == 31) {
-    value = mantissa == 0 ? INFINITY : NAN;
-  } else {
-    value = std::ldexp(static_cast<float>(mantissa | 0x400), static_cast<int>(exponent) - 25);
-  }
-  return sign ? -value : value;
-}
-
 // One vertex of format `f` at `p` as three floats.
 void ReadVertex(const unsigned char* p, OptixVertexFormat f, float out[3]) {
   out[2] = 0.f;
@@ -70,7 +58,7 @@ void ReadVertex(const unsigned char* p, OptixVertexFormat f, float out[3]) {
       for (int i = 0; i < n; ++i) {
         uint16_t h;
         std::memcpy(&h, p + 2 * i, 2);
-        out[i] = HalfToFloat(h);
+        out[i] = ::tessera::detail::HalfBitsToFloat(h);
       }
       return;
     }

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
+#include "context.h"
 #include "status.h"
 
 namespace tessera::api {
@@ -103,6 +104,7 @@ absl::Status Acceleration::Restore(AccelerationBlob blob) {
   dirty_ = false;
   restored_ = std::make_unique<AccelerationBlob>(std::move(blob));
   restore_check_ = RestoreCheck::kPending;
+  context()->pending_restores().insert(id());
   Touch();
   return absl::OkStatus();
 }

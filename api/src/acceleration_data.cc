@@ -163,13 +163,23 @@ absl::StatusOr<const std::string*> ExtractAccelerationData(Context& context, Acc
 }
 
 void CheckRestoredAccelerations(Context& context) {
-  for (const auto& [id, object] : context.objects()) {
-    if (object->kind() != Kind::kAcceleration) continue;
-    auto* a = static_cast<Acceleration*>(object);
-    const AccelerationBlob* blob = a->restored();
-    if (blob == nullptr || a->restore_check() != Acceleration::RestoreCheck::kPending) continue;
+  absl::flat_hash_set<uint64_t>& pending = context.pending_restores();
+  for (auto it = pending.begin(); it != pending.end();) {
+    Object* object = context.FindById(*it);
+    auto* a = object != nullptr && object->kind() == Kind::kAcceleration
+                  ? static_cast<Acceleration*>(object)
+                  : nullptr;
+    const AccelerationBlob* blob = a != nullptr ? a->restored() : nullptr;
+    if (blob == nullptr || a->restore_check() != Acceleration::RestoreCheck::kPending) {
+      pending.erase(it++);  // destroyed, marked dirty, or checked already
+      continue;
+    }
     const std::vector<AcceleratedNode*> nodes = NodesOf(*a);
-    if (nodes.empty()) continue;  // checked once it is on a node
+    if (nodes.empty()) {  // checked once it is on a node
+      ++it;
+      continue;
+    }
+    pending.erase(it++);
     std::string why;
     for (const AcceleratedNode* node : nodes) {
       if (NodeKind(*node) != blob->node_kind) {

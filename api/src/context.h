@@ -15,6 +15,7 @@
 
 #include "absl/base/thread_annotations.h"
 #include "absl/container/flat_hash_map.h"
+#include "absl/container/flat_hash_set.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "device_sync.h"
@@ -68,6 +69,9 @@ class Context : public Object {
   // rtProgramGetId gave out program `id`: the program is an edge of the context from now on
   // (VisitEdges), so it reaches the devices while it lives whether or not a variable names it.
   void NoteProgramIdTaken(uint64_t id) { program_ids_.push_back(id); }
+  // Accelerations whose rtAccelerationSetData data a launch has yet to check against their graph
+  // (CheckRestoredAccelerations): launches look at these alone, not at every object.
+  absl::flat_hash_set<uint64_t>& pending_restores() { return pending_restores_; }
 
   // ---- Entry points, ray types and their programs.
   unsigned entry_point_count() const { return static_cast<unsigned>(ray_generation_.size()); }
@@ -210,6 +214,7 @@ class Context : public Object {
   uint64_t last_launch_id_ = 0;
   absl::flat_hash_map<uint64_t, Object*> objects_;  // each holds the creation reference
   std::vector<uint64_t> program_ids_;  // of programs rtProgramGetId gave out, in that order
+  absl::flat_hash_set<uint64_t> pending_restores_;
 
   VariableScope variables_;
   Links ray_generation_;  // per entry point

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "optixu/optixu_vector_types.h"
+#include "tessera/detail/half.h"
 #include "tessera/detail/texture_view.h"
 #include "tessera/rt.h"
 
@@ -101,24 +102,7 @@ struct Half {
   std::uint16_t bits;
 };
 
-// binary16 to float is exact: every half is a float.
-inline float HalfToFloat(Half h) {
-  const std::uint32_t sign = static_cast<std::uint32_t>(h.bits & 0x8000u) << 16;
-  const std::uint32_t exponent = (h.bits >> 10) & 0x1fu, mantissa = h.bits & 0x3ffu;
-  std::uint32_t bits;
-  if (exponent == 0x1f) {
-    bits = sign | 0x7f800000u | (mantissa << 13);  // inf, NaN
-  } else if (exponent != 0) {
-    bits = sign | ((exponent + 112) << 23) | (mantissa << 13);
-  } else {
-    // Zero and subnormals: mantissa * 2^-24, exact in float.
-    const float magnitude = static_cast<float>(mantissa) * 5.9604644775390625e-8f;
-    return sign != 0 ? -magnitude : magnitude;
-  }
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
+inline float HalfToFloat(Half h) { return ::tessera::detail::HalfBitsToFloat(h.bits); }
 
 // C channels of type S per texel, packed (3-channel formats hold 3 elements, no padding).
 template <typename S, int C>

@@ -247,23 +247,9 @@ inline T Run(const TesseraTextureView& v, FloatOp&& float_op, ElementOp&& elemen
   });
 }
 
-// RGBA8 read as normalized float from one level with one filter: the commonest texture gets a
-// path without the format, read mode and mip dispatch. Same arithmetic as the general path.
-inline bool IsPlainRgba8(const TesseraTextureView& v) {
-  return v.format == RT_FORMAT_UNSIGNED_BYTE4 && v.element_size == 4 && v.read_mode == 1 &&
-         (v.level_count <= 1 || v.mip_filter == RT_FILTER_NONE) && v.mag_filter == v.min_filter;
-}
-
+// The commonest lookup never gets here: views the engine marked take texture_fast.h.
 template <typename T, int D>
 inline T SampleLod(const TesseraTextureView& v, const Request& r, float lod) {
-  if (IsPlainRgba8(v)) {
-    using F = Format<unsigned char, 4>;
-    float f[4];
-    const bool ok = v.mag_filter == RT_FILTER_LINEAR
-                        ? FilterLevel<F, ModeUnorm, D, true>(v.levels[0], r, f)
-                        : FilterLevel<F, ModeUnorm, D, false>(v.levels[0], r, f);
-    return ok ? FromFloats<T>(f) : T{};
-  }
   return Run<T>(
       v,
       [&](auto format, auto mode, float* out) {
