@@ -1,44 +1,20 @@
 #include "host_device_memory.h"
 
-#include <cstdlib>
-#include <string>
-
-#include "absl/strings/str_cat.h"
 
 namespace tessera::optix7 {
-namespace {
 
-absl::StatusOr<uintptr_t> ArenaBase() {
-  const char* text = std::getenv("TESSERA_DEVICE_MEMORY_BASE");
-  if (text == nullptr || *text == '\0') return memory::kDefaultArenaBase;
-  char* end = nullptr;
-  const unsigned long long base = std::strtoull(text, &end, 16);
-  if (end == text || *end != '\0') {
-    return absl::InvalidArgumentError(
-        absl::StrCat("TESSERA_DEVICE_MEMORY_BASE='", text, "' is not a hexadecimal address"));
-  }
-  return static_cast<uintptr_t>(base);
-}
-
-}  // namespace
-
-HostDeviceMemory::HostDeviceMemory(std::unique_ptr<memory::DeviceArena> arena)
-    : arena_(std::move(arena)),
+HostDeviceMemory::HostDeviceMemory(memory::DeviceArena* arena)
+    : arena_(arena),
       allocator_(arena_->base(), arena_->size(), memory::DeviceArena::PageSize()) {}
 
 absl::StatusOr<HostDeviceMemory*> HostDeviceMemory::Get() {
   static absl::StatusOr<HostDeviceMemory*>* const memory = [] {
     auto* result = new absl::StatusOr<HostDeviceMemory*>(nullptr);
-    absl::StatusOr<uintptr_t> base = ArenaBase();
-    if (!base.ok()) {
-      *result = base.status();
-      return result;
-    }
-    auto arena = memory::DeviceArena::Reserve(*base, memory::kDefaultArenaSize);
+    absl::StatusOr<memory::DeviceArena*> arena = memory::ProcessArena();
     if (!arena.ok()) {
       *result = arena.status();
     } else {
-      *result = new HostDeviceMemory(*std::move(arena));  // lives as long as the process
+      *result = new HostDeviceMemory(*arena);  // lives as long as the process
     }
     return result;
   }();

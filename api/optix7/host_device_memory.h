@@ -22,8 +22,8 @@ class HostDeviceMemory {
   // Host writes are tracked in chunks of this many bytes, aligned to the arena's base.
   static constexpr size_t kChunkBytes = size_t{64} << 10;
 
-  // The process's device memory, reserved on first use at TESSERA_DEVICE_MEMORY_BASE (hex) or
-  // memory::kDefaultArenaBase; the error says why when the range cannot be had.
+  // The process's device memory, in memory::ProcessArena(); the error says why when the range
+  // cannot be had.
   static absl::StatusOr<HostDeviceMemory*> Get();
 
   absl::StatusOr<uintptr_t> Allocate(size_t bytes);
@@ -42,10 +42,10 @@ class HostDeviceMemory {
   size_t capacity() const { return arena_->size(); }
 
  private:
-  explicit HostDeviceMemory(std::unique_ptr<memory::DeviceArena> arena);
+  explicit HostDeviceMemory(memory::DeviceArena* arena);
 
   mutable std::mutex mutex_;
-  std::unique_ptr<memory::DeviceArena> arena_;
+  memory::DeviceArena* arena_;  // the process's (memory::ProcessArena)
   memory::DeviceAllocator allocator_;
   std::set<uintptr_t> written_;  // chunk addresses
 };

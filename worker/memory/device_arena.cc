@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
@@ -91,6 +92,42 @@ absl::Status DeviceArena::Release(uintptr_t address, size_t length) {
                                             Range(first, end - first), ": ", std::strerror(errno)));
   }
   return absl::OkStatus();
+}
+
+namespace {
+
+absl::StatusOr<uintptr_t> ArenaBase() {
+  const char* text = std::getenv("TESSERA_DEVICE_MEMORY_BASE");
+  if (text == nullptr || *text == '\0') return kDefaultArenaBase;
+  char* end = nullptr;
+  const unsigned long long base = std::strtoull(text, &end, 16);
+  if (end == text || *end != '\0') {
+    return absl::InvalidArgumentError(
+        absl::StrCat("TESSERA_DEVICE_MEMORY_BASE='", text, "' is not a hexadecimal address"));
+  }
+  return static_cast<uintptr_t>(base);
+}
+
+}  // namespace
+
+absl::StatusOr<DeviceArena*> ProcessArena() {
+  static absl::StatusOr<DeviceArena*>* const arena = [] {
+    auto* result = new absl::StatusOr<DeviceArena*>(nullptr);
+    absl::StatusOr<uintptr_t> base = ArenaBase();
+    if (!base.ok()) {
+      *result = base.status();
+      return result;
+    }
+    absl::StatusOr<std::unique_ptr<DeviceArena>> reserved =
+        DeviceArena::Reserve(*base, kDefaultArenaSize);
+    if (!reserved.ok()) {
+      *result = reserved.status();
+    } else {
+      *result = reserved->release();  // lives as long as the process
+    }
+    return result;
+  }();
+  return *arena;
 }
 
 }  // namespace tessera::memory

@@ -51,6 +51,11 @@ class DeviceArena {
   size_t size_;
 };
 
+// The arena of this process, reserved on first use at TESSERA_DEVICE_MEMORY_BASE (hex) or
+// kDefaultArenaBase, kDefaultArenaSize bytes: the host's cudaMalloc memory, and in a worker
+// process the copy of it that launches use. In-process devices share the host's. Thread-safe.
+absl::StatusOr<DeviceArena*> ProcessArena();
+
 }  // namespace tessera::memory
 
 #endif  // TESSERA_WORKER_MEMORY_DEVICE_ARENA_H_
