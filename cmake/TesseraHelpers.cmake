@@ -2,6 +2,9 @@
 
 # Program modules compile against the program-side headers only.
 set(TESSERA_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include CACHE INTERNAL "")
+# OptiX 7 programs compile against the OptiX 7 root (tessera_embed_program).
+set(TESSERA_OPTIX7_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include7 CACHE INTERNAL "")
+include(${CMAKE_CURRENT_LIST_DIR}/TesseraEmbedProgram.cmake)
 
 add_library(tessera_warnings INTERFACE)
 target_compile_options(tessera_warnings INTERFACE

@@ -47,4 +47,6 @@ configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/TesseraConfig.cmake.in
 write_basic_package_version_file(${CMAKE_BINARY_DIR}/TesseraConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_BINARY_DIR}/TesseraConfig.cmake ${CMAKE_BINARY_DIR}/TesseraConfigVersion.cmake
-  ${CMAKE_CURRENT_LIST_DIR}/TesseraProgramModule.cmake DESTINATION ${TESSERA_INSTALL_CMAKEDIR})
+  ${CMAKE_CURRENT_LIST_DIR}/TesseraProgramModule.cmake
+  ${CMAKE_CURRENT_LIST_DIR}/TesseraEmbedProgram.cmake ${CMAKE_CURRENT_LIST_DIR}/TesseraEmbedBytes.cmake
+  DESTINATION ${TESSERA_INSTALL_CMAKEDIR})

@@ -25,6 +25,7 @@ absl::StatusOr<uintptr_t> HostDeviceMemory::Allocate(size_t bytes) {
   std::lock_guard<std::mutex> lock(mutex_);
   absl::StatusOr<uintptr_t> address = allocator_.Allocate(bytes);
   if (!address.ok()) return address;
+  ++allocation_generation_;
   if (absl::Status s = arena_->Commit(*address, bytes); !s.ok()) {
     (void)allocator_.Free(*address);
     return s;
@@ -36,6 +37,7 @@ absl::Status HostDeviceMemory::Free(uintptr_t address) {
   std::lock_guard<std::mutex> lock(mutex_);
   absl::StatusOr<memory::DeviceAllocator::Freed> freed = allocator_.Free(address);
   if (!freed.ok()) return freed.status();
+  ++allocation_generation_;
   if (freed->release_end > freed->release_begin) {
     return arena_->Release(freed->release_begin, freed->release_end - freed->release_begin);
   }
@@ -52,16 +54,47 @@ bool HostDeviceMemory::InArena(uintptr_t address) const { return arena_->Contain
 void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length) {
   if (length == 0) return;
   std::lock_guard<std::mutex> lock(mutex_);
+  const uint64_t epoch = ++epoch_;
   const uintptr_t base = arena_->base();
   const uintptr_t first = base + (address - base) / kChunkBytes * kChunkBytes;
-  for (uintptr_t c = first; c < address + length; c += kChunkBytes) written_.insert(c);
+  for (uintptr_t c = first; c < address + length; c += kChunkBytes) written_[c] = epoch;
+}
+
+uint64_t HostDeviceMemory::epoch() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return epoch_;
+}
+
+std::vector<std::pair<uintptr_t, uint64_t>> HostDeviceMemory::ChunksWrittenSince(
+    uint64_t since) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::pair<uintptr_t, uint64_t>> chunks;
+  if (since >= epoch_) return chunks;
+  for (const auto& [chunk, epoch] : written_) {
+    if (epoch > since) chunks.emplace_back(chunk, epoch);
+  }
+  return chunks;
 }
 
 std::vector<uintptr_t> HostDeviceMemory::TakeWrittenChunks() {
+  std::vector<uintptr_t> chunks;
+  for (const auto& [chunk, epoch] : ChunksWrittenSince(taken_epoch_)) chunks.push_back(chunk);
   std::lock_guard<std::mutex> lock(mutex_);
-  std::vector<uintptr_t> chunks(written_.begin(), written_.end());
-  written_.clear();
+  taken_epoch_ = epoch_;
   return chunks;
+}
+
+std::vector<std::pair<uintptr_t, size_t>> HostDeviceMemory::Allocations() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::pair<uintptr_t, size_t>> out;
+  out.reserve(allocator_.live().size());
+  for (const auto& [address, a] : allocator_.live()) out.emplace_back(address, a.size);
+  return out;
+}
+
+uint64_t HostDeviceMemory::allocation_generation() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return allocation_generation_;
 }
 
 size_t HostDeviceMemory::bytes_in_use() const {

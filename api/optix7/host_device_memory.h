@@ -8,7 +8,8 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
-#include <set>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -33,10 +34,20 @@ class HostDeviceMemory {
   // Whether `address` is in the arena (allocated or not): a device pointer, not a host one.
   bool InArena(uintptr_t address) const;
 
-  // Records a host write to [address, address + length) (cudaMemcpy, cudaMemset).
+  // Records a write to [address, address + length): the host's (cudaMemcpy, cudaMemset,
+  // optixAccelBuild) or one a launch's programs made on a device. Each call is a new write epoch.
   void MarkWritten(uintptr_t address, size_t length);
-  // The chunks written since the last call, by address, ascending; forgets them.
+  // The write epoch of the last MarkWritten (0: none yet).
+  uint64_t epoch() const;
+  // The chunks written after epoch `since`, by address, ascending, with the epoch of their last
+  // write: what devices that took everything up to `since` may lack.
+  std::vector<std::pair<uintptr_t, uint64_t>> ChunksWrittenSince(uint64_t since) const;
+  // The chunks written since the last call, by address, ascending (tests).
   std::vector<uintptr_t> TakeWrittenChunks();
+
+  // The live allocations (address, size), by address, and a number that changes whenever they do.
+  std::vector<std::pair<uintptr_t, size_t>> Allocations() const;
+  uint64_t allocation_generation() const;
 
   size_t bytes_in_use() const;
   size_t capacity() const { return arena_->size(); }
@@ -47,7 +58,10 @@ class HostDeviceMemory {
   mutable std::mutex mutex_;
   memory::DeviceArena* arena_;  // the process's (memory::ProcessArena)
   memory::DeviceAllocator allocator_;
-  std::set<uintptr_t> written_;  // chunk addresses
+  std::map<uintptr_t, uint64_t> written_;  // chunk address -> epoch of its last write
+  uint64_t epoch_ = 0;
+  uint64_t taken_epoch_ = 0;  // TakeWrittenChunks
+  uint64_t allocation_generation_ = 0;
 };
 
 }  // namespace tessera::optix7

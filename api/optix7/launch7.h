@@ -8,42 +8,15 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "absl/status/status.h"
+#include "absl/status/statusor.h"
 #include "optix_types.h"
-#include "tessera/v1/state.pb.h"
+#include "launch_types.h"
 
 namespace tessera::optix7 {
-
-// What a launch needs of a program module: its file in the module cache (api/src/
-// module_compiler.h), by content hash.
-struct LaunchModule {
-  std::string path;
-  std::string hash;
-  std::string bytes;  // shipped to devices that lack the module
-};
-
-// A program group as devices receive it, with the modules its entries name.
-struct LaunchProgramGroup {
-  v1::Optix7ProgramGroup wire;  // id, version, kind, entries
-  std::vector<const LaunchModule*> modules;
-};
-
-// A pipeline as devices receive it.
-struct LaunchPipeline {
-  v1::Optix7Pipeline wire;  // id, version, program group ids, options
-  std::vector<const LaunchProgramGroup*> groups;
-};
-
-// The devices of one OptixDeviceContext: created at its first launch from TESSERA_DEVICES (or
-// the default), as an OptiX 3 context's are. Opaque; one per device context.
-class LaunchTarget;
-std::unique_ptr<LaunchTarget> CreateLaunchTarget();
-void DestroyLaunchTarget(LaunchTarget* target);
-struct LaunchTargetDeleter {
-  void operator()(LaunchTarget* target) const { DestroyLaunchTarget(target); }
-};
 
 // Runs one optixLaunch (width x height x depth) synchronously. Arguments are checked by the
 // caller (api/optix7 optixLaunch); errors name what failed (a device, a program, an SBT record).

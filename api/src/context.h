@@ -26,6 +26,7 @@
 
 namespace tessera::api {
 
+class ContextExtension;
 class Program;
 
 class Context : public Object {
@@ -169,7 +170,13 @@ class Context : public Object {
   uint64_t tiles_total() const { return tiles_total_.load(std::memory_order_relaxed); }
 
   // ---- Launch (launch.cc).
-  absl::Status Launch(unsigned entry_point, const std::vector<uint64_t>& dims);
+  // `optix7`: an optixLaunch (api/optix7/launch7.cc) instead of an OptiX 3 entry point, which is
+  // then unused.
+  absl::Status Launch(unsigned entry_point, const std::vector<uint64_t>& dims,
+                      const v1::Optix7Launch* optix7 = nullptr);
+  // State that ships beside the object graph (context_extension.h); not owned. Null: none.
+  ContextExtension* extension() const { return extension_; }
+  void set_extension(ContextExtension* extension) { extension_ = extension; }
   // What the last launch of `entry_point` that finished cost, with its launch and tile sizes:
   // nanoseconds of one device thread per launch index (its devices' time over its launch
   // indices), which sizes the calls of the next launch of that size (the dispatcher's
@@ -249,6 +256,7 @@ class Context : public Object {
   std::vector<TileCosts> tile_costs_;  // by entry point
   std::atomic<uint64_t> tiles_done_{0}, tiles_total_{0};
   uint64_t last_exception_count_ = 0;
+  ContextExtension* extension_ = nullptr;
 
   mutable std::mutex error_mu_;
   // The newest message of each code (rtContextGetErrorString asks by code): a later error of

@@ -31,6 +31,13 @@ struct DeviceSync {
   absl::flat_hash_map<uint64_t, BufferSyncState> buffers;
   // Hashes of the program modules the device has received (state.proto ModuleChunk).
   absl::flat_hash_set<std::string> modules;
+  // OptiX 7 (api/optix7/launch7.cc): program group and pipeline versions, the device memory
+  // allocations and write epoch the device has, and the hash of each piece of device memory it
+  // received, by address.
+  absl::flat_hash_map<uint64_t, uint64_t> optix7_versions;
+  uint64_t allocation_generation = 0;
+  uint64_t memory_epoch = 0;
+  absl::flat_hash_map<uint64_t, uint64_t> memory_hashes;
 };
 
 // A device a context uses, created at its first launch.

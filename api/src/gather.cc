@@ -1,5 +1,7 @@
 #include "gather.h"
 
+#include "context_extension.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -13,6 +15,7 @@
 #include "absl/strings/str_cat.h"
 #include "buffer.h"
 #include "context.h"
+#include "context_extension.h"
 #include "hash.h"
 #include "status.h"
 #include "tessera/scheduler/device.h"
@@ -278,6 +281,17 @@ bool LaunchGather::SameLayout(uint64_t id, const Buffer* b) {
 }
 
 void LaunchGather::ApplyRegion(size_t device, const v1::BufferRegion& region) {
+  if (region.device_memory()) {
+    absl::Status applied =
+        context_.extension() == nullptr
+            ? absl::InvalidArgumentError("device memory regions without OptiX 7 state")
+            : context_.extension()->ApplyWritten(*slots_[device], region);
+    if (!applied.ok()) {
+      RecordError(RtError(RT_ERROR_LAUNCH_FAILED, absl::StrCat("device '", slots_[device]->desc.name,
+                                                               "': ", applied.message())));
+    }
+    return;
+  }
   Object* object = context_.FindById(region.buffer_id());
   if (!SameLayout(region.buffer_id(), object != nullptr && object->kind() == Kind::kBuffer
                                           ? static_cast<const Buffer*>(object)

@@ -217,8 +217,8 @@ absl::Status CheckNothingMapped(Context& context) {
 bool NothingNew(const v1::StateDelta& delta, const DeviceSync& sync,
                 const std::string& context_bytes) {
   return sync.next_sequence > 1 && delta.objects_size() == 0 && delta.removed_size() == 0 &&
-         delta.chunks_size() == 0 && delta.modules_size() == 0 &&
-         context_bytes == sync.last_context;
+         delta.chunks_size() == 0 && delta.modules_size() == 0 && delta.memory_size() == 0 &&
+         !delta.has_allocations() && context_bytes == sync.last_context;
 }
 
 // `retry`: when every device is lost taking its update, say so as the launch starting them again
@@ -237,7 +237,7 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& po
   std::vector<Job> jobs;
   for (DeviceSlot& slot : context.device_slots()) {
     if (slot.device == nullptr) continue;
-    PreparedDelta prepared = BuildDelta(context, slot.sync);
+    PreparedDelta prepared = BuildDelta(context, slot);
     std::string context_bytes = prepared.delta.context().SerializeAsString();
     if (NothingNew(prepared.delta, slot.sync, context_bytes)) {
       ++alive;  // an unchanged launch costs no round trip per device
@@ -302,6 +302,7 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& po
     DeviceSlot& slot = *job.slot;
     uint64_t bytes = 0;
     for (const v1::BufferChunk& chunk : job.prepared.delta.chunks()) bytes += chunk.data().size();
+    for (const v1::DeviceMemoryChunk& c : job.prepared.delta.memory()) bytes += c.data().size();
     if (IsDeviceLoss(job.status)) {
       warn.emplace_back(&slot, job.status);
       absl::StrAppend(&lost, lost.empty() ? "" : "; ", slot.desc.name, ": ", job.status.message());
@@ -444,14 +445,16 @@ uint64_t MinIndicesPerCall(double ns_per_index) {
 
 }  // namespace
 
-absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& dims) {
+absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& dims,
+                             const v1::Optix7Launch* optix7) {
   // Claimed before anything else: checking the flag here and setting it after validation let a
   // second thread's launch start in between and gather into the same buffers.
   if (!TryStartRunning()) {
     return RtError(RT_ERROR_INVALID_CONTEXT, "a launch is already running on this context");
   }
   RunningScope running_scope(*this);
-  if (entry_point >= entry_point_count()) {
+  if (optix7 != nullptr) entry_point = 0;  // tile costs are kept as for entry point 0
+  if (optix7 == nullptr && entry_point >= entry_point_count()) {
     return RtError(RT_ERROR_INVALID_VALUE,
                    absl::StrCat("entry point index ", entry_point, " is out of range (",
                                 entry_point_count(), " entry points)"));
@@ -505,6 +508,19 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   common.set_launch_id(launch_id);
   common.set_entry_point(entry_point);
   for (uint64_t d : dims) common.add_dims(d);
+  if (optix7 != nullptr) {
+    *common.mutable_optix7() = *optix7;
+    // Devices send back what programs wrote to device memory, unless the only device writes the
+    // host's own memory (in-process).
+    size_t devices = 0;
+    bool all_inproc = true;
+    for (const DeviceSlot& slot : device_slots()) {
+      if (slot.device == nullptr) continue;
+      ++devices;
+      all_inproc = all_inproc && slot.desc.type == DeviceSpecEntry::Type::kInproc;
+    }
+    common.mutable_optix7()->set_report_writes(devices > 1 || !all_inproc);
+  }
 
   // The devices of this launch: slots whose device exists. With stable ownership, also those
   // lost since (while receiving this launch's state, or at an earlier launch and not back): tile

@@ -4,6 +4,7 @@
 
 #include "acceleration.h"
 #include "acceleration_data.h"
+#include "context_extension.h"
 #include "buffer.h"
 #include "context.h"
 #include "geometry.h"
@@ -264,21 +265,7 @@ BufferSyncState LowerChunks(Buffer& b, const BufferSyncState* known, int ordinal
 
 // Ships the module of `p` in slices, unless the device has it or this delta carries it already.
 void LowerModule(const Program& p, const DeviceSync& sync, PreparedDelta* out) {
-  const std::string& hash = p.module_hash();
-  if (sync.modules.contains(hash) ||
-      std::find(out->modules.begin(), out->modules.end(), hash) != out->modules.end()) {
-    return;
-  }
-  const std::string& bytes = p.module_bytes();
-  // Slices no larger than buffer chunks keep every Apply stream message under the same bound.
-  for (uint64_t begin = 0; begin < bytes.size(); begin += kChunkBytes) {
-    v1::ModuleChunk* chunk = out->delta.add_modules();
-    chunk->set_module_hash(hash);
-    chunk->set_offset(begin);
-    chunk->set_total_size(bytes.size());
-    chunk->set_data(bytes.data() + begin, std::min<uint64_t>(kChunkBytes, bytes.size() - begin));
-  }
-  out->modules.push_back(hash);
+  LowerModuleBytes(p.module_hash(), p.module_bytes(), sync, out);
 }
 
 }  // namespace
@@ -344,6 +331,29 @@ PreparedDelta BuildDelta(Context& context, const DeviceSync& sync) {
   return out;
 }
 
+PreparedDelta BuildDelta(Context& context, const DeviceSlot& slot) {
+  PreparedDelta out = BuildDelta(context, slot.sync);
+  if (context.extension() != nullptr) context.extension()->AddToDelta(slot, &out);
+  return out;
+}
+
+void LowerModuleBytes(const std::string& hash, const std::string& bytes, const DeviceSync& sync,
+                      PreparedDelta* out) {
+  if (sync.modules.contains(hash) ||
+      std::find(out->modules.begin(), out->modules.end(), hash) != out->modules.end()) {
+    return;
+  }
+  // Slices no larger than buffer chunks keep every Apply stream message under the same bound.
+  for (uint64_t begin = 0; begin < bytes.size(); begin += kChunkBytes) {
+    v1::ModuleChunk* chunk = out->delta.add_modules();
+    chunk->set_module_hash(hash);
+    chunk->set_offset(begin);
+    chunk->set_total_size(bytes.size());
+    chunk->set_data(bytes.data() + begin, std::min<uint64_t>(kChunkBytes, bytes.size() - begin));
+  }
+  out->modules.push_back(hash);
+}
+
 void CommitDelta(PreparedDelta&& prepared, DeviceSync* sync) {
   sync->next_sequence = prepared.delta.sequence() + 1;
   sync->context_version = prepared.delta.context().version();
@@ -354,6 +364,7 @@ void CommitDelta(PreparedDelta&& prepared, DeviceSync* sync) {
   for (auto& [id, version] : prepared.versions) sync->versions[id] = version;
   for (auto& [id, state] : prepared.buffers) sync->buffers[id] = std::move(state);
   for (std::string& hash : prepared.modules) sync->modules.insert(std::move(hash));
+  for (const auto& commit : prepared.commits) commit(sync);
 }
 
 }  // namespace tessera::api

@@ -21,6 +21,9 @@
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "call_progress.h"
+#include "optix7_call.h"
+#include "optix7_session.h"
 #include "plan.h"
 #include "replica.h"
 #include "runtime.h"
@@ -35,38 +38,8 @@ namespace {
 
 using worker::FatalError;
 using worker::Index3;
-
-// What a call knows of one of its tiles while its pieces run (guarded by the call's result lock).
-struct TileState {
-  v1::TileResult result;
-  int pieces_left = 0;
-  bool abandoned = false;  // a piece stopped at a cancel
-};
-
-// Counts a call's finished tiles and says how many now and then (a heartbeat with tiles_done),
-// so that a long call shows progress before its results come back. Calls shorter than the
-// interval say nothing. Guarded by the call's result lock.
-class CallProgress {
- public:
-  explicit CallProgress(std::chrono::steady_clock::time_point started) : last_(started) {}
-  void TileFinished(const v1::LaunchRequest& request,
-                    const std::function<void(v1::TileResult&&)>& on_result) {
-    ++done_;
-    const auto now = std::chrono::steady_clock::now();
-    if (now - last_ < kInterval) return;
-    last_ = now;
-    v1::TileResult r;
-    r.set_launch_id(request.launch_id());
-    r.set_tile_index(kHeartbeatTileIndex);
-    r.set_tiles_done(done_);
-    on_result(std::move(r));
-  }
-
- private:
-  static constexpr std::chrono::milliseconds kInterval{100};
-  std::chrono::steady_clock::time_point last_;
-  uint32_t done_ = 0;
-};
+using worker::CallProgress;
+using worker::TileState;
 
 // Launch indices per thread in a write epoch of a call whose results go out while it traces:
 // small enough that a call of the dispatcher's usual size (16384 per thread) makes several.
@@ -230,14 +203,16 @@ absl::Status OnPlanThread(F&& build) {
 
 class InprocDevice : public Device {
  public:
-  InprocDevice(int num_threads, bool results_in_rounds)
+  InprocDevice(int num_threads, bool results_in_rounds, bool shares_host_memory)
       : results_in_rounds_(results_in_rounds),
+        shares_host_memory_(shares_host_memory),
         forced_epochs_(ForcedEpochs()),
         num_threads_(num_threads > 0 ? num_threads
                                      : static_cast<int>(std::thread::hardware_concurrency())),
         embree_(rtcNewDevice(nullptr)),
         scenes_(embree_) {}
   ~InprocDevice() override {
+    optix7_engine_.reset();
     plan_.reset();
     scenes_ = worker::SceneCache(embree_);
     rtcReleaseDevice(embree_);
@@ -247,7 +222,15 @@ class InprocDevice : public Device {
 
   absl::Status Apply(const v1::StateDelta& delta) override {
     std::lock_guard<std::mutex> call_lock(call_mu_);
+    // OptiX 7 state is checked first and applied once the replica took the delta: a delta is
+    // applied whole or not at all.
+    const bool optix7 = worker::Optix7Session::Carries(delta);
+    if (optix7) {
+      if (optix7_ == nullptr) optix7_ = std::make_unique<worker::Optix7Session>(shares_host_memory_);
+      if (absl::Status s = optix7_->Check(delta); !s.ok()) return s;
+    }
     absl::Status applied = replica_.Apply(delta);
+    if (applied.ok() && optix7) applied = optix7_->Apply(delta);
     // Bound programs point into the replica: a plan outlives only deltas of values and of the
     // graph, which leave them valid (replica_values.cc).
     if (plan_ && plan_->bindings_generation != replica_.bindings_generation()) plan_.reset();
@@ -277,6 +260,7 @@ class InprocDevice : public Device {
             " size entries in a launch of ", request.dims_size(), " dimensions"));
       }
     }
+    if (request.has_optix7()) return LaunchOptix7(request, cancel, on_result);
     // Before the plan: building accelerations runs bounding-box programs, which may write.
     if (request.launch_id() != snapshot_launch_id_) {
       replica_.SnapshotForLaunch();
@@ -442,6 +426,25 @@ class InprocDevice : public Device {
   }
 
  private:
+  absl::Status LaunchOptix7(const v1::LaunchRequest& request, const std::atomic<bool>& cancel,
+                            const std::function<void(v1::TileResult&&)>& on_result) {
+    if (optix7_ == nullptr) {
+      return absl::FailedPreconditionError("an OptiX 7 launch before any OptiX 7 state arrived");
+    }
+    if (request.launch_id() != snapshot_launch_id_) {
+      snapshot_launch_id_ = request.launch_id();
+      calls_ = 0;
+    }
+    const uint64_t sequence = ++calls_;
+    if (optix7_engine_ == nullptr) optix7_engine_ = std::make_unique<worker::Optix7Engine>(embree_);
+    const int threads =
+        replica_.context().num_threads > 0
+            ? static_cast<int>(std::min<uint32_t>(replica_.context().num_threads, kMaxThreads))
+            : num_threads_;
+    return worker::RunOptix7Call(*optix7_engine_, *optix7_, request, threads, sequence, cancel,
+                                 on_result);
+  }
+
   // How many write epochs a call runs in: one unless results go out while the call traces and
   // several threads would otherwise wait while one sends (a single thread has no one to wait for
   // it). TESSERA_WRITE_EPOCHS sets the number (tests: many epochs in small launches).
@@ -462,12 +465,15 @@ class InprocDevice : public Device {
   }
 
   const bool results_in_rounds_;
+  const bool shares_host_memory_;  // in the host's process: OptiX 7 device memory is the host's
   const uint64_t forced_epochs_;  // 0: by launch size
   int num_threads_;
   RTCDevice embree_;
   worker::Replica replica_;
   worker::SceneCache scenes_;
   std::unique_ptr<worker::LaunchPlan> plan_;
+  std::unique_ptr<worker::Optix7Session> optix7_;       // once OptiX 7 state arrived
+  std::unique_ptr<worker::Optix7Engine> optix7_engine_;  // at the first OptiX 7 launch
   std::mutex call_mu_;  // Apply and Launch calls, one at a time
   // TESSERA_LAUNCH_TIMING: where a call's time went, on stderr (api/src/launch.cc).
   const bool timing_ = scheduler::LaunchTimingEnabled();
@@ -477,8 +483,9 @@ class InprocDevice : public Device {
 
 }  // namespace
 
-std::unique_ptr<Device> CreateInprocDevice(int num_threads, bool results_in_rounds) {
-  return std::make_unique<InprocDevice>(num_threads, results_in_rounds);
+std::unique_ptr<Device> CreateInprocDevice(int num_threads, bool results_in_rounds,
+                                           bool shares_host_memory) {
+  return std::make_unique<InprocDevice>(num_threads, results_in_rounds, shares_host_memory);
 }
 
 }  // namespace tessera

@@ -133,6 +133,9 @@ Replica::DeltaScope Replica::Classify(const v1::StateDelta& delta,
         sent = &sel.variables();
         break;
       }
+      case v1::Object::kOptix7ProgramGroup:
+      case v1::Object::kOptix7Pipeline:
+        continue;  // OptiX 7 state: nothing OptiX 3 programs are bound to
       default:
         // Graph nodes and accelerations change the scenes, not what programs are bound to;
         // buffers (reallocated) change that too.

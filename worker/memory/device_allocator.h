@@ -42,6 +42,9 @@ class DeviceAllocator {
   // or null: what a cudaMemcpy checks its device pointer against.
   const Allocation* Find(uintptr_t address, size_t length) const;
 
+  // Every live allocation, by address.
+  const std::map<uintptr_t, Allocation>& live() const { return live_; }
+
   size_t bytes_in_use() const { return bytes_in_use_; }
   size_t allocation_count() const { return live_.size(); }
   size_t LargestFree() const;

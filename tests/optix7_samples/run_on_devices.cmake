@@ -1,0 +1,35 @@
+# cmake -DSAMPLE=exe -DOUT_DIR=dir -DNAME=name -DCHECK=checker [-DARGS=a;b] -P run_on_devices.cmake
+# Runs an OptiX 7 sample on in-process, one-worker and three-worker device sets and requires the
+# same image bits from each (issue 25: deterministic on any device set), then has CHECK
+# (sample_check.cc) check what the image shows. Leaves <OUT_DIR>/<NAME>.<set>.png.
+set(_sets inproc local:1 local:3)
+set(_first "")
+file(MAKE_DIRECTORY ${OUT_DIR})
+foreach(_set IN LISTS _sets)
+  string(REPLACE ":" "" _tag ${_set})
+  set(_png ${OUT_DIR}/${NAME}.${_tag}.png)
+  file(REMOVE ${_png})
+  set(ENV{TESSERA_DEVICES} ${_set})
+  execute_process(COMMAND ${SAMPLE} --out ${_png} ${ARGS}
+    RESULT_VARIABLE _rc OUTPUT_VARIABLE _out ERROR_VARIABLE _err TIMEOUT 240)
+  message(STATUS "${NAME} on ${_set}: exit ${_rc}\n${_out}${_err}")
+  if(NOT _rc EQUAL 0)
+    message(FATAL_ERROR "${NAME} failed on TESSERA_DEVICES=${_set} (exit ${_rc})")
+  endif()
+  if(NOT EXISTS ${_png})
+    message(FATAL_ERROR "${NAME} wrote no image on TESSERA_DEVICES=${_set}")
+  endif()
+  if(_first STREQUAL "")
+    set(_first ${_png})
+  else()
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${_first} ${_png}
+      RESULT_VARIABLE _differ)
+    if(NOT _differ EQUAL 0)
+      message(FATAL_ERROR "${NAME}: the image on TESSERA_DEVICES=${_set} differs from inproc's")
+    endif()
+  endif()
+endforeach()
+execute_process(COMMAND ${CHECK} ${NAME} ${_first} RESULT_VARIABLE _rc)
+if(NOT _rc EQUAL 0)
+  message(FATAL_ERROR "${NAME}: the image does not show what the sample draws (${_first})")
+endif()

@@ -1,0 +1,166 @@
+#include "optix7_call.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "call_progress.h"
+#include "device_arena.h"
+#include "tessera/rt.h"
+#include "tessera/scheduler/device.h"
+#include "tile_pieces.h"
+#include "write_tracker.h"
+
+namespace tessera::worker {
+namespace {
+
+// Written bytes per region message: well under the wire's 64 MiB, and small enough that the
+// host applies one while the next arrives.
+constexpr size_t kRegionBytes = size_t{4} << 20;
+
+// The process's write tracker over its device memory range, made at the first call that reports
+// writes and kept (one tracker may be armed in a process; calls hold Optix7CallMutex).
+absl::StatusOr<memory::WriteTracker*> ProcessTracker() {
+  static std::unique_ptr<memory::WriteTracker> tracker;
+  if (tracker != nullptr) return tracker.get();
+  absl::StatusOr<memory::DeviceArena*> arena = memory::ProcessArena();
+  if (!arena.ok()) return arena.status();
+  absl::StatusOr<std::unique_ptr<memory::WriteTracker>> made =
+      memory::WriteTracker::Create((*arena)->base(), (*arena)->size());
+  if (!made.ok()) return made.status();
+  tracker = *std::move(made);
+  return tracker.get();
+}
+
+// Packs `runs` into region results (device_memory), with their bytes unless `with_data` is off.
+void SendRuns(const std::vector<memory::WriteTracker::Run>& runs, bool with_data,
+              const v1::LaunchRequest& request, uint64_t sequence,
+              const std::function<void(v1::TileResult&&)>& on_result) {
+  v1::TileResult result;
+  v1::BufferRegion* region = nullptr;
+  auto flush = [&] {
+    if (region == nullptr) return;
+    result.set_launch_id(request.launch_id());
+    result.set_tile_index(kFinalTileIndex);
+    result.set_call_sequence(sequence);
+    on_result(std::move(result));
+    result = v1::TileResult();
+    region = nullptr;
+  };
+  for (const auto& [address, size] : runs) {
+    uintptr_t at = address;
+    size_t left = size;
+    while (left > 0) {
+      if (region != nullptr && with_data && region->data().size() >= kRegionBytes) flush();
+      if (region == nullptr) {
+        region = result.add_regions();
+        region->set_device_memory(true);
+      }
+      const size_t take = with_data ? std::min(left, kRegionBytes) : left;
+      region->add_run_offsets(at);
+      region->add_run_sizes(take);
+      if (with_data) region->mutable_data()->append(reinterpret_cast<const char*>(at), take);
+      at += take;
+      left -= take;
+    }
+  }
+  flush();
+}
+
+}  // namespace
+
+absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
+                           const v1::LaunchRequest& request, int threads, uint64_t sequence,
+                           const std::atomic<bool>& cancel,
+                           const std::function<void(v1::TileResult&&)>& on_result) {
+  const auto started = std::chrono::steady_clock::now();
+  std::lock_guard<std::mutex> call_lock(Optix7CallMutex());
+  if (absl::Status s = engine.Prepare(session.state(), request.optix7(), &cancel); !s.ok()) {
+    return s;
+  }
+  Index3 dims{1, 1, 1};
+  bool empty = false;
+  for (int i = 0; i < request.dims_size(); ++i) {
+    dims[i] = static_cast<uint32_t>(request.dims(i));
+    empty = empty || request.dims(i) == 0;
+  }
+  memory::WriteTracker* tracker = nullptr;
+  if (request.optix7().report_writes() && !empty) {
+    absl::StatusOr<memory::WriteTracker*> made = ProcessTracker();
+    if (!made.ok()) {
+      return absl::Status(made.status().code(),
+                          absl::StrCat("cannot track writes to device memory: ",
+                                       made.status().message()));
+    }
+    tracker = *made;
+    for (const auto& [address, size] : session.state().allocations) {
+      if (absl::Status s = tracker->Protect(address, size); !s.ok()) {
+        (void)tracker->Collect();
+        return s;
+      }
+    }
+  }
+
+  std::mutex result_mu;
+  std::atomic<bool> stop{false};
+  absl::Status failure;
+  const std::vector<TilePiece> pieces = SplitTiles(request.tiles(), dims, threads);
+  std::vector<TileState> tile_states(request.tiles_size());
+  CallProgress progress(started);
+  for (const TilePiece& p : pieces) ++tile_states[p.tile].pieces_left;
+  auto run_piece = [&](const TilePiece& piece) {
+    TileState& state = tile_states[piece.tile];
+    v1::TileResult part;
+    bool done = false;
+    try {
+      done = engine.RunTile(piece.origin, piece.size, dims, cancel, stop, part);
+    } catch (const FatalError& e) {
+      std::lock_guard<std::mutex> lock(result_mu);
+      if (failure.ok()) failure = e.status;
+      stop = true;
+      part.set_error(std::string(e.status.message()));
+      part.set_error_code(RT_ERROR_LAUNCH_FAILED);
+      done = true;
+    }
+    std::lock_guard<std::mutex> lock(result_mu);
+    if (!done) state.abandoned = true;
+    state.result.MergeFrom(part);
+    if (--state.pieces_left > 0) return;
+    if (!state.abandoned) progress.TileFinished(request, on_result);
+    if (state.abandoned && state.result.error().empty()) return;
+    if (state.result.prints_size() == 0 && state.result.exceptions_size() == 0 &&
+        state.result.error().empty()) {
+      return;
+    }
+    state.result.set_launch_id(request.launch_id());
+    state.result.set_tile_index(request.tiles(piece.tile).index());
+    on_result(std::move(state.result));
+  };
+  if (!empty) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      tbb::parallel_for(size_t{0}, pieces.size(), size_t{1},
+                        [&](size_t i) { run_piece(pieces[i]); });
+    });
+  }
+  // Collected whatever happened, so that the next call starts with nothing protected.
+  std::vector<memory::WriteTracker::Run> runs;
+  if (tracker != nullptr) runs = tracker->Collect();
+  if (!failure.ok()) return failure;
+  if (cancel.load()) return absl::CancelledError("launch cancelled");
+  SendRuns(runs, !session.shares_host_memory(), request, sequence, on_result);
+  // The call's end, also when nothing was written: the host counts the call's tiles by it.
+  v1::TileResult end;
+  end.set_launch_id(request.launch_id());
+  end.set_tile_index(kFinalTileIndex);
+  end.set_call_sequence(sequence);
+  on_result(std::move(end));
+  return absl::OkStatus();
+}
+
+}  // namespace tessera::worker
