@@ -551,6 +551,9 @@ void Replica::ApplyObject(const v1::Object& o) {
       texture_samplers[t.id()] = r;
       break;
     }
+    case v1::Object::kOptix7ProgramGroup:
+    case v1::Object::kOptix7Pipeline:
+      break;  // OptiX 7 objects are the OptiX 7 engine's (issue 25), not yet held here
     case v1::Object::KIND_NOT_SET:
       break;
   }
