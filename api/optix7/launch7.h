@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -38,12 +39,14 @@ struct LaunchPipeline {
 
 // The devices of one OptixDeviceContext: created at its first launch from TESSERA_DEVICES (or
 // the default), as an OptiX 3 context's are. Opaque; one per device context.
+// The deleter is part of the pointer's type because LaunchTarget is incomplete to callers, whose
+// std::default_delete could not destroy it.
 class LaunchTarget;
-std::unique_ptr<LaunchTarget> CreateLaunchTarget();
 void DestroyLaunchTarget(LaunchTarget* target);
 struct LaunchTargetDeleter {
   void operator()(LaunchTarget* target) const { DestroyLaunchTarget(target); }
 };
+std::unique_ptr<LaunchTarget, LaunchTargetDeleter> CreateLaunchTarget();
 
 // Runs one optixLaunch (width x height x depth) synchronously. Arguments are checked by the
 // caller (api/optix7 optixLaunch); errors name what failed (a device, a program, an SBT record).
