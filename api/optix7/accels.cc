@@ -1,7 +1,6 @@
 // optixAccel*: sizes and builds over accel_build.h, emitted properties, compaction and
 // relocation (copies: the descriptor of worker/memory/accel_format.h is position independent;
-// only an instance build's child handles are addresses, which optixAccelRelocate replaces), and
-// optixConvertPointerToTraversableHandle (a transform's handle is its address).
+// only an instance build's child handles are addresses, which optixAccelRelocate replaces).
 #include <algorithm>
 #include <cfloat>
 #include <cstring>
@@ -224,18 +223,6 @@ absl::Status RelocateInstances(HostDeviceMemory& m, CUdeviceptr target, const Ac
   std::memcpy(base + offsetof(AccelHeader, content_hash), &hash, sizeof(hash));
   m.MarkWritten(target, h.total_size);
   return absl::OkStatus();
-}
-
-size_t TransformBytes(OptixTraversableType type) {
-  switch (type) {
-    case OPTIX_TRAVERSABLE_TYPE_STATIC_TRANSFORM:
-      return sizeof(OptixStaticTransform);
-    case OPTIX_TRAVERSABLE_TYPE_MATRIX_MOTION_TRANSFORM:
-      return sizeof(OptixMatrixMotionTransform);
-    case OPTIX_TRAVERSABLE_TYPE_SRT_MOTION_TRANSFORM:
-      return sizeof(OptixSRTMotionTransform);
-  }
-  return 0;
 }
 
 }  // namespace
@@ -466,34 +453,6 @@ OptixResult optixAccelRelocate(OptixDeviceContext context, CUstream stream,
                                      (*h)->input_count, " build inputs"));
     }
     *targetHandle = targetAccel;
-    return absl::OkStatus();
-  });
-}
-
-OptixResult optixConvertPointerToTraversableHandle(OptixDeviceContext onDevice, CUdeviceptr pointer,
-                                                   OptixTraversableType traversableType,
-                                                   OptixTraversableHandle* traversableHandle) {
-  return Call("optixConvertPointerToTraversableHandle").Run([&](Call& call) -> absl::Status {
-    std::shared_ptr<DeviceContext> c;
-    if (absl::Status s = call.Lookup(onDevice, "onDevice", &c); !s.ok()) return s;
-    if (absl::Status s = call.NotNull(traversableHandle, "traversableHandle"); !s.ok()) return s;
-    const size_t bytes = tessera::optix7::TransformBytes(traversableType);
-    if (bytes == 0) {
-      return OptixError(
-          OPTIX_ERROR_INVALID_VALUE,
-          absl::StrCat("traversableType 0x", absl::Hex(static_cast<unsigned>(traversableType)),
-                       " is no OptixTraversableType"));
-    }
-    absl::StatusOr<HostDeviceMemory*> m = tessera::optix7::Memory();
-    if (!m.ok()) return m.status();
-    if (pointer == 0 || pointer % OPTIX_TRANSFORM_BYTE_ALIGNMENT != 0 ||
-        !(*m)->IsAllocated(pointer, bytes)) {
-      return OptixError(OPTIX_ERROR_INVALID_VALUE,
-                        absl::StrCat("pointer 0x", absl::Hex(pointer), " is not ", bytes,
-                                     " bytes of device memory, OPTIX_TRANSFORM_BYTE_ALIGNMENT (64) "
-                                     "aligned"));
-    }
-    *traversableHandle = pointer;  // the handle of a transform is its address
     return absl::OkStatus();
   });
 }

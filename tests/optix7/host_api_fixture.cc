@@ -19,6 +19,14 @@ extern "C" __device__ float __continuation_callable__cc(float x) { return x + 1.
 extern "C" __device__ void helper() {}
 )";
 
+OptixProgramGroupDesc Raygen(OptixModule module, const char* name) {
+  OptixProgramGroupDesc d{};
+  d.kind = OPTIX_PROGRAM_GROUP_KIND_RAYGEN;
+  d.raygen.module = module;
+  d.raygen.entryFunctionName = name;
+  return d;
+}
+
 namespace {
 
 void Collect(unsigned level, const char* tag, const char* message, void* data) {

@@ -17,6 +17,9 @@ namespace tessera_test {
 // that is no entry point.
 extern const char kAllKindsSource[];
 
+// A raygen program group's description.
+OptixProgramGroupDesc Raygen(OptixModule module, const char* name);
+
 struct LogMessage {
   unsigned level;
   std::string tag;
