@@ -5,8 +5,7 @@
  * Where the table comes from: OptiX's optixInit loads the driver's OptiX library (dlopen) and
  * calls its optixQueryFunctionTable. Tessera's is libtessera itself, which the application links
  * (Tessera::optix7), so optixInit calls tesseraOptixQueryFunctionTable directly: no library
- * search, no path to configure. libtessera exports that entry once the implementation exists
- * (the next part of issue 25); until then a program that calls optixInit does not link.
+ * search, no path to configure.
  *
  * Requires optix_function_table_definition.h in one translation unit of the application. */
 #ifndef TESSERA_OPTIX7_OPTIX_STUBS_H_
@@ -28,7 +27,7 @@ extern OptixFunctionTable OPTIX_FUNCTION_TABLE_SYMBOL;
 /* libtessera's OptixQueryFunctionTable_t: fills `functionTable` (`sizeOfTable` bytes) for ABI
  * `abiId`; OPTIX_ERROR_UNSUPPORTED_ABI_VERSION for an ABI it does not serve,
  * OPTIX_ERROR_FUNCTION_TABLE_SIZE_MISMATCH when the size is not that ABI's table. The option
- * arguments are unused and must be 0, as in OptiX. DECLARED, NOT IMPLEMENTED YET. */
+ * arguments are unused, as in OptiX (api/optix7/function_table.cc). */
 OptixResult tesseraOptixQueryFunctionTable(int abiId, unsigned int numOptions,
                                            OptixQueryFunctionTableOptions* optionKeys,
                                            const void** optionValues, void* functionTable,

@@ -27,6 +27,9 @@
 #ifndef TESSERA_PROGRAM_INCLUDE_DIR
 #define TESSERA_PROGRAM_INCLUDE_DIR ""
 #endif
+#ifndef TESSERA_OPTIX7_INCLUDE_DIR
+#define TESSERA_OPTIX7_INCLUDE_DIR ""
+#endif
 
 namespace tessera::api {
 namespace fs = std::filesystem;
@@ -42,14 +45,15 @@ std::string CompilerName() {
 // The compiler command without input and output paths (they do not change the result): the
 // README's line. __CUDACC__ tells the headers (and the program's own, `#ifdef __CUDACC__`) that
 // this is program code, as nvcc does; each include directory's optixu/ is searched too, as OptiX
-// SDK projects put include/optixu on the path (`#include <optixu_math_namespace.h>`).
-std::vector<std::string> CompileFlags() {
+// SDK projects put include/optixu on the path (`#include <optixu_math_namespace.h>`). OptiX 7
+// programs have no optixu (docs/optix7.md gives their command).
+std::vector<std::string> CompileFlags(const std::vector<std::string>& include_dirs, bool optix7) {
   std::vector<std::string> flags = {CompilerName(), "-std=c++17", "-O2",
                                     "-shared",      "-fPIC",      "-D__CUDACC__"};
-  for (const std::string& dir : ProgramIncludeDirs()) {
+  for (const std::string& dir : include_dirs) {
     flags.push_back("-I" + dir);
     std::error_code ec;
-    if (fs::is_directory(dir + "/optixu", ec)) flags.push_back("-I" + dir + "/optixu");
+    if (!optix7 && fs::is_directory(dir + "/optixu", ec)) flags.push_back("-I" + dir + "/optixu");
   }
   flags.push_back("-x");
   flags.push_back("c++");
@@ -179,12 +183,18 @@ std::string TempSuffix() {
 // choose it ($TESSERA_CACHE_DIR), a private temporary directory, said once on stderr and removed
 // at exit, as the devices' module cache does (docs/programs.md): a HOME that cannot be written
 // (a service account's /nonexistent) must not stop programs from compiling.
-absl::StatusOr<std::string> UsableModuleCacheDir() {
-  const std::string wanted = ModuleCacheDir();
+// `chosen_dir`, when not empty, is the caller's choice (an OptiX 7 context's cache location), used
+// as $TESSERA_CACHE_DIR is.
+absl::StatusOr<std::string> UsableModuleCacheDir(const std::string& chosen_dir) {
+  const std::string wanted = chosen_dir.empty() ? ModuleCacheDir() : chosen_dir;
   std::error_code ec;
   fs::create_directories(wanted, ec);
   if (!ec && access(wanted.c_str(), W_OK | X_OK) == 0) return wanted;
   const std::string why = ec ? ec.message() : std::strerror(errno);
+  if (!chosen_dir.empty()) {
+    return RtError(RT_ERROR_INVALID_SOURCE,
+                   absl::StrCat("cannot use module cache directory '", wanted, "': ", why));
+  }
   const char* chosen = std::getenv("TESSERA_CACHE_DIR");
   if (chosen != nullptr && *chosen != '\0') {
     return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("cannot use module cache directory '",
@@ -241,13 +251,57 @@ std::vector<std::string> ProgramIncludeDirs() {
   return absl::StrSplit(TESSERA_PROGRAM_INCLUDE_DIR, ':', absl::SkipEmpty());
 }
 
+std::vector<std::string> Optix7IncludeDirs() {
+  const char* env = std::getenv("TESSERA_OPTIX7_INCLUDE_DIR");
+  if (env != nullptr && *env != '\0') return absl::StrSplit(env, ':', absl::SkipEmpty());
+  const std::string installed = scheduler::InstalledIncludeDir() + "/optix7";
+  std::error_code ec;
+  if (fs::is_regular_file(installed + "/optix_device.h", ec)) return {installed};
+  scheduler::NoteBuildTreeFallback(scheduler::InstalledPart::kHeaders,
+                                   fs::path(installed).lexically_normal(),
+                                   TESSERA_OPTIX7_INCLUDE_DIR);
+  return absl::StrSplit(TESSERA_OPTIX7_INCLUDE_DIR, ':', absl::SkipEmpty());
+}
+
+absl::StatusOr<CompiledModule> StoreProgramModule(absl::string_view bytes,
+                                                  const ProgramCompileOptions& options) {
+  TS_ASSIGN_OR_RETURN(const std::string cache_dir, UsableModuleCacheDir(options.cache_dir));
+  CompiledModule m;
+  m.bytes = std::string(bytes);
+  m.hash = ModuleHash(m.bytes);
+  m.path = absl::StrCat(cache_dir, "/", m.hash, ".so");
+  std::error_code ec;
+  if (fs::is_regular_file(m.path, ec) && ReadModule(m.path).hash == m.hash) {
+    scheduler::TouchCacheFile(m.path);
+    return m;
+  }
+  // Written under a temporary name and renamed, as compiled modules are.
+  const std::string temp = absl::StrCat(m.path, ".", TempSuffix(), ".tmp");
+  std::ofstream out(temp, std::ios::binary);
+  out.write(m.bytes.data(), static_cast<std::streamsize>(m.bytes.size()));
+  out.close();
+  if (!out) {
+    fs::remove(temp, ec);
+    return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("cannot write module '", temp, "'"));
+  }
+  fs::rename(temp, m.path, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("cannot store module '", m.path, "'"));
+  }
+  return m;
+}
+
 absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
-                                                    const std::string& source_path) {
-  std::vector<std::string> command = CompileFlags();
+                                                    const std::string& source_path,
+                                                    const ProgramCompileOptions& options) {
+  const std::vector<std::string> include_dirs =
+      options.optix7 ? Optix7IncludeDirs() : ProgramIncludeDirs();
+  std::vector<std::string> command = CompileFlags(include_dirs, options.optix7);
   uint64_t key = HashString(source);
   key = HashString(absl::StrJoin(command, "\x1f"), key);
-  key ^= HeaderTreeHash(ProgramIncludeDirs());
-  TS_ASSIGN_OR_RETURN(const std::string cache_dir, UsableModuleCacheDir());
+  key ^= HeaderTreeHash(include_dirs);
+  TS_ASSIGN_OR_RETURN(const std::string cache_dir, UsableModuleCacheDir(options.cache_dir));
   const std::string deps_path =
       absl::StrCat(cache_dir, "/", HexHash(LookupKey(key, source_path)), ".deps");
   std::error_code ec;
@@ -298,7 +352,7 @@ absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
   auto result = RunCommand(command);
   // Tessera's own headers are in the key already (HeaderTreeHash): list only the others.
   std::vector<std::string> compiled_deps = ParseDepFile(temp_deps, input);
-  for (const std::string& dir : ProgramIncludeDirs()) {
+  for (const std::string& dir : include_dirs) {
     const std::string prefix = dir.back() == '/' ? dir : dir + "/";
     compiled_deps.erase(
         std::remove_if(compiled_deps.begin(), compiled_deps.end(),
@@ -325,9 +379,10 @@ absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
         absl::StrContains(result->output, "tessera/device.h: No such file")) {
       headers =
           absl::StrCat("Tessera's program headers are not in the include directories it passed (",
-                       absl::StrJoin(ProgramIncludeDirs(), ", "),
-                       "); set TESSERA_INCLUDE_DIR to the directory holding optix.h (an installed "
-                       "<prefix>/include/tessera)\n");
+                       absl::StrJoin(include_dirs, ", "), "); set ",
+                       options.optix7 ? "TESSERA_OPTIX7_INCLUDE_DIR" : "TESSERA_INCLUDE_DIR",
+                       " to the directory holding optix.h (an installed <prefix>/include/tessera",
+                       options.optix7 ? "/optix7" : "", ")\n");
     }
     return RtError(RT_ERROR_INVALID_SOURCE,
                    absl::StrCat("compiling '", source_path.empty() ? "<string>" : source_path,

@@ -21,6 +21,20 @@ std::string ModuleCacheDir();
 // (<includedir>/tessera), else the api/include directory of this build.
 std::vector<std::string> ProgramIncludeDirs();
 
+// The OptiX 7 include root (api/include7, docs/optix7.md) that OptiX 7 programs compile against:
+// $TESSERA_OPTIX7_INCLUDE_DIR (colon-separated) if set, else the installed one beside libtessera
+// (<includedir>/tessera/optix7), else the api/include7 directory of this build.
+std::vector<std::string> Optix7IncludeDirs();
+
+// How CompileProgramModule compiles. The defaults are the OptiX 3 layer's.
+struct ProgramCompileOptions {
+  // An OptiX 7 program: compiled against Optix7IncludeDirs() instead of ProgramIncludeDirs().
+  bool optix7 = false;
+  // The cache directory, created if missing (an OptiX 7 context's cache location); an error if
+  // it cannot be used. Empty: ModuleCacheDir(), or a temporary directory when that cannot be.
+  std::string cache_dir;
+};
+
 // A module in the compile cache: its path, its bytes and their SHA-256 (ModuleHash), read once
 // to check a cached module is the one compiled and handed on so nobody reads them again.
 struct CompiledModule {
@@ -33,7 +47,13 @@ struct CompiledModule {
 // when `source_path` is empty) into the cache, or finds it there. Compiler errors are
 // RT_ERROR_INVALID_SOURCE with the compiler's first lines.
 absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
-                                                    const std::string& source_path);
+                                                    const std::string& source_path,
+                                                    const ProgramCompileOptions& options = {});
+
+// Keeps a module that was compiled elsewhere (an application's own .so, or its bytes) in the
+// cache under its hash, so that it is a file of the cache like a compiled one.
+absl::StatusOr<CompiledModule> StoreProgramModule(absl::string_view bytes,
+                                                  const ProgramCompileOptions& options = {});
 
 }  // namespace tessera::api
 

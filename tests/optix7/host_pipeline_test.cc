@@ -1,0 +1,164 @@
+// Pipelines (link options, option consistency, contexts), SBT header packing, and optixLaunch's
+// argument checks (launches themselves come with the engine).
+#include <cuda_runtime.h>
+
+#include <cstring>
+#include <string>
+
+#include "host_api_fixture.h"
+
+namespace tessera_test {
+namespace {
+
+using PipelineTest = OptixHostTest;
+
+TEST_F(PipelineTest, LinkOptionsAndOptionConsistency) {
+  OptixModule m = CompileModule();
+  OptixProgramGroupDesc desc = Raygen(m, "__raygen__rg");
+  OptixProgramGroup raygen = nullptr;
+  ASSERT_EQ(optixProgramGroupCreate(context_, &desc, 1, nullptr, nullptr, nullptr, &raygen),
+            OPTIX_SUCCESS);
+  OptixPipelineLinkOptions link{};
+  link.maxTraceDepth = 32;
+  OptixPipeline pipeline = nullptr;
+  EXPECT_EQ(optixPipelineCreate(context_, &pipeline_options_, &link, &raygen, 1, nullptr, nullptr,
+                                &pipeline),
+            OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "pipelineLinkOptions->maxTraceDepth is 32; OptiX allows at most 31"));
+  link.maxTraceDepth = 1;
+  EXPECT_EQ(optixPipelineCreate(context_, &pipeline_options_, &link, &raygen, 0, nullptr, nullptr,
+                                &pipeline),
+            OPTIX_ERROR_INVALID_VALUE);
+
+  // Options that differ from the module's: a warning, or an error in validation mode.
+  OptixPipelineCompileOptions other = pipeline_options_;
+  other.numPayloadValues = 4;
+  char log[1024];
+  size_t log_size = sizeof(log);
+  ASSERT_EQ(optixPipelineCreate(context_, &other, &link, &raygen, 1, log, &log_size, &pipeline),
+            OPTIX_SUCCESS);
+  EXPECT_NE(std::string(log).find("numPayloadValues (4 here, 3 there)"), std::string::npos) << log;
+  EXPECT_TRUE(Logged(3, "numPayloadValues (4 here, 3 there)"));
+
+  OptixDeviceContext validating = CreateContext(true);
+  OptixModule vm = CompileModule(kAllKindsSource, validating);
+  desc = Raygen(vm, "__raygen__rg");
+  OptixProgramGroup vraygen = nullptr;
+  ASSERT_EQ(optixProgramGroupCreate(validating, &desc, 1, nullptr, nullptr, nullptr, &vraygen),
+            OPTIX_SUCCESS);
+  OptixPipeline strict = nullptr;
+  EXPECT_EQ(optixPipelineCreate(validating, &other, &link, &vraygen, 1, nullptr, nullptr, &strict),
+            OPTIX_ERROR_INVALID_VALUE);
+  // Groups of one context in a pipeline of another.
+  EXPECT_EQ(optixPipelineCreate(validating, &pipeline_options_, &link, &raygen, 1, nullptr, nullptr,
+                                &strict),
+            OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "programGroups[0] belongs to another device context"));
+  // Destroying a context ends its objects' handles.
+  ASSERT_EQ(optixDeviceContextDestroy(validating), OPTIX_SUCCESS);
+  contexts_.pop_back();
+  OptixStackSizes sizes{};
+  EXPECT_EQ(optixProgramGroupGetStackSize(vraygen, &sizes, nullptr), OPTIX_ERROR_INVALID_VALUE);
+}
+
+TEST_F(PipelineTest, SbtHeaderPackingAndLaunchArgumentChecks) {
+  OptixModule m = CompileModule();
+  OptixProgramGroupDesc d[2] = {Raygen(m, "__raygen__rg"), {}};
+  d[1].kind = OPTIX_PROGRAM_GROUP_KIND_MISS;
+  d[1].miss = {m, "__miss__ms"};
+  OptixProgramGroup g[2] = {};
+  ASSERT_EQ(optixProgramGroupCreate(context_, d, 2, nullptr, nullptr, nullptr, g), OPTIX_SUCCESS);
+
+  struct alignas(OPTIX_SBT_RECORD_ALIGNMENT) Record {
+    unsigned char header[OPTIX_SBT_RECORD_HEADER_SIZE];
+    float data[4];
+  };
+  Record records[2];
+  std::memset(records, 0xab, sizeof(records));
+  ASSERT_EQ(optixSbtRecordPackHeader(g[0], records[0].header), OPTIX_SUCCESS);
+  ASSERT_EQ(optixSbtRecordPackHeader(g[1], records[1].header), OPTIX_SUCCESS);
+  // worker/memory/sbt_header.h: kSbtHeaderMagic, the group's id, zeros.
+  unsigned long long magic = 0, id0 = 0, id1 = 0, reserved[2] = {1, 1};
+  std::memcpy(&magic, records[0].header, 8);
+  EXPECT_EQ(magic, 0x3152485453455354ull);
+  std::memcpy(&id0, records[0].header + 8, 8);
+  std::memcpy(&id1, records[1].header + 8, 8);
+  std::memcpy(reserved, records[0].header + 16, 16);
+  EXPECT_NE(id0, 0u);
+  EXPECT_NE(id0, id1);
+  EXPECT_EQ(reserved[0], 0u);
+  EXPECT_EQ(reserved[1], 0u);
+  EXPECT_EQ(records[0].data[0], records[1].data[0]);  // the data is not touched
+  EXPECT_EQ(optixSbtRecordPackHeader(g[0], nullptr), OPTIX_ERROR_INVALID_VALUE);
+
+  void* device = nullptr;
+  ASSERT_EQ(cudaMalloc(&device, sizeof(records)), cudaSuccess);
+  EXPECT_EQ(optixSbtRecordPackHeader(g[0], device), OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "sbtRecordHeaderHostPointer is device memory"));
+  ASSERT_EQ(cudaMemcpy(device, records, sizeof(records), cudaMemcpyHostToDevice), cudaSuccess);
+  const CUdeviceptr base = reinterpret_cast<CUdeviceptr>(device);
+  void* params = nullptr;
+  ASSERT_EQ(cudaMalloc(&params, 64), cudaSuccess);
+
+  OptixPipelineLinkOptions link{};
+  link.maxTraceDepth = 1;
+  OptixPipeline pipeline = nullptr;
+  ASSERT_EQ(
+      optixPipelineCreate(context_, &pipeline_options_, &link, g, 2, nullptr, nullptr, &pipeline),
+      OPTIX_SUCCESS);
+  OptixShaderBindingTable sbt{};
+  sbt.raygenRecord = base;
+  sbt.missRecordBase = base + sizeof(Record);
+  sbt.missRecordStrideInBytes = sizeof(Record);
+  sbt.missRecordCount = 1;
+  const CUdeviceptr p = reinterpret_cast<CUdeviceptr>(params);
+
+  EXPECT_EQ(optixLaunch(nullptr, 0, p, 64, &sbt, 4, 4, 1), OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, nullptr, 4, 4, 1), OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "optixLaunch: sbt is null"));
+  OptixShaderBindingTable bad = sbt;
+  bad.raygenRecord = reinterpret_cast<CUdeviceptr>(&records[0]);
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, &bad, 4, 4, 1), OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "is not device memory"));
+  bad = sbt;
+  bad.missRecordStrideInBytes = 24;
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, &bad, 4, 4, 1), OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "sbt->missRecordStrideInBytes is 24, not a multiple of"));
+  bad = sbt;
+  bad.missRecordCount = 2;  // past the allocation
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, &bad, 4, 4, 1), OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "are not in one cudaMalloc allocation"));
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, 128, &sbt, 4, 4, 1), OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "(128 bytes) is not in one cudaMalloc allocation"));
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, &sbt, 0, 4, 1), OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, &sbt, 1u << 16, 1u << 15, 1),
+            OPTIX_ERROR_INVALID_VALUE);
+  EXPECT_TRUE(Logged(2, "at most 2^30"));
+  // Valid arguments reach optix7::Launch; until launches land it says it cannot run them.
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, &sbt, 4, 4, 1), OPTIX_ERROR_NOT_SUPPORTED);
+  EXPECT_TRUE(Logged(2, "launches are not implemented yet"));
+
+  // Validation mode reads the records' headers: one never packed is refused.
+  OptixDeviceContext validating = CreateContext(true);
+  OptixModule vm = CompileModule(kAllKindsSource, validating);
+  OptixProgramGroupDesc vd = Raygen(vm, "__raygen__rg");
+  OptixProgramGroup vg = nullptr;
+  ASSERT_EQ(optixProgramGroupCreate(validating, &vd, 1, nullptr, nullptr, nullptr, &vg),
+            OPTIX_SUCCESS);
+  OptixPipeline vp = nullptr;
+  ASSERT_EQ(
+      optixPipelineCreate(validating, &pipeline_options_, &link, &vg, 1, nullptr, nullptr, &vp),
+      OPTIX_SUCCESS);
+  OptixShaderBindingTable vsbt{};
+  vsbt.raygenRecord = base;  // packed by g[0], which is not in vp
+  EXPECT_EQ(optixLaunch(vp, 0, p, 64, &vsbt, 4, 4, 1), OPTIX_ERROR_VALIDATION_FAILURE);
+  EXPECT_TRUE(Logged(2, "was packed by a program group not in the pipeline"));
+  ASSERT_EQ(cudaMemset(device, 0, sizeof(Record)), cudaSuccess);
+  EXPECT_EQ(optixLaunch(vp, 0, p, 64, &vsbt, 4, 4, 1), OPTIX_ERROR_VALIDATION_FAILURE);
+  EXPECT_TRUE(Logged(2, "has no header packed by optixSbtRecordPackHeader"));
+  EXPECT_EQ(cudaFree(device), cudaSuccess);
+  EXPECT_EQ(cudaFree(params), cudaSuccess);
+}
+
+}  // namespace
+}  // namespace tessera_test
