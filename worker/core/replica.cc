@@ -551,6 +551,9 @@ void Replica::ApplyObject(const v1::Object& o) {
       texture_samplers[t.id()] = r;
       break;
     }
+    case v1::Object::kOptix7ProgramGroup:
+    case v1::Object::kOptix7Pipeline:
+      break;  // OptiX 7 objects are the device's Optix7State, not the OptiX 3 replica's
     case v1::Object::KIND_NOT_SET:
       break;
   }

@@ -27,6 +27,10 @@ uint64_t ObjectId(const Object& o) {
       return o.acceleration().id();
     case Object::kTextureSampler:
       return o.texture_sampler().id();
+    case Object::kOptix7ProgramGroup:
+      return o.optix7_program_group().id();
+    case Object::kOptix7Pipeline:
+      return o.optix7_pipeline().id();
     case Object::KIND_NOT_SET:
       break;
   }
