@@ -131,9 +131,9 @@ absl::StatusOr<Optix7Record> ReadRecord(const Optix7Launch& l, uint64_t address,
                                                    ", which is not in the launch's pipeline"));
   }
   if (it->second.kind != kind) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        at, "packed for program group ", header.program_group, ", a ",
-        GroupKindName(it->second.kind), " group, where a ", GroupKindName(kind), " group belongs"));
+    return absl::InvalidArgumentError(
+        absl::StrCat(at, "packed for program group ", header.program_group, ", whose kind is ",
+                     GroupKindName(it->second.kind), ", not ", GroupKindName(kind)));
   }
   return Optix7Record{&it->second, address + sizeof(memory::SbtHeader), 0};
 }
