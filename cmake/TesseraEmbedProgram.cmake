@@ -5,7 +5,7 @@
 # holding the compiled module as NUL-free text, which the host passes to optixModuleCreate as
 # it would the PTX (`std::string ptx = name; optixModuleCreate(..., ptx.c_str(), ptx.size(), ...)`).
 # Compile errors then stop the build, not the application, and nothing is compiled at run time.
-# The module is compiled against TESSERA_OPTIX7_INCLUDE_DIRS (OptiX 7's optix.h) with
+# The module is compiled against TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS (OptiX 7's optix.h) with
 # __CUDACC__ defined, plus INCLUDES (the application's own headers, e.g. its LaunchParams.h).
 # The text is "TESSERA-MODULE-HEX:" followed by the module's bytes in hexadecimal (docs/optix7.md,
 # "Embedded programs").
@@ -23,7 +23,7 @@ function(tessera_embed_program)
   target_compile_features(${_module} PRIVATE cxx_std_17)
   target_compile_options(${_module} PRIVATE -x c++ -O2 ${TESSERA_PROGRAM_MODULE_OPTIONS})
   target_compile_definitions(${_module} PRIVATE __CUDACC__)
-  target_include_directories(${_module} PRIVATE ${TESSERA_OPTIX7_INCLUDE_DIRS} ${A_INCLUDES})
+  target_include_directories(${_module} PRIVATE ${TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS} ${A_INCLUDES})
   set_target_properties(${_module} PROPERTIES PREFIX "" SUFFIX ".so"
     LIBRARY_OUTPUT_DIRECTORY "$<1:${CMAKE_CURRENT_BINARY_DIR}/${_module}>")
   set(_embedded ${CMAKE_CURRENT_BINARY_DIR}/${A_SYMBOL}_embedded.cc)

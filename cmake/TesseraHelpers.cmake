@@ -2,8 +2,7 @@
 
 # Program modules compile against the program-side headers only.
 set(TESSERA_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include CACHE INTERNAL "")
-# OptiX 7 programs compile against the OptiX 7 root (tessera_embed_program).
-set(TESSERA_OPTIX7_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include7 CACHE INTERNAL "")
+set(TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include7 CACHE INTERNAL "")
 include(${CMAKE_CURRENT_LIST_DIR}/TesseraEmbedProgram.cmake)
 
 add_library(tessera_warnings INTERFACE)
@@ -41,4 +40,5 @@ endfunction()
 # Program modules of Tessera's own tree warn as errors, like the rest of its code.
 set(TESSERA_PROGRAM_MODULE_OPTIONS -Wall -Wextra -Werror -Wno-unused-parameter
   -Wno-sign-compare)  # rtBuffer::size() is size_t, as in OptiX; SDK loops use int
+set(TESSERA_OPTIX7_PROGRAM_MODULE_OPTIONS -Wall -Wextra -Werror)
 include(${CMAKE_CURRENT_LIST_DIR}/TesseraProgramModule.cmake)

@@ -40,3 +40,29 @@ function(tessera_add_program_module)
   set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"
     LIBRARY_OUTPUT_DIRECTORY "$<1:${A_OUTPUT_DIRECTORY}>")
 endfunction()
+
+# tessera_add_optix7_program_module(TARGET name SOURCES file.cu ... [INCLUDES dir ...]
+#                                   [OUTPUT_DIRECTORY dir])
+# The same for OptiX 7 programs: the .cu file compiled as C++ with __CUDACC__ defined against the
+# OptiX 7 include root in TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS (optix.h then gives
+# optix_device.h), the g++ line of docs/optix7.md. The engine finds its entry points
+# (__raygen__*, ...) and launch parameters by symbol name. One module per .cu, as OptiX compiles
+# one PTX or OptiX-IR file per .cu.
+function(tessera_add_optix7_program_module)
+  cmake_parse_arguments(A "" "TARGET;OUTPUT_DIRECTORY" "SOURCES;INCLUDES" ${ARGN})
+  if(NOT A_TARGET OR NOT A_SOURCES)
+    message(FATAL_ERROR "tessera_add_optix7_program_module needs TARGET and SOURCES")
+  endif()
+  if(NOT A_OUTPUT_DIRECTORY)
+    set(A_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/modules)
+  endif()
+  add_library(${A_TARGET} MODULE ${A_SOURCES})
+  set_source_files_properties(${A_SOURCES} PROPERTIES LANGUAGE CXX)
+  target_compile_features(${A_TARGET} PRIVATE cxx_std_17)
+  target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 ${TESSERA_OPTIX7_PROGRAM_MODULE_OPTIONS})
+  target_compile_definitions(${A_TARGET} PRIVATE __CUDACC__)
+  target_include_directories(${A_TARGET} PRIVATE ${TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS}
+    ${A_INCLUDES})
+  set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"
+    LIBRARY_OUTPUT_DIRECTORY "$<1:${A_OUTPUT_DIRECTORY}>")
+endfunction()

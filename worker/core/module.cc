@@ -2,6 +2,7 @@
 
 #include <cxxabi.h>
 #include <dlfcn.h>
+#include <link.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -17,6 +18,7 @@
 #include "absl/strings/strip.h"
 #include "interrupt.h"
 #include "module_store.h"
+#include "optix7_module_init.h"
 #include "runtime.h"
 #include "tessera/scheduler/module_file.h"
 #include "tessera/scheduler/module_symbol.h"
@@ -80,6 +82,12 @@ std::string SymbolName(const void* object) {
 
 thread_local std::vector<std::vector<void*>> t_slots;
 
+// Process-wide, not per cache: the index selects a module's per-thread slot tables.
+int NextModuleIndex() {
+  static std::atomic<int> next_index{0};
+  return next_index++;
+}
+
 }  // namespace
 
 void* const* Module::Slots() const {
@@ -97,6 +105,24 @@ void* Module::Function(const std::string& name) const {
   auto [it, inserted] = functions_.try_emplace(name, nullptr);
   if (inserted) it->second = scheduler::FindModuleFunction(handle_, name.c_str());
   return it->second;
+}
+
+void* Module::Data(const std::string& name, size_t* size) const {
+  void* symbol = dlsym(handle_, name.c_str());
+  if (symbol == nullptr) return nullptr;
+  link_map* self = nullptr;
+  Dl_info info{};
+  void* extra = nullptr;
+  // The module's own object, not one a library it links defines.
+  if (dlinfo(handle_, RTLD_DI_LINKMAP, &self) != 0 ||
+      dladdr1(symbol, &info, &extra, RTLD_DL_LINKMAP) == 0 || extra != self ||
+      dladdr1(symbol, &info, &extra, RTLD_DL_SYMENT) == 0 || extra == nullptr) {
+    return nullptr;
+  }
+  const auto* sym = static_cast<const ElfW(Sym)*>(extra);
+  if (ELF64_ST_TYPE(sym->st_info) != STT_OBJECT) return nullptr;
+  *size = sym->st_size;
+  return symbol;
 }
 
 ModuleCache& ModuleCache::Get() {
@@ -225,10 +251,25 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
   }
   auto init = reinterpret_cast<TesseraModuleInitFn>(dlsym(handle, TESSERA_MODULE_INIT_SYMBOL));
   if (init == nullptr) {
-    dlclose(handle);
-    return absl::InvalidArgumentError(absl::StrCat("program module ", path,
-                                                   " was not built against tessera/device.h (no ",
-                                                   TESSERA_MODULE_INIT_SYMBOL, ")"));
+    // An OptiX 7 module has no registry: its programs and `params` are found by symbol name.
+    absl::StatusOr<bool> optix7 = InitOptix7Module(handle, path);
+    if (!optix7.ok() || !*optix7) {
+      dlclose(handle);
+      if (!optix7.ok()) return optix7.status();
+      return absl::InvalidArgumentError(
+          absl::StrCat("program module ", path, " was built against neither tessera/device.h (no ",
+                       TESSERA_MODULE_INIT_SYMBOL, ") nor the OptiX 7 optix_device.h (no ",
+                       kOptix7ModuleInitSymbol, ")"));
+    }
+    RegisterModuleCode(handle);  // a program looping forever in it can be jumped out of
+    auto module = std::make_unique<Module>();
+    module->index_ = NextModuleIndex();
+    module->path_ = file;
+    module->handle_ = handle;
+    module->optix7_ = true;
+    const Module* result = module.get();
+    modules_.emplace(hash, std::move(module));
+    return result;
   }
   const TesseraModuleInfo* info = init(EngineRuntime(), TESSERA_MODULE_ABI_VERSION);
   if (info == nullptr || info->abi_version != TESSERA_MODULE_ABI_VERSION) {
@@ -242,9 +283,7 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
   }
   RegisterModuleCode(handle);  // a program looping forever in it can be jumped out of
   auto module = std::make_unique<Module>();
-  // Process-wide, not per cache: the index selects this module's per-thread slot tables.
-  static std::atomic<int> next_index{0};
-  module->index_ = next_index++;
+  module->index_ = NextModuleIndex();
   module->path_ = file;
   module->handle_ = handle;
   module->info_ = info;

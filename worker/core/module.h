@@ -67,6 +67,12 @@ class Module {
   size_t per_call_bytes() const { return per_call_bytes_; }
   // The calling thread's slot addresses, one per variable (cached per thread).
   void* const* Slots() const;
+  // Whether this is an OptiX 7 module (optix_device.h's tessera_optix7_module_init, which the
+  // cache called with the OptiX 7 engine's table): it has entry functions and a launch-parameter
+  // variable, none of the OptiX 3 registry (variables, buffers, textures stay empty).
+  bool optix7() const { return optix7_; }
+  // The module's own global variable `name` and its size in bytes; null if it defines none.
+  void* Data(const std::string& name, size_t* size) const;
   // Null if the module itself defines no global function of that name. Cached: every launch
   // plan binds each (program, scope) pair, and dlsym plus two dladdr1 calls per binding were a
   // sixth of rebuilding a plan of 10,000 instances.
@@ -78,6 +84,7 @@ class Module {
   std::string path_;
   void* handle_ = nullptr;
   const TesseraModuleInfo* info_ = nullptr;
+  bool optix7_ = false;
   std::vector<ModuleVariable> variables_;
   std::vector<ModuleBuffer> buffers_;
   std::vector<ModuleTexture> textures_;

@@ -33,6 +33,29 @@ absl::Status Committed(RTCDevice device, RTCScene scene, const char* what) {
   return absl::OkStatus();
 }
 
+// The inverse of a 3x4 row-major affine transform, in double precision (zeros for a singular one,
+// which places nothing: Embree refuses such an instance anyway).
+void InvertAffine(const float m[12], float out[12]) {
+  const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9],
+               i = m[10];
+  const double co[9] = {e * i - f * h, c * h - b * i, b * f - c * e, f * g - d * i, a * i - c * g,
+                        c * d - a * f, d * h - e * g, b * g - a * h, a * e - b * d};
+  const double det = a * co[0] + b * co[3] + c * co[6];
+  if (det == 0) {
+    std::memset(out, 0, 12 * sizeof(float));
+    return;
+  }
+  const double t[3] = {m[3], m[7], m[11]};
+  for (int r = 0; r < 3; ++r) {
+    double translation = 0;
+    for (int k = 0; k < 3; ++k) {
+      out[r * 4 + k] = static_cast<float>(co[r * 3 + k] / det);
+      translation -= co[r * 3 + k] / det * t[k];
+    }
+    out[r * 4 + 3] = static_cast<float>(translation);
+  }
+}
+
 RTCBuildQuality QualityOf(uint32_t build_flags) {
   constexpr uint32_t kPreferFastBuild = 1u << 3;  // OPTIX_BUILD_FLAG_PREFER_FAST_BUILD
   return (build_flags & kPreferFastBuild) != 0 ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM;
@@ -63,15 +86,28 @@ absl::StatusOr<const Optix7Scene*> Optix7SceneCache::Get(uint64_t handle) {
   s->kind = h.kind;
   s->header = &h;
   s->scene = rtcNewScene(device_);
+  // Traces that need per-hit decisions on triangles (any-hit programs, culling, masks) pass a
+  // filter in their intersect context; the others pass none and pay nothing for it.
+  rtcSetSceneFlags(s->scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(s->scene, QualityOf(h.build_flags));
   const auto* bytes = reinterpret_cast<const unsigned char*>(handle);
   if (h.kind == AccelKind::kInstances) {
+    s->instances.reserve(h.primitive_count);
     for (uint64_t k = 0; k < h.primitive_count; ++k) {
       const unsigned char* record = bytes + h.inputs_offset + k * memory::kInstanceBytes;
-      float transform[12];
+      Optix7Scene::Instance& inst = s->instances.emplace_back();
+      float(&transform)[12] = inst.to_world;
       uint64_t child_handle;
+      // OptixInstance layout: transform[12], instanceId, sbtOffset, visibilityMask, flags,
+      // traversableHandle.
       std::memcpy(transform, record, sizeof(transform));
-      std::memcpy(&child_handle, record + 64, sizeof(child_handle));  // OptixInstance layout
+      std::memcpy(&inst.id, record + 48, 4);
+      std::memcpy(&inst.sbt_offset, record + 52, 4);
+      std::memcpy(&inst.mask, record + 56, 4);
+      std::memcpy(&inst.flags, record + 60, 4);
+      std::memcpy(&child_handle, record + 64, sizeof(child_handle));
+      inst.child = child_handle;
+      InvertAffine(transform, inst.to_object);
       absl::StatusOr<const Optix7Scene*> child = Get(child_handle);
       if (!child.ok()) {
         return absl::InvalidArgumentError(
@@ -91,11 +127,23 @@ absl::StatusOr<const Optix7Scene*> Optix7SceneCache::Get(uint64_t handle) {
       rtcReleaseGeometry(g);
       s->children.push_back(*child);
     }
+    // Distinct masks first: instances are many, masks at most 256.
+    std::bitset<256> masks;
+    for (const Optix7Scene::Instance& inst : s->instances) masks.set(inst.mask & 0xFFu);
+    for (unsigned r = 0; r < 256; ++r) {
+      bool all = true;
+      for (unsigned m = 0; m < 256 && all; ++m) all = !masks.test(m) || (m & r) != 0;
+      s->all_visible.set(r, all);
+    }
   } else {
     const auto* inputs = reinterpret_cast<const AccelInput*>(bytes + h.inputs_offset);
     s->custom_boxes.reserve(h.input_count);
+    uint32_t sbt_base = 0;
     for (uint32_t i = 0; i < h.input_count; ++i) {
       const AccelInput& in = inputs[i];
+      s->sbt_bases.push_back(sbt_base);
+      const uint32_t input_base = sbt_base;
+      sbt_base += in.num_sbt_records;
       if (in.primitive_count == 0) continue;  // nothing to hit
       RTCGeometry g;
       if (h.kind == AccelKind::kTriangles) {
@@ -127,7 +175,9 @@ absl::StatusOr<const Optix7Scene*> Optix7SceneCache::Get(uint64_t handle) {
         return absl::InternalError("Embree numbered geometries out of order");
       }
       s->input_of_geometry.push_back(i);
+      s->geometries.push_back(Optix7Scene::Geometry{in, input_base});
     }
+    s->sbt_bases.push_back(sbt_base);
   }
   if (absl::Status st = Committed(device_, s->scene, "an OptiX 7 acceleration"); !st.ok()) {
     return st;

@@ -7,6 +7,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <bitset>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -31,6 +32,32 @@ struct Optix7Scene {
   std::vector<const float*> custom_boxes;
   // The descriptor the scene was built from, in device memory (valid while the memory is).
   const memory::AccelHeader* header = nullptr;
+
+  // What the engine needs at a hit, copied out of the descriptor so that tracing reads no
+  // descriptor fields. GAS: per Embree geometry, its build input and the SBT geometry-AS index of
+  // the input's first record (the prefix sum of num_sbt_records over the inputs before it, empty
+  // inputs included: OptiX 7.7 guide 7.3.2).
+  struct Geometry {
+    memory::AccelInput input;
+    uint32_t sbt_base = 0;
+  };
+  std::vector<Geometry> geometries;
+  // GAS: the SBT geometry-AS index where each input's records begin, per input (empty inputs
+  // included), and one past the last: optixGetTriangleVertexData finds an input by it.
+  std::vector<uint32_t> sbt_bases;
+  // IAS: per instance (its Embree geometry ID is its index), the OptixInstance fields and the
+  // inverse of its transform (3x4 row-major, object to world).
+  struct Instance {
+    // Aligned: programs read them as float4[3] (optixGetInstanceTransformFromHandle).
+    alignas(16) float to_world[12];
+    alignas(16) float to_object[12];
+    uint32_t id = 0, sbt_offset = 0, mask = 0, flags = 0;
+    uint64_t child = 0;
+  };
+  std::vector<Instance> instances;
+  // IAS: bit r is set when every instance shares a bit with visibility mask r: rays with such a
+  // mask need no per-hit mask test.
+  std::bitset<256> all_visible;
 };
 
 class Optix7SceneCache {

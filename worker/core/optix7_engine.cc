@@ -1,0 +1,293 @@
+// Optix7Engine's tiles: the launch indices of a tile, each running the raygen program; exceptions
+// raised at an index go to the exception program, or without one to the tile's reports; and the
+// helpers every part of the engine raises and fails through.
+#include "optix7_engine.h"
+
+#include <pthread.h>
+
+#include <algorithm>
+#include <csetjmp>
+#include <cstring>
+#include <memory>
+
+#include "absl/strings/str_cat.h"
+#include "interrupt.h"
+#include "optix7_launch.h"
+#include "optix7_thread.h"
+#include "optix_types.h"
+
+namespace tessera::worker {
+
+__thread Optix7Thread* t_optix7 __attribute__((tls_model("initial-exec"))) = nullptr;
+
+namespace {
+
+thread_local std::unique_ptr<Optix7Thread> t_optix7_owner;  // frees the state at thread end
+
+// The native stack a launch index may use for nested optixTrace and callable calls, measured
+// from where its tile began, so that where deep recursion runs out does not depend on the thread
+// (TBB's have 4 MiB of stack, others 8 MiB). As the OptiX 3 engine's (thread_state.h).
+constexpr size_t kNativeStackBudget = 3 * 1024 * 1024 + 256 * 1024;
+
+std::string IndexText(const Index3& i) {
+  return absl::StrCat("(", i[0], ", ", i[1], ", ", i[2], ")");
+}
+
+const char* KindName(Optix7Kind k) {
+  switch (k) {
+    case Optix7Kind::kRaygen:
+      return "raygen";
+    case Optix7Kind::kMiss:
+      return "miss";
+    case Optix7Kind::kClosestHit:
+      return "closest-hit";
+    case Optix7Kind::kAnyHit:
+      return "any-hit";
+    case Optix7Kind::kIntersection:
+      return "intersection";
+    case Optix7Kind::kException:
+      return "exception";
+    case Optix7Kind::kDirectCallable:
+      return "direct-callable";
+    case Optix7Kind::kContinuationCallable:
+      return "continuation-callable";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+Optix7Thread& CreateOptix7Thread() {
+  t_optix7_owner = std::make_unique<Optix7Thread>();
+  t_optix7 = t_optix7_owner.get();
+  pthread_attr_t attr;
+  if (pthread_getattr_np(pthread_self(), &attr) == 0) {
+    void* base = nullptr;
+    size_t size = 0;
+    if (pthread_attr_getstack(&attr, &base, &size) == 0 && base != nullptr) {
+      constexpr size_t kReserve = 256 * 1024;  // one more level of engine, Embree and program
+      t_optix7->stack_floor = static_cast<const char*>(base) + std::min(size / 2, kReserve);
+    }
+    pthread_attr_destroy(&attr);
+  }
+  return *t_optix7;
+}
+
+std::mutex& Optix7CallMutex() {
+  static std::mutex mu;
+  return mu;
+}
+
+const char* ExceptionCodeName(int code) {
+  switch (code) {
+    case OPTIX_EXCEPTION_CODE_STACK_OVERFLOW:
+      return "OPTIX_EXCEPTION_CODE_STACK_OVERFLOW";
+    case OPTIX_EXCEPTION_CODE_TRACE_DEPTH_EXCEEDED:
+      return "OPTIX_EXCEPTION_CODE_TRACE_DEPTH_EXCEEDED";
+    case OPTIX_EXCEPTION_CODE_TRAVERSAL_INVALID_MISS_SBT:
+      return "OPTIX_EXCEPTION_CODE_TRAVERSAL_INVALID_MISS_SBT";
+    case OPTIX_EXCEPTION_CODE_TRAVERSAL_INVALID_HIT_SBT:
+      return "OPTIX_EXCEPTION_CODE_TRAVERSAL_INVALID_HIT_SBT";
+    case OPTIX_EXCEPTION_CODE_INVALID_RAY:
+      return "OPTIX_EXCEPTION_CODE_INVALID_RAY";
+    case OPTIX_EXCEPTION_CODE_CALLABLE_INVALID_SBT:
+      return "OPTIX_EXCEPTION_CODE_CALLABLE_INVALID_SBT";
+    case OPTIX_EXCEPTION_CODE_CALLABLE_NO_DC_SBT_RECORD:
+      return "OPTIX_EXCEPTION_CODE_CALLABLE_NO_DC_SBT_RECORD";
+    case OPTIX_EXCEPTION_CODE_CALLABLE_NO_CC_SBT_RECORD:
+      return "OPTIX_EXCEPTION_CODE_CALLABLE_NO_CC_SBT_RECORD";
+    case OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_0:
+      return "OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_0";
+    case OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_1:
+      return "OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_1";
+    case OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_2:
+      return "OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_2";
+    default:
+      return code >= 0 ? "user exception" : "exception";
+  }
+}
+
+std::string ProgramName(const Optix7Context& ctx) {
+  const Optix7Group* g = ctx.record != nullptr ? ctx.record->group : nullptr;
+  if (g == nullptr) return absl::StrCat("a ", KindName(ctx.kind), " program");
+  const Optix7Entry* e = &g->entry;
+  switch (ctx.kind) {
+    case Optix7Kind::kClosestHit:
+      e = &g->closest_hit;
+      break;
+    case Optix7Kind::kAnyHit:
+      e = &g->any_hit;
+      break;
+    case Optix7Kind::kIntersection:
+      e = &g->intersection;
+      break;
+    case Optix7Kind::kContinuationCallable:
+      e = &g->continuation;
+      break;
+    default:
+      break;
+  }
+  return absl::StrCat(KindName(ctx.kind), " program ", e->name, " (program group ", g->id, ")");
+}
+
+void Raise(Optix7Thread& ts, Optix7Exception e, const std::string& what) {
+  e.text = absl::StrCat("Caught ", ExceptionCodeName(e.code), " (", e.code, ") at launch index ",
+                        IndexText(ts.index), ": ", what, " (in ", ProgramName(ts.ctx), ")");
+  throw e;
+}
+
+void Fail(const Optix7Thread& ts, const char* call, const std::string& what) {
+  throw FatalError{absl::FailedPreconditionError(absl::StrCat(
+      call, " from ", ProgramName(ts.ctx), " at launch index ", IndexText(ts.index), ": ", what))};
+}
+
+void CheckKind(const Optix7Thread& ts, unsigned kinds, const char* call) {
+  if (__builtin_expect(!(kinds & KindBit(ts.ctx.kind)), 0)) {
+    Fail(ts, call, absl::StrCat("not allowed in a ", KindName(ts.ctx.kind), " program"));
+  }
+}
+
+const Optix7Scene* SceneOf(Optix7Thread& ts, uint64_t handle, const char* call) {
+  if (ts.scene_serial == ts.launch->serial && ts.scene_handle == handle) return ts.scene;
+  absl::StatusOr<const Optix7Scene*> s = ts.launch->engine->Scene(handle);
+  if (!s.ok()) Fail(ts, call, std::string(s.status().message()));
+  ts.scene_serial = ts.launch->serial;
+  ts.scene_handle = handle;
+  ts.scene = *s;
+  return *s;
+}
+
+void ResetOptix7Nesting(Optix7Thread& ts) {
+  for (unsigned i = 0; i < ts.depth; ++i) {
+    ts.frames[i].pending = nullptr;
+    ts.frames[i].embree = nullptr;
+  }
+  ts.depth = 0;
+  ts.callers.clear();
+  ts.any_hit_end = nullptr;
+}
+
+namespace {
+
+// Without an exception program, an exception ends its launch index with a report, as OptiX's
+// default exception program prints one. A tile sends its first report and counts the rest, as
+// OptiX 3 launches do (runtime.cc), so a launch that throws everywhere costs no memory per index.
+void Report(Optix7Thread& ts, const Optix7Exception& e) {
+  if (!ts.report_sent) {
+    ts.report_sent = true;
+    v1::ExceptionReport* r = ts.out->add_exceptions();
+    for (uint32_t i : ts.index) r->add_launch_index(i);
+    r->set_code(static_cast<uint32_t>(e.code));
+    r->set_details(e.text);
+    return;
+  }
+  v1::ExceptionReport*& rest = ts.reports_not_sent;
+  if (rest == nullptr) rest = ts.out->add_exceptions();
+  rest->set_not_sent(rest->not_sent() + 1);
+  rest->set_not_sent_unshown(rest->not_sent_unshown() + 1);
+}
+
+__attribute__((noinline)) void HandleException(Optix7Thread& ts, Optix7Exception& e) {
+  ResetOptix7Nesting(ts);
+  const Optix7Record& ex = ts.launch->exception;
+  if (ex.group == nullptr || ex.group->entry.function == nullptr) {
+    Report(ts, e);
+    return;
+  }
+  ts.exception = std::move(e);
+  ts.ctx = Optix7Context{Optix7Kind::kException, &ex, nullptr, nullptr};
+  try {
+    ex.group->entry.function();
+  } catch (Optix7Exception& inner) {
+    // An exception inside the exception program ends the launch index with a report instead of
+    // vanishing.
+    ResetOptix7Nesting(ts);
+    Report(ts, inner);
+  }
+}
+
+inline void RunIndex(Optix7Thread& ts) {
+  const Optix7Record& rg = ts.launch->raygen;
+  if (__builtin_expect(ts.depth != 0 || !ts.callers.empty(), 0)) ResetOptix7Nesting(ts);
+  ts.ctx = Optix7Context{Optix7Kind::kRaygen, &rg, nullptr, nullptr};
+  try {
+    rg.group->entry.function();
+  } catch (Optix7Exception& e) {
+    HandleException(ts, e);
+  }
+}
+
+// Out of RunTile, whose sigsetjmp would keep this loop's values out of registers.
+__attribute__((noinline)) bool RunIndices(Optix7Thread& ts, const Index3& origin,
+                                          const Index3& size, const Index3& dims,
+                                          const std::atomic<bool>& cancel,
+                                          const std::atomic<bool>& stop) {
+  const Index3 end{std::min(origin[0] + size[0], dims[0]), std::min(origin[1] + size[1], dims[1]),
+                   std::min(origin[2] + size[2], dims[2])};
+  for (uint32_t z = origin[2]; z < end[2]; ++z) {
+    for (uint32_t y = origin[1]; y < end[1]; ++y) {
+      for (uint32_t x = origin[0]; x < end[0]; ++x) {
+        if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
+          return false;
+        }
+        ts.index = {x, y, z};
+        RunIndex(ts);
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Optix7Engine::Optix7Engine(RTCDevice device)
+    : scenes_(device, Optix7IntersectFunction(), [this](uint64_t address) -> size_t {
+        return launch_ != nullptr ? launch_->Readable(address) : 0;
+      }) {}
+
+Optix7Engine::~Optix7Engine() = default;
+
+absl::StatusOr<const Optix7Scene*> Optix7Engine::Scene(uint64_t handle) {
+  std::lock_guard<std::mutex> lock(scenes_mu_);
+  return scenes_.Get(handle);
+}
+
+bool Optix7Engine::RunTile(const Index3& origin, const Index3& size, const Index3& dims,
+                           const std::atomic<bool>& cancel, const std::atomic<bool>& stop,
+                           v1::TileResult& out) {
+  if (launch_ == nullptr) {
+    throw FatalError{absl::FailedPreconditionError("OptiX 7 tile run before Prepare")};
+  }
+  Optix7Thread& ts = Optix7TS();
+  ts.launch = launch_.get();
+  ts.dims = dims;
+  ts.out = &out;
+  ts.report_sent = false;
+  ts.reports_not_sent = nullptr;
+  const auto here = reinterpret_cast<uintptr_t>(__builtin_frame_address(0));
+  ts.stack_limit = std::max(
+      ts.stack_floor,
+      reinterpret_cast<const char*>(here > kNativeStackBudget ? here - kNativeStackBudget : 0));
+  struct Clear {  // nothing of the tile's outlives it
+    Optix7Thread& ts;
+    ~Clear() {
+      ResetOptix7Nesting(ts);
+      ts.out = nullptr;
+      ts.reports_not_sent = nullptr;
+      ts.ctx = Optix7Context{};
+    }
+  } clear{ts};
+  // A program that never returns is jumped out of when the launch ends (interrupt.h); the index it
+  // left half done is forgotten as an exception's would be, and the tile is abandoned.
+  InterruptibleTile interruptible(cancel, stop);
+  sigjmp_buf interrupted;
+  if (sigsetjmp(interrupted, 0) != 0) {
+    interruptible.Jumped();
+    ResetOptix7Nesting(ts);
+    return false;
+  }
+  interruptible.Arm(&interrupted);
+  return RunIndices(ts, origin, size, dims, cancel, stop);
+}
+
+}  // namespace tessera::worker

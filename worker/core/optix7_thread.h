@@ -1,0 +1,159 @@
+// Per-thread execution state of the OptiX 7 engine: the running program (its kind, SBT data, the
+// ray and hit it sees), one frame per optixTrace in progress, the exception being handled, and
+// how any-hit programs end. Each thread owns its state, so nothing on the per-ray path locks.
+// Internal to worker/core (optix7_*.cc).
+#ifndef TESSERA_WORKER_CORE_OPTIX7_THREAD_H_
+#define TESSERA_WORKER_CORE_OPTIX7_THREAD_H_
+
+#include <embree3/rtcore.h>
+
+#include <array>
+#include <csetjmp>
+#include <cstdint>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "optix7_launch.h"
+#include "optix7_scene.h"
+#include "runtime.h"
+#include "tessera/optix7_device_abi.h"
+#include "tessera/v1/launch.pb.h"
+
+namespace tessera::worker {
+
+enum class Optix7Kind : uint8_t {
+  kRaygen,
+  kMiss,
+  kClosestHit,
+  kAnyHit,
+  kIntersection,
+  kException,
+  kDirectCallable,
+  kContinuationCallable,
+};
+
+// A primitive under consideration or hit: where it is and, once reported, how it was hit.
+struct Optix7Hit {
+  float t = 0;
+  uint32_t hit_kind = 0;
+  uint32_t attributes[8] = {};  // triangles: the barycentrics' bits in 0 and 1
+  uint32_t primitive = 0;       // optixGetPrimitiveIndex: with the input's primitive index offset
+  uint32_t sbt_gas_index = 0;
+  uint32_t geometry_flags = 0;                      // the record's OptixGeometryFlags
+  const Optix7Scene::Instance* instance = nullptr;  // null: a GAS traced directly
+  uint32_t instance_index = 0;
+  uint64_t gas = 0;  // the GAS's traversable handle
+  const Optix7Scene::Geometry* geometry = nullptr;
+  uint32_t local_primitive = 0;  // within the build input (Embree's primID)
+  const Optix7Record* record = nullptr;
+};
+
+// One optixTrace in progress.
+struct Optix7Frame {
+  TesseraOptix7Trace ray{};  // world space; SBT offset, stride and miss index already masked
+  uint32_t payload[32] = {};
+  uint32_t num_payload = 0;
+  unsigned int* const* variables = nullptr;  // the caller's payload variables
+  uint64_t root_handle = 0;
+  const Optix7Scene* root = nullptr;
+  Optix7Hit candidate;  // of the running intersection or any-hit program
+  Optix7Hit committed;  // the closest accepted so far, when `has_committed`
+  bool has_committed = false;
+  bool terminated = false;  // optixTerminateRay or TERMINATE_ON_FIRST_HIT: accept no more hits
+  // An exception or error raised inside an Embree callback: kept there (nothing may unwind
+  // through Embree) and rethrown once traversal returns.
+  std::exception_ptr pending;
+  // While an intersection program runs: Embree's ray and hit (object-space ray, current tfar)
+  // and the instance ID it reached the primitive through.
+  RTCRayHit* embree = nullptr;
+  unsigned embree_geometry = 0, embree_instance = 0;
+};
+
+// What the running program sees.
+struct Optix7Context {
+  Optix7Kind kind = Optix7Kind::kRaygen;
+  const Optix7Record* record = nullptr;  // its SBT record (optixGetSbtDataPointer)
+  Optix7Frame* frame = nullptr;          // the ray it serves; null in raygen and exception
+  Optix7Hit* hit = nullptr;              // intersection and any-hit: the candidate; closest hit
+};
+
+// An exception raised at a launch index (optixThrowException, or one of OptiX's built-in codes):
+// thrown as a C++ exception to the launch index's loop, which runs the exception program.
+struct Optix7Exception {
+  int code = 0;
+  std::string text;  // for the report without exception program
+  uint32_t details[8] = {};
+  uint64_t invalid_traversable = 0;
+  int invalid_sbt_offset = 0;
+  float invalid_ray[9] = {};
+};
+
+struct Optix7Thread {
+  const Optix7Launch* launch = nullptr;
+  Index3 index{}, dims{};
+  v1::TileResult* out = nullptr;
+  bool report_sent = false;                         // this tile's first report went out
+  v1::ExceptionReport* reports_not_sent = nullptr;  // counts the rest
+  Optix7Context ctx;
+  std::vector<Optix7Context> callers;  // of the callables running, innermost last
+  std::array<Optix7Frame, 32> frames;  // frames[0, depth) are live; maxTraceDepth <= 31
+  unsigned depth = 0;
+  Optix7Exception exception;  // the one the exception program handles
+  // Any-hit programs end through optixIgnoreIntersection and optixTerminateRay without returning:
+  // they jump back to RunAnyHit (optix7_trace.cc), which set `any_hit_end`.
+  std::jmp_buf* any_hit_end = nullptr;
+  bool ignored = false, terminate = false;
+  // The last scene looked up by handle, for the launch of serial `scene_serial`.
+  uint64_t scene_serial = 0, scene_handle = 0;
+  const Optix7Scene* scene = nullptr;
+  // Nested optixTrace and callable calls raise OPTIX_EXCEPTION_CODE_STACK_OVERFLOW below this
+  // address: a fixed budget below where the tile began, so the same on every thread.
+  const char* stack_limit = nullptr;
+  const char* stack_floor = nullptr;  // the thread's stack end plus a reserve
+
+  Optix7Frame& top() { return frames[depth - 1]; }
+};
+
+// The calling thread's state: initial-exec TLS, one load per access.
+extern __thread Optix7Thread* t_optix7 __attribute__((tls_model("initial-exec")));
+Optix7Thread& CreateOptix7Thread();
+inline Optix7Thread& Optix7TS() {
+  if (__builtin_expect(t_optix7 == nullptr, 0)) return CreateOptix7Thread();
+  return *t_optix7;
+}
+
+// The table that OptiX 7 modules receive (optix7_runtime.cc).
+const TesseraOptix7Runtime* Optix7Runtime();
+
+// Throws Optix7Exception `e`, filling its text with the code's name, the launch index, the running
+// program and `what`.
+[[noreturn]] void Raise(Optix7Thread& ts, Optix7Exception e, const std::string& what);
+// A launch-stopping error (FatalError) naming the running program: "`call` from <program>: what".
+[[noreturn]] void Fail(const Optix7Thread& ts, const char* call, const std::string& what);
+// Fails unless the running program is of a kind in `kinds` (bits of Optix7Kind).
+constexpr unsigned KindBit(Optix7Kind k) { return 1u << static_cast<unsigned>(k); }
+void CheckKind(const Optix7Thread& ts, unsigned kinds, const char* call);
+std::string ProgramName(const Optix7Context& ctx);
+const char* ExceptionCodeName(int code);
+
+// The scene of traversable `handle` for the thread's launch (cached per thread); fails naming
+// `call` when the handle is not one the engine can trace.
+const Optix7Scene* SceneOf(Optix7Thread& ts, uint64_t handle, const char* call);
+
+// Tracing (optix7_trace.cc). The intersection function of custom primitives is Embree's, handed
+// to Optix7SceneCache.
+RTCIntersectFunctionN Optix7IntersectFunction();
+void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
+                 unsigned int* const* payload);
+int Optix7ReportIntersection(float hit_t, unsigned int hit_kind, unsigned int num_attributes,
+                             const unsigned int* attributes);
+void Optix7IgnoreIntersection();
+void Optix7TerminateRay();
+
+// Forgets what a launch index left half done (an exception or an interrupt unwound it).
+void ResetOptix7Nesting(Optix7Thread& ts);
+
+}  // namespace tessera::worker
+
+#endif  // TESSERA_WORKER_CORE_OPTIX7_THREAD_H_

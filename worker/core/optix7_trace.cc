@@ -1,0 +1,466 @@
+// optixTrace over Embree: SBT indexing (OptiX 7.7 guide 7.3), visibility masks, ray, instance and
+// geometry flags, intersection and any-hit programs run from Embree's callbacks, then the
+// closest-hit or miss program. Nothing unwinds through Embree: an exception raised in a callback
+// waits in the frame until traversal returns.
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "interrupt.h"
+#include "optix7_engine.h"
+#include "optix7_thread.h"
+#include "optix_types.h"
+
+namespace tessera::worker {
+namespace {
+
+// What Embree hands the callbacks: its context first, then the trace's own state.
+struct TraceContext {
+  RTCIntersectContext rtc;
+  Optix7Thread* ts;
+  Optix7Frame* frame;
+};
+
+template <typename T>
+T Read(uint64_t address) {
+  T v;
+  std::memcpy(&v, reinterpret_cast<const void*>(address), sizeof(v));
+  return v;
+}
+
+// Makes `ctx` the running program's for the scope, restoring the caller's on every way out.
+class Running {
+ public:
+  Running(Optix7Thread& ts, const Optix7Context& ctx) : ts_(ts), saved_(ts.ctx) { ts.ctx = ctx; }
+  ~Running() { ts_.ctx = saved_; }
+  Running(const Running&) = delete;
+  Running& operator=(const Running&) = delete;
+
+ private:
+  Optix7Thread& ts_;
+  Optix7Context saved_;
+};
+
+// Where primitive `prim` of Embree geometry `geom` lies, reached through instance `inst` of the
+// frame's root (an IAS) or directly (a GAS), and which hit group record it runs (guide 7.3:
+// instance.sbtOffset + sbtGASIndex * sbtStride + sbtOffset).
+void Locate(Optix7Thread& ts, const Optix7Frame& f, unsigned inst, unsigned geom, unsigned prim,
+            Optix7Hit& h) {
+  const Optix7Scene* gas = f.root;
+  h.gas = f.root_handle;
+  h.instance = nullptr;
+  h.instance_index = 0;
+  if (f.root->kind == memory::AccelKind::kInstances) {
+    h.instance = &f.root->instances[inst];
+    h.instance_index = inst;
+    gas = f.root->children[inst];
+    h.gas = h.instance->child;
+  }
+  const Optix7Scene::Geometry& g = gas->geometries[geom];
+  h.geometry = &g;
+  h.local_primitive = prim;
+  h.primitive = prim + g.input.primitive_index_offset;
+  uint32_t local_sbt = 0;
+  if (g.input.num_sbt_records > 1) {
+    local_sbt = Read<uint32_t>(h.gas + g.input.sbt_index_offsets_offset + 4ull * prim);
+  }
+  h.sbt_gas_index = g.sbt_base + local_sbt;
+  h.geometry_flags = Read<uint32_t>(h.gas + g.input.flags_offset + 4ull * local_sbt);
+  const uint64_t index = uint64_t{h.instance != nullptr ? h.instance->sbt_offset : 0} +
+                         uint64_t{h.sbt_gas_index} * f.ray.sbt_stride + f.ray.sbt_offset;
+  const std::vector<Optix7Record>& records = ts.launch->hit;
+  if (index >= records.size()) {
+    Optix7Exception e;
+    e.code = OPTIX_EXCEPTION_CODE_TRAVERSAL_INVALID_HIT_SBT;
+    e.invalid_sbt_offset = static_cast<int>(index);
+    Raise(ts, e,
+          absl::StrCat("hit group record ", index, " (instance SBT offset ",
+                       h.instance != nullptr ? h.instance->sbt_offset : 0, ", SBT-GAS index ",
+                       h.sbt_gas_index, ", stride ", f.ray.sbt_stride, ", offset ",
+                       f.ray.sbt_offset, ") past the ", records.size(), " hit group records"));
+  }
+  h.record = &records[index];
+}
+
+// OptiX 7.7 guide 5.5 and 11.2: instance masks against the ray's (a GAS traced directly has none).
+inline bool Visible(const Optix7Frame& f, const Optix7Hit& h) {
+  return h.instance == nullptr || (h.instance->mask & f.ray.visibility_mask & 0xFFu) != 0;
+}
+
+enum class AnyHit { kCull, kOpaque, kRun };
+
+// Whether the hit's any-hit program runs: geometry flags, overridden by instance flags,
+// overridden by ray flags (guide 11.2); the culling ray flags act on the outcome.
+AnyHit DecideAnyHit(const Optix7Frame& f, const Optix7Hit& h) {
+  const unsigned ray = f.ray.ray_flags;
+  const unsigned inst = h.instance != nullptr ? h.instance->flags : 0;
+  bool enabled = !(h.geometry_flags & OPTIX_GEOMETRY_FLAG_DISABLE_ANYHIT);
+  if (inst & OPTIX_INSTANCE_FLAG_DISABLE_ANYHIT) enabled = false;
+  if (inst & OPTIX_INSTANCE_FLAG_ENFORCE_ANYHIT) enabled = true;
+  if (ray & OPTIX_RAY_FLAG_DISABLE_ANYHIT) enabled = false;
+  if (ray & OPTIX_RAY_FLAG_ENFORCE_ANYHIT) enabled = true;
+  if ((ray & OPTIX_RAY_FLAG_CULL_DISABLED_ANYHIT) && !enabled) return AnyHit::kCull;
+  if ((ray & OPTIX_RAY_FLAG_CULL_ENFORCED_ANYHIT) && enabled) return AnyHit::kCull;
+  return enabled && h.record->group->any_hit.function != nullptr ? AnyHit::kRun : AnyHit::kOpaque;
+}
+
+// The world-space direction in the hit's object space.
+void ObjectDirection(const Optix7Frame& f, const Optix7Hit& h, float out[3]) {
+  const float* d = f.ray.direction;
+  if (h.instance == nullptr) {
+    std::memcpy(out, d, 3 * sizeof(float));
+    return;
+  }
+  const float* m = h.instance->to_object;
+  for (int r = 0; r < 3; ++r) out[r] = m[r * 4] * d[0] + m[r * 4 + 1] * d[1] + m[r * 4 + 2] * d[2];
+}
+
+// A triangle's hit kind, from its vertices as the descriptor holds them: front where its
+// vertices wind counter-clockwise seen from the ray (the normal (v1-v0) x (v2-v0) faces the
+// ray), flipped by OPTIX_INSTANCE_FLAG_FLIP_TRIANGLE_FACING. Returns false when the ray's culling
+// flags remove it.
+bool TriangleFace(const Optix7Frame& f, Optix7Hit& h, float u, float v) {
+  const memory::AccelInput& in = h.geometry->input;
+  uint32_t idx[3];
+  std::memcpy(idx,
+              reinterpret_cast<const void*>(h.gas + in.indices_offset + 12ull * h.local_primitive),
+              sizeof(idx));
+  float p[3][3];
+  for (int k = 0; k < 3; ++k) {
+    std::memcpy(p[k], reinterpret_cast<const void*>(h.gas + in.vertices_offset + 12ull * idx[k]),
+                sizeof(p[k]));
+  }
+  const float e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+  const float e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+  const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                      e1[0] * e2[1] - e1[1] * e2[0]};
+  float d[3];
+  ObjectDirection(f, h, d);
+  bool front = n[0] * d[0] + n[1] * d[1] + n[2] * d[2] < 0.f;
+  const unsigned inst = h.instance != nullptr ? h.instance->flags : 0;
+  if (inst & OPTIX_INSTANCE_FLAG_FLIP_TRIANGLE_FACING) front = !front;
+  h.hit_kind = front ? OPTIX_HIT_KIND_TRIANGLE_FRONT_FACE : OPTIX_HIT_KIND_TRIANGLE_BACK_FACE;
+  std::memcpy(&h.attributes[0], &u, 4);
+  std::memcpy(&h.attributes[1], &v, 4);
+  std::memset(&h.attributes[2], 0, sizeof(h.attributes) - 8);
+  if (inst & OPTIX_INSTANCE_FLAG_DISABLE_TRIANGLE_FACE_CULLING) return true;
+  const unsigned ray = f.ray.ray_flags;
+  if ((ray & OPTIX_RAY_FLAG_CULL_BACK_FACING_TRIANGLES) && !front) return false;
+  if ((ray & OPTIX_RAY_FLAG_CULL_FRONT_FACING_TRIANGLES) && front) return false;
+  return true;
+}
+
+// Runs an any-hit program until it returns or ends itself: optixIgnoreIntersection and
+// optixTerminateRay do not return, as in OptiX. They jump back here; what that skips is the
+// program's own frames (any-hit programs cannot trace, so no engine state lives there) and the
+// callables it called, whose callers are dropped here.
+__attribute__((noinline)) void RunAnyHit(Optix7Thread& ts, Optix7Function fn) {
+  std::jmp_buf end;
+  struct Restore {
+    Optix7Thread& ts;
+    std::jmp_buf* outer;
+    size_t callers;
+    ~Restore() {  // also when the program throws
+      ts.any_hit_end = outer;
+      ts.callers.resize(callers);
+    }
+  } restore{ts, ts.any_hit_end, ts.callers.size()};
+  ts.any_hit_end = &end;
+  ts.ignored = ts.terminate = false;
+  if (setjmp(end) == 0) fn();
+}
+
+// Offers candidate `h` (reported, not culled) to its any-hit program if one runs, and commits it
+// unless the program ignored it. Returns whether it was accepted.
+bool Accept(Optix7Thread& ts, Optix7Frame& f, const Optix7Hit& h, AnyHit decision) {
+  bool terminate = false;
+  if (decision == AnyHit::kRun) {
+    Running running(ts, Optix7Context{Optix7Kind::kAnyHit, h.record, &f, &f.candidate});
+    if (&f.candidate != &h) f.candidate = h;
+    RunAnyHit(ts, h.record->group->any_hit.function);
+    if (ts.ignored) return false;
+    terminate = ts.terminate;
+  }
+  f.committed = h;
+  f.has_committed = true;
+  if (terminate || (f.ray.ray_flags & OPTIX_RAY_FLAG_TERMINATE_ON_FIRST_HIT)) f.terminated = true;
+  return true;
+}
+
+// Embree's filter for built-in triangles, in traces that need one (NeedsFilter).
+void FilterTriangle(const RTCFilterFunctionNArguments* args) {
+  auto* c = reinterpret_cast<TraceContext*>(args->context);
+  Optix7Frame& f = *c->frame;
+  if (f.pending || f.terminated) {
+    args->valid[0] = 0;
+    return;
+  }
+  try {
+    const unsigned n = args->N;
+    Optix7Hit& h = f.candidate;
+    Locate(*c->ts, f, RTCHitN_instID(args->hit, n, 0, 0), RTCHitN_geomID(args->hit, n, 0),
+           RTCHitN_primID(args->hit, n, 0), h);
+    h.t = RTCRayN_tfar(args->ray, n, 0);
+    bool keep =
+        Visible(f, h) && TriangleFace(f, h, RTCHitN_u(args->hit, n, 0), RTCHitN_v(args->hit, n, 0));
+    if (keep) {
+      const AnyHit decision = DecideAnyHit(f, h);
+      keep = decision != AnyHit::kCull && Accept(*c->ts, f, h, decision);
+    }
+    if (!keep) args->valid[0] = 0;
+  } catch (...) {
+    f.pending = std::current_exception();
+    args->valid[0] = 0;
+  }
+}
+
+// Embree's intersection function for custom primitives: runs the hit group's intersection
+// program, whose optixReportIntersection calls come to Optix7ReportIntersection.
+void IntersectCustom(const RTCIntersectFunctionNArguments* args) {
+  auto* c = reinterpret_cast<TraceContext*>(args->context);
+  Optix7Frame& f = *c->frame;
+  if (!args->valid[0] || f.pending || f.terminated) return;
+  Optix7Thread& ts = *c->ts;
+  try {
+    Optix7Hit& h = f.candidate;
+    const unsigned inst = args->context->instID[0];
+    Locate(ts, f, inst, args->geomID, args->primID, h);
+    if (!Visible(f, h) || DecideAnyHit(f, h) == AnyHit::kCull) return;
+    const Optix7Group& g = *h.record->group;
+    if (g.intersection.function == nullptr) {
+      Fail(ts, "optixTrace",
+           absl::StrCat("hit group record ", h.record->index, " (program group ", g.id,
+                        ") is hit on custom primitives but has no intersection program"));
+    }
+    f.embree = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    f.embree_geometry = args->geomID;
+    f.embree_instance = inst;
+    Running running(ts, Optix7Context{Optix7Kind::kIntersection, h.record, &f, &h});
+    g.intersection.function();
+  } catch (...) {
+    f.pending = std::current_exception();
+  }
+  f.embree = nullptr;
+}
+
+void RethrowPending(Optix7Frame& f) {
+  if (f.pending) {
+    std::exception_ptr p = f.pending;
+    f.pending = nullptr;
+    std::rethrow_exception(p);
+  }
+}
+
+// Whether triangles of this trace need the per-hit filter: any-hit programs, culling, early
+// termination, or an instance mask the ray's does not meet.
+bool NeedsFilter(const Optix7Thread& ts, const Optix7Frame& f) {
+  constexpr unsigned kPerHitFlags =
+      OPTIX_RAY_FLAG_TERMINATE_ON_FIRST_HIT | OPTIX_RAY_FLAG_CULL_BACK_FACING_TRIANGLES |
+      OPTIX_RAY_FLAG_CULL_FRONT_FACING_TRIANGLES | OPTIX_RAY_FLAG_CULL_DISABLED_ANYHIT |
+      OPTIX_RAY_FLAG_CULL_ENFORCED_ANYHIT;
+  if (ts.launch->any_hit || (f.ray.ray_flags & kPerHitFlags)) return true;
+  return f.root->kind == memory::AccelKind::kInstances &&
+         !f.root->all_visible.test(f.ray.visibility_mask & 0xFFu);
+}
+
+bool Finite(float v) { return std::isfinite(v); }
+
+bool HasNaN(const TesseraOptix7Trace& r) {
+  for (int i = 0; i < 3; ++i) {
+    if (std::isnan(r.origin[i]) || std::isnan(r.direction[i])) return true;
+  }
+  return std::isnan(r.tmin) || std::isnan(r.tmax);
+}
+
+// OPTIX_EXCEPTION_CODE_INVALID_RAY's condition (guide 11.14): an inf or NaN argument, or a
+// negative tmin. tmax may be infinite.
+bool ValidRay(const TesseraOptix7Trace& r) {
+  for (int i = 0; i < 3; ++i) {
+    if (!Finite(r.origin[i]) || !Finite(r.direction[i])) return false;
+  }
+  return Finite(r.tmin) && r.tmin >= 0.f && !std::isnan(r.tmax) && Finite(r.ray_time);
+}
+
+__attribute__((noinline)) void RejectTrace(Optix7Thread& ts, const TesseraOptix7Trace& r) {
+  Optix7Exception e;
+  if (ts.depth >= ts.launch->max_trace_depth) {
+    e.code = OPTIX_EXCEPTION_CODE_TRACE_DEPTH_EXCEEDED;
+    Raise(ts, e,
+          absl::StrCat("optixTrace ", ts.depth + 1, " deep exceeds the pipeline's maxTraceDepth ",
+                       ts.launch->max_trace_depth));
+  }
+  if (static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit) {
+    e.code = OPTIX_EXCEPTION_CODE_STACK_OVERFLOW;
+    Raise(ts, e, "optixTrace: the launch index has used the native stack it may take");
+  }
+  e.code = OPTIX_EXCEPTION_CODE_INVALID_RAY;
+  const float v[9] = {r.origin[0],    r.origin[1], r.origin[2], r.direction[0], r.direction[1],
+                      r.direction[2], r.tmin,      r.tmax,      r.ray_time};
+  std::memcpy(e.invalid_ray, v, sizeof(v));
+  Raise(ts, e,
+        absl::StrFormat("invalid ray: origin (%g, %g, %g) direction (%g, %g, %g) tmin %g tmax %g "
+                        "time %g",
+                        v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]));
+}
+
+// The hit Embree reported when no filter saw it: a triangle (custom primitives always commit
+// through Optix7ReportIntersection).
+void CommitTriangle(Optix7Thread& ts, Optix7Frame& f, const RTCRayHit& rh) {
+  Optix7Hit& h = f.committed;
+  Locate(ts, f, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, h);
+  h.t = rh.ray.tfar;
+  TriangleFace(f, h, rh.hit.u, rh.hit.v);  // no culling flags without the filter
+  f.has_committed = true;
+}
+
+void Shade(Optix7Thread& ts, Optix7Frame& f, const RTCRayHit& rh, bool filtered) {
+  const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  if (hit) {
+    // The last hit accepted is the closest. A filter saw every triangle accepted, and custom
+    // primitives commit as they are reported; a triangle that no filter saw is committed here.
+    const Optix7Scene* gas =
+        f.root->kind == memory::AccelKind::kInstances ? f.root->children[rh.hit.instID[0]] : f.root;
+    if (!filtered && gas->kind == memory::AccelKind::kTriangles) CommitTriangle(ts, f, rh);
+    if (f.ray.ray_flags & OPTIX_RAY_FLAG_DISABLE_CLOSESTHIT) return;
+    const Optix7Record* record = f.committed.record;
+    if (record->group->closest_hit.function == nullptr) return;
+    Running running(ts, Optix7Context{Optix7Kind::kClosestHit, record, &f, &f.committed});
+    record->group->closest_hit.function();
+    return;
+  }
+  const std::vector<Optix7Record>& miss = ts.launch->miss;
+  if (f.ray.miss_sbt_index >= miss.size()) {
+    Optix7Exception e;
+    e.code = OPTIX_EXCEPTION_CODE_TRAVERSAL_INVALID_MISS_SBT;
+    e.invalid_sbt_offset = static_cast<int>(f.ray.miss_sbt_index);
+    Raise(ts, e,
+          absl::StrCat("miss record ", f.ray.miss_sbt_index, " past the ", miss.size(),
+                       " miss records"));
+  }
+  const Optix7Record& record = miss[f.ray.miss_sbt_index];
+  if (record.group->entry.function == nullptr) return;
+  Running running(ts, Optix7Context{Optix7Kind::kMiss, &record, &f, nullptr});
+  record.group->entry.function();
+}
+
+}  // namespace
+
+RTCIntersectFunctionN Optix7IntersectFunction() { return &IntersectCustom; }
+
+void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
+                 unsigned int* const* payload) {
+  // A program looping on optixTrace spends its time in the engine and Embree, where an interrupt
+  // only leaves a request (interrupt.h).
+  InterruptPoint();
+  Optix7Thread& ts = Optix7TS();
+  CheckKind(ts,
+            KindBit(Optix7Kind::kRaygen) | KindBit(Optix7Kind::kClosestHit) |
+                KindBit(Optix7Kind::kMiss) | KindBit(Optix7Kind::kContinuationCallable),
+            "optixTrace");
+  if (num_payload > 32) Fail(ts, "optixTrace", absl::StrCat(num_payload, " payload values"));
+  const bool debug = ts.launch->exception_flags & OPTIX_EXCEPTION_FLAG_DEBUG;
+  if (__builtin_expect(ts.depth >= ts.launch->max_trace_depth ||
+                           static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit ||
+                           (debug && !ValidRay(*ray)),
+                       0)) {
+    RejectTrace(ts, *ray);
+  }
+  Optix7Frame& f = ts.frames[ts.depth];
+  f.ray = *ray;
+  // Guide 10, "Limits": the bits past these widths are ignored.
+  f.ray.sbt_offset &= 0xFu;
+  f.ray.sbt_stride &= 0xFu;
+  f.ray.miss_sbt_index &= 0xFFFFu;
+  f.ray.visibility_mask &= 0xFFu;
+  f.num_payload = num_payload;
+  f.variables = payload;
+  for (unsigned i = 0; i < num_payload; ++i) f.payload[i] = *payload[i];
+  std::memset(f.payload + num_payload, 0, (32 - num_payload) * sizeof(uint32_t));
+  f.has_committed = f.terminated = false;
+  f.pending = nullptr;
+  f.root_handle = ray->handle;
+  // A null handle traces nothing (OptiX allows it: every ray misses); so does a ray with a NaN,
+  // which Embree's result would not be defined for, when the DEBUG exception is off.
+  const bool traverse = ray->handle != 0 && !HasNaN(f.ray);
+  f.root = traverse ? SceneOf(ts, ray->handle, "optixTrace") : nullptr;
+  struct Pop {
+    Optix7Thread& ts;
+    ~Pop() { --ts.depth; }
+  } pop{ts};
+  ++ts.depth;
+
+  RTCRayHit rh;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  bool filtered = false;
+  if (f.root != nullptr) {
+    rh.ray.org_x = f.ray.origin[0];
+    rh.ray.org_y = f.ray.origin[1];
+    rh.ray.org_z = f.ray.origin[2];
+    rh.ray.tnear = f.ray.tmin;
+    rh.ray.dir_x = f.ray.direction[0];
+    rh.ray.dir_y = f.ray.direction[1];
+    rh.ray.dir_z = f.ray.direction[2];
+    rh.ray.time = 0.f;  // no motion
+    rh.ray.tfar = f.ray.tmax;
+    rh.ray.mask = 0xFFFFFFFFu;  // masks are the engine's (Visible)
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    TraceContext c;
+    rtcInitIntersectContext(&c.rtc);
+    filtered = NeedsFilter(ts, f);
+    c.rtc.filter = filtered ? &FilterTriangle : nullptr;
+    c.ts = &ts;
+    c.frame = &f;
+    rtcIntersect1(f.root->scene, &c.rtc, &rh);
+    RethrowPending(f);
+  }
+  Shade(ts, f, rh, filtered);
+  for (unsigned i = 0; i < num_payload; ++i) *payload[i] = f.payload[i];
+}
+
+int Optix7ReportIntersection(float hit_t, unsigned int hit_kind, unsigned int num_attributes,
+                             const unsigned int* attributes) {
+  InterruptPoint();
+  Optix7Thread& ts = Optix7TS();
+  CheckKind(ts, KindBit(Optix7Kind::kIntersection), "optixReportIntersection");
+  Optix7Frame& f = *ts.ctx.frame;
+  RTCRayHit* rh = f.embree;
+  // Guide 11.4: a hit outside [tmin, tmax] (tmax: the closest accepted so far) is not reported.
+  if (f.terminated || !(hit_t >= rh->ray.tnear && hit_t <= rh->ray.tfar)) return 0;
+  Optix7Hit& h = *ts.ctx.hit;
+  h.t = hit_t;
+  h.hit_kind = hit_kind & 0x7Fu;  // the lowest 7 bits are the program's
+  std::memset(h.attributes, 0, sizeof(h.attributes));
+  std::memcpy(h.attributes, attributes, std::min(num_attributes, 8u) * sizeof(uint32_t));
+  if (!Accept(ts, f, h, DecideAnyHit(f, h))) return 0;
+  rh->ray.tfar = hit_t;
+  rh->hit.geomID = f.embree_geometry;
+  rh->hit.primID = h.local_primitive;
+  rh->hit.instID[0] = f.embree_instance;
+  rh->hit.u = rh->hit.v = 0.f;
+  rh->hit.Ng_x = rh->hit.Ng_y = rh->hit.Ng_z = 0.f;
+  return 1;
+}
+
+void Optix7IgnoreIntersection() {
+  InterruptPoint();
+  Optix7Thread& ts = Optix7TS();
+  CheckKind(ts, KindBit(Optix7Kind::kAnyHit), "optixIgnoreIntersection");
+  ts.ignored = true;
+  std::longjmp(*ts.any_hit_end, 1);  // any-hit programs run only through RunAnyHit
+}
+
+void Optix7TerminateRay() {
+  InterruptPoint();
+  Optix7Thread& ts = Optix7TS();
+  CheckKind(ts, KindBit(Optix7Kind::kAnyHit), "optixTerminateRay");
+  ts.terminate = true;
+  std::longjmp(*ts.any_hit_end, 1);
+}
+
+}  // namespace tessera::worker
