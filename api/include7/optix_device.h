@@ -10,9 +10,8 @@
  * (tessera/optix7_cuda_defines.h) and the engine finds both by symbol name.
  *
  * Every function here is an inline call through the engine's table (TesseraOptix7Runtime,
- * tessera/optix7_device_abi.h), which the engine hands the module when it loads it. Filling that
- * table is the engine's work, the next part of issue 25: until then these are declarations that
- * compile, not programs that run (docs/optix7.md).
+ * tessera/optix7_device_abi.h), which the engine hands the module when it loads it
+ * (worker/core/optix7_engine.h; what it runs and what it does not: docs/optix7_engine.md).
  *
  * Differences from nvcc that programs can see: __CUDA_ARCH__ is undefined (GPU-only code under it
  * is not compiled), and of the CUDA device intrinsics only the bit casts that OptiX programs use

@@ -182,6 +182,26 @@ TEST_F(EngineTest, InstancesPlaceTheirGasWithIdsSbtOffsetsMasksAndFlippedFaces) 
   ASSERT_TRUE(r.prepared.ok()) << r.prepared;
   EXPECT_EQ(r.word(0, 0), Sbt::kMissBase);
   EXPECT_EQ(r.word(1, 0), 0xA1u);
+
+  // The transform queries at instance 1 (x scaled by 2, moved by 20).
+  const uint64_t transforms = HitGroup(trace_module(), "__closesthit__transforms");
+  sbt.hit = {transforms, transforms};
+  p.visibility_mask = 0xFF;
+  p.origin.x = 20.5f;
+  r = Run(sbt, p, 1);
+  ASSERT_TRUE(r.prepared.ok()) << r.prepared;
+  EXPECT_EQ(r.tile.exceptions_size(), 0);
+  EXPECT_EQ(r.word(0, 0), 1u);     // one instance on the way to the GAS
+  EXPECT_EQ(r.word(0, 1), 200u);   // optixGetInstanceIdFromHandle
+  EXPECT_EQ(r.real(0, 2), 2.f);    // the instance's transform
+  EXPECT_EQ(r.real(0, 3), -10.f);  // and its inverse: x' = (x - 20) / 2
+  EXPECT_EQ(r.real(0, 4), 20.f);   // object to world
+  EXPECT_EQ(r.word(0, 5), 1u);     // OPTIX_TRANSFORM_TYPE_INSTANCE
+  EXPECT_EQ(r.word(0, 6), static_cast<uint32_t>(gas));
+  EXPECT_EQ(r.real(0, 7), 0.5f);  // normals by the inverse transpose
+  EXPECT_EQ(r.real(0, 8), 0.5f);
+  EXPECT_EQ(r.word(0, 9), static_cast<uint32_t>(gas));  // optixGetInstanceTraversableFromIAS
+  EXPECT_EQ(r.real(0, 10), 0.5f);                       // world to object
 }
 
 TEST_F(EngineTest, RayFlagsCullFacesAndDisableClosestHit) {

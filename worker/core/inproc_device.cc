@@ -22,7 +22,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "call_progress.h"
-#include "optix7_call.h"
+#include "optix7_device_call.h"
 #include "optix7_session.h"
 #include "plan.h"
 #include "replica.h"

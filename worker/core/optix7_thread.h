@@ -123,8 +123,10 @@ inline Optix7Thread& Optix7TS() {
   return *t_optix7;
 }
 
-// The table that OptiX 7 modules receive (optix7_runtime.cc).
+// The table that OptiX 7 modules receive (optix7_runtime.cc), and its exception and callable
+// entries (optix7_calls.cc).
 const TesseraOptix7Runtime* Optix7Runtime();
+void FillCallsTable(TesseraOptix7Runtime& r);
 
 // Throws Optix7Exception `e`, filling its text with the code's name, the launch index, the running
 // program and `what`.

@@ -10,9 +10,9 @@
  * table through tessera_optix7_module_init (below), which optix_device.h defines weakly in every
  * module; the engine calls it right after loading the module, before any program runs.
  *
- * The engine side (filling the table, running programs) is the next part of issue 25; this
- * header only fixes the contract. Thread-safety: every function in the table answers for the
- * program running on the calling thread (the engine keeps per-thread state). */
+ * The engine side (filling the table, running programs) is worker/core/optix7_engine.h
+ * (docs/optix7_engine.md). Thread-safety: every function in the table answers for the program
+ * running on the calling thread (the engine keeps per-thread state). */
 #ifndef TESSERA_OPTIX7_DEVICE_ABI_H_
 #define TESSERA_OPTIX7_DEVICE_ABI_H_
 

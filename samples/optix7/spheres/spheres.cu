@@ -46,7 +46,9 @@ extern "C" __global__ void __intersection__sphere() {
   if (disc < 0.0f) return;
   const float root = sqrtf(disc);
   const float tmin = optixGetRayTmin(), tmax = optixGetRayTmax();
-  for (float t : {(-b - root) / a, (-b + root) / a}) {
+  const float roots[2] = {(-b - root) / a, (-b + root) / a};
+  for (int k = 0; k < 2; ++k) {
+    const float t = roots[k];
     if (t > tmin && t < tmax) {
       const float3 n = (o + t * d) / s.radius;
       optixReportIntersection(t, 0, __float_as_uint(n.x), __float_as_uint(n.y),

@@ -137,3 +137,26 @@ extern "C" __global__ void __raygen__recurse() {
              OptixVisibilityMask(255), OPTIX_RAY_FLAG_NONE, 0, 1, 0, depth);
   Out()[0] = depth;
 }
+
+// The transform queries of an instanced hit, with the normal and vector transforms, in payloads
+// 0 to 10.
+extern "C" __global__ void __closesthit__transforms() {
+  optixSetPayload_0(optixGetTransformListSize());
+  const OptixTraversableHandle h = optixGetTransformListHandle(0);
+  optixSetPayload_1(optixGetInstanceIdFromHandle(h));
+  optixSetPayload_2(__float_as_uint(optixGetInstanceTransformFromHandle(h)[0].x));
+  optixSetPayload_3(__float_as_uint(optixGetInstanceInverseTransformFromHandle(h)[0].w));
+  float m[12];
+  optixGetObjectToWorldTransformMatrix(m);
+  optixSetPayload_4(__float_as_uint(m[3]));
+  optixSetPayload_5(optixGetTransformTypeFromHandle(h) == OPTIX_TRANSFORM_TYPE_INSTANCE ? 1u : 0u);
+  optixSetPayload_6(static_cast<unsigned int>(optixGetInstanceChildFromHandle(h)));
+  optixSetPayload_7(
+      __float_as_uint(optixTransformNormalFromObjectToWorldSpace(make_float3(1, 0, 0)).x));
+  optixSetPayload_8(
+      __float_as_uint(optixTransformVectorFromWorldToObjectSpace(make_float3(1, 0, 0)).x));
+  optixSetPayload_9(static_cast<unsigned int>(
+      optixGetInstanceTraversableFromIAS(params.handle, optixGetInstanceIndex())));
+  optixGetWorldToObjectTransformMatrix(m);
+  optixSetPayload_10(__float_as_uint(m[0]));
+}

@@ -1,4 +1,4 @@
-#include "optix7_call.h"
+#include "optix7_device_call.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>

@@ -2,8 +2,8 @@
 // session's pipeline and SBT, the call's tiles run on the device's threads, and, when the host
 // asks (Optix7Launch.report_writes), what programs wrote to device memory sent back as
 // device-memory regions (docs/device_memory.md, "Gathering what programs wrote").
-#ifndef TESSERA_WORKER_CORE_OPTIX7_CALL_H_
-#define TESSERA_WORKER_CORE_OPTIX7_CALL_H_
+#ifndef TESSERA_WORKER_CORE_OPTIX7_DEVICE_CALL_H_
+#define TESSERA_WORKER_CORE_OPTIX7_DEVICE_CALL_H_
 
 #include <atomic>
 #include <cstdint>
@@ -26,4 +26,4 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
 
 }  // namespace tessera::worker
 
-#endif  // TESSERA_WORKER_CORE_OPTIX7_CALL_H_
+#endif  // TESSERA_WORKER_CORE_OPTIX7_DEVICE_CALL_H_
