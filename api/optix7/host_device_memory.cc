@@ -1,11 +1,9 @@
 #include "host_device_memory.h"
 
-
 namespace tessera::optix7 {
 
 HostDeviceMemory::HostDeviceMemory(memory::DeviceArena* arena)
-    : arena_(arena),
-      allocator_(arena_->base(), arena_->size(), memory::DeviceArena::PageSize()) {}
+    : arena_(arena), allocator_(arena_->base(), arena_->size(), memory::DeviceArena::PageSize()) {}
 
 absl::StatusOr<HostDeviceMemory*> HostDeviceMemory::Get() {
   static absl::StatusOr<HostDeviceMemory*>* const memory = [] {

@@ -13,8 +13,8 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
-#include "optix_types.h"
 #include "launch_types.h"
+#include "optix_types.h"
 
 namespace tessera::optix7 {
 

@@ -46,13 +46,19 @@ class LaunchTarget final : public api::ContextExtension {
   absl::Status ApplyWritten(const api::DeviceSlot& slot, const v1::BufferRegion& region) override {
     absl::StatusOr<HostDeviceMemory*> memory = HostDeviceMemory::Get();
     if (!memory.ok()) return memory.status();
+    const std::vector<std::pair<uintptr_t, size_t>> allocations = (*memory)->Allocations();
     uint64_t at = 0;
     for (int r = 0; r < region.run_offsets_size(); ++r) {
       const uint64_t address = region.run_offsets(r);
       const uint64_t size = r < region.run_sizes_size() ? region.run_sizes(r) : 0;
-      if (!(*memory)->IsAllocated(address, size)) {
-        return absl::OutOfRangeError(absl::StrFormat(
-            "programs wrote device memory [0x%x, +%u) outside every allocation", address, size));
+      // A run may span adjacent allocations (runs merge neighbouring bytes), not a gap.
+      for (uint64_t at_address = address; at_address < address + size;) {
+        const std::pair<uintptr_t, size_t>* holding = Holding(allocations, at_address);
+        if (holding == nullptr) {
+          return absl::OutOfRangeError(absl::StrFormat(
+              "programs wrote device memory at 0x%x, outside every allocation", at_address));
+        }
+        at_address = holding->first + holding->second;
       }
       if (!region.data().empty()) {
         if (size > region.data().size() - at) {

@@ -3,7 +3,9 @@
 //
 // A module's input is what an OptiX 7 application has where OptiX takes PTX: the C++ source of
 // its .cu file (as a string, the SDK's embedded-PTX pattern), a module's bytes (an ELF shared
-// object), or the path of a .cu or .so file. Source compiles into the module cache
+// object), the text tessera_embed_program embeds (cmake/TesseraEmbedProgram.cmake: a module's
+// bytes in hexadecimal behind "TESSERA-MODULE-HEX:", which survives strlen and std::string as
+// PTX does), or the path of a .cu or .so file. Source compiles into the module cache
 // (api/src/module_compiler.h) against the OptiX 7 headers.
 #include <filesystem>
 #include <fstream>
@@ -34,6 +36,34 @@ bool IsPath(absl::string_view input) {
   return std::filesystem::is_regular_file(std::string(input), ec);
 }
 
+constexpr absl::string_view kHexPrefix = "TESSERA-MODULE-HEX:";
+
+// The bytes of an embedded module's hexadecimal text (after kHexPrefix).
+absl::StatusOr<std::string> FromHex(absl::string_view hex) {
+  auto digit = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  };
+  if (hex.size() % 2 != 0) {
+    return OptixError(OPTIX_ERROR_INVALID_INPUT,
+                      "embedded module text has an odd number of hexadecimal digits");
+  }
+  std::string bytes(hex.size() / 2, '\0');
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    const int hi = digit(hex[2 * i]), lo = digit(hex[2 * i + 1]);
+    if (hi < 0 || lo < 0) {
+      return OptixError(OPTIX_ERROR_INVALID_INPUT,
+                        absl::StrCat("embedded module text has a character that is not a "
+                                     "hexadecimal digit at offset ",
+                                     kHexPrefix.size() + 2 * i));
+    }
+    bytes[i] = static_cast<char>(hi * 16 + lo);
+  }
+  return bytes;
+}
+
 absl::StatusOr<std::string> ReadFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -56,7 +86,15 @@ absl::StatusOr<api::CompiledModule> ModuleFile(absl::string_view input,
   }
   // Applications pass strlen() or the size with the terminating NUL; both are the same text.
   while (!input.empty() && input.back() == '\0') input.remove_suffix(1);
-  if (IsPath(input)) {
+  if (absl::StartsWith(input, kHexPrefix)) {
+    *name = "<embedded module>";
+    absl::StatusOr<std::string> bytes = FromHex(input.substr(kHexPrefix.size()));
+    if (!bytes.ok()) return bytes.status();
+    if (!IsElf(*bytes)) {
+      return OptixError(OPTIX_ERROR_INVALID_INPUT, "embedded module text holds no program module");
+    }
+    module = api::StoreProgramModule(*bytes, options);
+  } else if (IsPath(input)) {
     *name = std::string(input);
     absl::StatusOr<std::string> bytes = ReadFile(*name);
     if (!bytes.ok()) return bytes.status();

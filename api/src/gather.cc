@@ -1,7 +1,5 @@
 #include "gather.h"
 
-#include "context_extension.h"
-
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -287,8 +285,9 @@ void LaunchGather::ApplyRegion(size_t device, const v1::BufferRegion& region) {
             ? absl::InvalidArgumentError("device memory regions without OptiX 7 state")
             : context_.extension()->ApplyWritten(*slots_[device], region);
     if (!applied.ok()) {
-      RecordError(RtError(RT_ERROR_LAUNCH_FAILED, absl::StrCat("device '", slots_[device]->desc.name,
-                                                               "': ", applied.message())));
+      RecordError(
+          RtError(RT_ERROR_LAUNCH_FAILED,
+                  absl::StrCat("device '", slots_[device]->desc.name, "': ", applied.message())));
     }
     return;
   }

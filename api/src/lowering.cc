@@ -4,9 +4,9 @@
 
 #include "acceleration.h"
 #include "acceleration_data.h"
-#include "context_extension.h"
 #include "buffer.h"
 #include "context.h"
+#include "context_extension.h"
 #include "geometry.h"
 #include "hash.h"
 #include "nodes.h"

@@ -57,8 +57,10 @@ v1::ApplyChunk Header(const v1::StateDelta& delta, size_t object_batches) {
   *out->mutable_context() = delta.context();
   const int removed = std::min(delta.removed_size(), kRemovedPerMessage);
   out->mutable_removed()->Add(delta.removed().begin(), delta.removed().begin() + removed);
+  out->set_has_allocations(delta.has_allocations());
+  *out->mutable_allocations() = delta.allocations();
   header.set_following(object_batches + RemovedBatches(delta) + delta.modules_size() +
-                       delta.chunks_size());
+                       delta.chunks_size() + delta.memory_size());
   return header;
 }
 
@@ -150,11 +152,16 @@ bool WriteApplyStream(const v1::StateDelta& delta,
     *message.mutable_chunk() = chunk;
     if (!write(message)) return false;
   }
+  for (const v1::DeviceMemoryChunk& memory : delta.memory()) {
+    *message.mutable_memory() = memory;
+    if (!write(message)) return false;
+  }
   return true;
 }
 
 absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
   bytes_ += part.has_chunk()     ? part.chunk().data().size()
+            : part.has_memory()  ? part.memory().data().size()
             : part.has_module()  ? part.module().data().size()
             : part.has_objects() ? part.objects().ByteSizeLong()
                                  : 0;
@@ -165,7 +172,8 @@ absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
   switch (part.part_case()) {
     case v1::ApplyChunk::kDelta:
       if (has_delta_) return absl::InvalidArgumentError("Apply stream carries two state deltas");
-      if (part.delta().chunks_size() != 0 || part.delta().modules_size() != 0) {
+      if (part.delta().chunks_size() != 0 || part.delta().modules_size() != 0 ||
+          part.delta().memory_size() != 0) {
         return absl::InvalidArgumentError(
             "Apply stream's delta carries buffer chunks or module slices inline; they travel as "
             "separate messages");
@@ -191,6 +199,10 @@ absl::Status DeltaAssembler::Add(v1::ApplyChunk&& part) {
     case v1::ApplyChunk::kModule:
       if (absl::Status s = Follow("a module slice"); !s.ok()) return s;
       *delta_.add_modules() = std::move(*part.mutable_module());
+      return absl::OkStatus();
+    case v1::ApplyChunk::kMemory:
+      if (absl::Status s = Follow("a device memory chunk"); !s.ok()) return s;
+      *delta_.add_memory() = std::move(*part.mutable_memory());
       return absl::OkStatus();
     case v1::ApplyChunk::PART_NOT_SET:
       break;

@@ -35,12 +35,20 @@ v1::StateDelta SampleDelta() {
     m->set_total_size(10);
     m->set_data(std::string(5, static_cast<char>('m' + i)));
   }
+  delta.set_has_allocations(true);
+  v1::DeviceAllocation* a = delta.add_allocations();
+  a->set_address(0x200000000000);
+  a->set_size(4096);
+  v1::DeviceMemoryChunk* memory = delta.add_memory();
+  memory->set_address(0x200000000010);
+  memory->set_data("device bytes");
+  memory->set_hash(7);
   return delta;
 }
 
 TEST(WorkerWireTest, DeltaHeaderCopiesEveryFieldButObjectsChunksAndModules) {
   // DeltaHeader copies StateDelta field by field: a new field must be added there too.
-  EXPECT_EQ(v1::StateDelta::descriptor()->field_count(), 7)
+  EXPECT_EQ(v1::StateDelta::descriptor()->field_count(), 10)
       << "StateDelta changed: update DeltaHeader in worker_wire.cc";
   v1::StateDelta delta = SampleDelta();
   v1::ApplyChunk header = DeltaHeader(delta);
@@ -48,11 +56,14 @@ TEST(WorkerWireTest, DeltaHeaderCopiesEveryFieldButObjectsChunksAndModules) {
   EXPECT_EQ(header.delta().objects_size(), 0);
   EXPECT_EQ(header.delta().chunks_size(), 0);
   EXPECT_EQ(header.delta().modules_size(), 0);
-  EXPECT_EQ(header.following(), 1u + 2u + 3u);  // one object batch, the slices, the chunks
+  EXPECT_EQ(header.delta().memory_size(), 0);
+  // One object batch, the slices, the chunks, the device memory.
+  EXPECT_EQ(header.following(), 1u + 2u + 3u + 1u);
   v1::StateDelta without_bulk = delta;
   without_bulk.clear_objects();
   without_bulk.clear_chunks();
   without_bulk.clear_modules();
+  without_bulk.clear_memory();
   EXPECT_EQ(header.delta().SerializeAsString(), without_bulk.SerializeAsString());
 }
 
@@ -64,8 +75,9 @@ TEST(WorkerWireTest, ApplyStreamRoundTrip) {
     return true;
   }));
   // The header, then the objects in one batch, then one message per module slice, then one per
-  // buffer chunk.
-  ASSERT_EQ(messages.size(), 7u);
+  // buffer chunk, then one per piece of device memory.
+  ASSERT_EQ(messages.size(), 8u);
+  EXPECT_TRUE(messages[7].has_memory());
   EXPECT_TRUE(messages[0].has_delta());
   ASSERT_TRUE(messages[1].has_objects());
   EXPECT_EQ(messages[1].objects().objects_size(), 2);

@@ -36,9 +36,9 @@
 namespace tessera {
 namespace {
 
+using worker::CallProgress;
 using worker::FatalError;
 using worker::Index3;
-using worker::CallProgress;
 using worker::TileState;
 
 // Launch indices per thread in a write epoch of a call whose results go out while it traces:
@@ -226,7 +226,8 @@ class InprocDevice : public Device {
     // applied whole or not at all.
     const bool optix7 = worker::Optix7Session::Carries(delta);
     if (optix7) {
-      if (optix7_ == nullptr) optix7_ = std::make_unique<worker::Optix7Session>(shares_host_memory_);
+      if (optix7_ == nullptr)
+        optix7_ = std::make_unique<worker::Optix7Session>(shares_host_memory_);
       if (absl::Status s = optix7_->Check(delta); !s.ok()) return s;
     }
     absl::Status applied = replica_.Apply(delta);
@@ -466,15 +467,15 @@ class InprocDevice : public Device {
 
   const bool results_in_rounds_;
   const bool shares_host_memory_;  // in the host's process: OptiX 7 device memory is the host's
-  const uint64_t forced_epochs_;  // 0: by launch size
+  const uint64_t forced_epochs_;   // 0: by launch size
   int num_threads_;
   RTCDevice embree_;
   worker::Replica replica_;
   worker::SceneCache scenes_;
   std::unique_ptr<worker::LaunchPlan> plan_;
-  std::unique_ptr<worker::Optix7Session> optix7_;       // once OptiX 7 state arrived
+  std::unique_ptr<worker::Optix7Session> optix7_;        // once OptiX 7 state arrived
   std::unique_ptr<worker::Optix7Engine> optix7_engine_;  // at the first OptiX 7 launch
-  std::mutex call_mu_;  // Apply and Launch calls, one at a time
+  std::mutex call_mu_;                                   // Apply and Launch calls, one at a time
   // TESSERA_LAUNCH_TIMING: where a call's time went, on stderr (api/src/launch.cc).
   const bool timing_ = scheduler::LaunchTimingEnabled();
   uint64_t snapshot_launch_id_ = 0;  // the launch whose start the replica's snapshots record

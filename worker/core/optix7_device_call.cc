@@ -93,9 +93,9 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
   if (request.optix7().report_writes() && !empty) {
     absl::StatusOr<memory::WriteTracker*> made = ProcessTracker();
     if (!made.ok()) {
-      return absl::Status(made.status().code(),
-                          absl::StrCat("cannot track writes to device memory: ",
-                                       made.status().message()));
+      return absl::Status(
+          made.status().code(),
+          absl::StrCat("cannot track writes to device memory: ", made.status().message()));
     }
     tracker = *made;
     for (const auto& [address, size] : session.state().allocations) {

@@ -49,11 +49,10 @@ absl::Status CheckEntry(const v1::Optix7Entry& entry, const char* role, uint64_t
   bool carried = false;
   for (const v1::ModuleChunk& m : delta.modules()) carried = carried || m.module_hash() == hash;
   if (!carried && !ModuleCache::Get().Has(hash)) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("OptiX 7 program group #", group, ": ", role, " '",
-                     absl::CEscape(entry.function()), "' needs program module ",
-                     absl::CEscape(entry.module_path()), " (", absl::CEscape(hash.substr(0, 64)),
-                     "), which this device has not received"));
+    return absl::FailedPreconditionError(absl::StrCat(
+        "OptiX 7 program group #", group, ": ", role, " '", absl::CEscape(entry.function()),
+        "' needs program module ", absl::CEscape(entry.module_path()), " (",
+        absl::CEscape(hash.substr(0, 64)), "), which this device has not received"));
   }
   return absl::OkStatus();
 }
@@ -108,9 +107,8 @@ absl::Status Optix7Session::Check(const v1::StateDelta& delta) const {
       }
       auto next = allocations.lower_bound(a.address());
       const bool overlaps_next = next != allocations.end() && next->first < a.address() + a.size();
-      const bool overlaps_prev =
-          next != allocations.begin() &&
-          std::prev(next)->first + std::prev(next)->second > a.address();
+      const bool overlaps_prev = next != allocations.begin() &&
+                                 std::prev(next)->first + std::prev(next)->second > a.address();
       if (overlaps_next || overlaps_prev || !allocations.emplace(a.address(), a.size()).second) {
         return absl::InvalidArgumentError(
             absl::StrCat("device allocation ", Range(a.address(), a.size()), " overlaps another"));
@@ -125,7 +123,8 @@ absl::Status Optix7Session::Check(const v1::StateDelta& delta) const {
              it != committed.end() && it->first < address + size; ++it) {
           if (it->second.owner != this && it->first + it->second.size > address) {
             return absl::FailedPreconditionError(absl::StrCat(
-                "device memory ", Range(address, size), " is in use by another session of this "
+                "device memory ", Range(address, size),
+                " is in use by another session of this "
                 "worker: a worker holds the OptiX 7 device memory of one host at a time"));
           }
         }

@@ -33,7 +33,8 @@ CUdeviceptr Upload(const void* data, size_t bytes) {
   return reinterpret_cast<CUdeviceptr>(device);
 }
 
-OptixModule CreateModule(OptixDeviceContext context, const OptixModuleCompileOptions& module_options,
+OptixModule CreateModule(OptixDeviceContext context,
+                         const OptixModuleCompileOptions& module_options,
                          const OptixPipelineCompileOptions& pipeline_options,
                          const std::string& input) {
   char log[2048];
@@ -86,8 +87,7 @@ OptixTraversableHandle BuildAccel(OptixDeviceContext context, const OptixBuildIn
   return handle;
 }
 
-void WriteImage(const std::string& path, int width, int height,
-                const std::vector<uchar4>& pixels) {
+void WriteImage(const std::string& path, int width, int height, const std::vector<uchar4>& pixels) {
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
   if (!out) {
     std::fprintf(stderr, "cannot write %s: %s\n", path.c_str(), OIIO::geterror().c_str());
@@ -95,7 +95,8 @@ void WriteImage(const std::string& path, int width, int height,
   }
   OIIO::ImageSpec spec(width, height, 4, OIIO::TypeDesc::UINT8);
   // Launch row 0 is the bottom of the image; files start at the top.
-  const auto* last_row = reinterpret_cast<const unsigned char*>(&pixels[size_t(height - 1) * width]);
+  const auto* last_row =
+      reinterpret_cast<const unsigned char*>(&pixels[size_t(height - 1) * width]);
   if (!out->open(path, spec) ||
       !out->write_image(OIIO::TypeDesc::UINT8, last_row, OIIO::AutoStride,
                         -static_cast<OIIO::stride_t>(width * sizeof(uchar4))) ||

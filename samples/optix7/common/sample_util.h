@@ -13,24 +13,24 @@
 #include <string>
 #include <vector>
 
-#define CUDA_CHECK(call)                                                                     \
-  do {                                                                                       \
-    cudaError_t error_ = (call);                                                             \
-    if (error_ != cudaSuccess) {                                                             \
+#define CUDA_CHECK(call)                                                                    \
+  do {                                                                                      \
+    cudaError_t error_ = (call);                                                            \
+    if (error_ != cudaSuccess) {                                                            \
       std::fprintf(stderr, "%s:%d: CUDA call '%s' failed: %s\n", __FILE__, __LINE__, #call, \
-                   cudaGetErrorString(error_));                                              \
-      std::exit(1);                                                                          \
-    }                                                                                        \
+                   cudaGetErrorString(error_));                                             \
+      std::exit(1);                                                                         \
+    }                                                                                       \
   } while (0)
 
-#define OPTIX_CHECK(call)                                                                     \
-  do {                                                                                        \
-    OptixResult result_ = (call);                                                             \
-    if (result_ != OPTIX_SUCCESS) {                                                           \
-      std::fprintf(stderr, "%s:%d: OptiX call '%s' failed: %s (%s)\n", __FILE__, __LINE__,    \
-                   #call, optixGetErrorName(result_), optixGetErrorString(result_));          \
-      std::exit(1);                                                                           \
-    }                                                                                         \
+#define OPTIX_CHECK(call)                                                                         \
+  do {                                                                                            \
+    OptixResult result_ = (call);                                                                 \
+    if (result_ != OPTIX_SUCCESS) {                                                               \
+      std::fprintf(stderr, "%s:%d: OptiX call '%s' failed: %s (%s)\n", __FILE__, __LINE__, #call, \
+                   optixGetErrorName(result_), optixGetErrorString(result_));                     \
+      std::exit(1);                                                                               \
+    }                                                                                             \
   } while (0)
 
 // An SBT record: the header optixSbtRecordPackHeader fills, then the program's data.
@@ -71,7 +71,8 @@ CUdeviceptr UploadRecord(OptixProgramGroup group, const T& data) {
 
 // A module from an OptiX 7 program as the application has it (the embedded text of
 // tessera_embed_program, a source string or a path).
-OptixModule CreateModule(OptixDeviceContext context, const OptixModuleCompileOptions& module_options,
+OptixModule CreateModule(OptixDeviceContext context,
+                         const OptixModuleCompileOptions& module_options,
                          const OptixPipelineCompileOptions& pipeline_options,
                          const std::string& input);
 

@@ -19,7 +19,9 @@ __host__ __device__ __forceinline__ float3 operator+(float3 a, float3 b) {
 __host__ __device__ __forceinline__ float3 operator-(float3 a, float3 b) {
   return make_float3(a.x - b.x, a.y - b.y, a.z - b.z);
 }
-__host__ __device__ __forceinline__ float3 operator-(float3 a) { return make_float3(-a.x, -a.y, -a.z); }
+__host__ __device__ __forceinline__ float3 operator-(float3 a) {
+  return make_float3(-a.x, -a.y, -a.z);
+}
 __host__ __device__ __forceinline__ float3 operator*(float3 a, float3 b) {
   return make_float3(a.x * b.x, a.y * b.y, a.z * b.z);
 }

@@ -75,9 +75,8 @@ extern "C" __global__ void __closesthit__radiance() {
   unsigned int lit = 0;
   const float lambert = fmaxf(dot(n, params.light_direction), 0.0f);
   if (lambert > 0.0f) {
-    optixTrace(params.handle, p, params.light_direction, 1e-3f, 1e16f, 0.0f,
-               OptixVisibilityMask(1), OPTIX_RAY_FLAG_DISABLE_CLOSESTHIT, kShadow, kRayTypeCount,
-               kShadow, lit);
+    optixTrace(params.handle, p, params.light_direction, 1e-3f, 1e16f, 0.0f, OptixVisibilityMask(1),
+               OPTIX_RAY_FLAG_DISABLE_CLOSESTHIT, kShadow, kRayTypeCount, kShadow, lit);
   }
   SetColor(data->color * (0.25f + 0.75f * lambert * static_cast<float>(lit)));
 }

@@ -79,8 +79,8 @@ int main(int argc, char** argv) {
   descs[kHitShadow].hitgroup.entryFunctionNameAH = "__anyhit__shadow";
   OptixProgramGroupOptions group_options = {};
   OptixProgramGroup groups[kGroupCount] = {};
-  OPTIX_CHECK(optixProgramGroupCreate(context, descs, kGroupCount, &group_options, nullptr,
-                                      nullptr, groups));
+  OPTIX_CHECK(optixProgramGroupCreate(context, descs, kGroupCount, &group_options, nullptr, nullptr,
+                                      groups));
   OptixPipelineLinkOptions link_options = {};
   link_options.maxTraceDepth = 2;
   OptixPipeline pipeline = nullptr;

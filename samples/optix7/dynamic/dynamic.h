@@ -5,9 +5,9 @@
 #include <optix.h>
 
 struct Params {
-  uchar4* image;            // the whole strip of frames
-  unsigned int stride;      // pixels per image row
-  unsigned int x_offset;    // where this frame's column starts
+  uchar4* image;          // the whole strip of frames
+  unsigned int stride;    // pixels per image row
+  unsigned int x_offset;  // where this frame's column starts
   unsigned int width, height;
   float3 eye, u, v, w;
   OptixTraversableHandle handle;

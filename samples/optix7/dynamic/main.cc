@@ -74,8 +74,8 @@ int main(int argc, char** argv) {
   OptixTraversableHandle gas = 0;
   OPTIX_CHECK(optixAccelBuild(context, nullptr, &options, &input, 1,
                               reinterpret_cast<CUdeviceptr>(temp), sizes.tempSizeInBytes,
-                              reinterpret_cast<CUdeviceptr>(output), sizes.outputSizeInBytes,
-                              &gas, nullptr, 0));
+                              reinterpret_cast<CUdeviceptr>(output), sizes.outputSizeInBytes, &gas,
+                              nullptr, 0));
 
   OptixModuleCompileOptions module_options = {};
   OptixPipelineCompileOptions pipeline_options = {};
@@ -106,9 +106,9 @@ int main(int argc, char** argv) {
   sbt.missRecordBase = sample::UploadRecord(groups[1], EmptyData{});
   sbt.missRecordStrideInBytes = sizeof(SbtRecord<EmptyData>);
   sbt.missRecordCount = 1;
-  sbt.hitgroupRecordBase = sample::UploadRecord(
-      groups[2], HitData{reinterpret_cast<const float3*>(d_vertices),
-                         reinterpret_cast<const uint3*>(d_indices)});
+  sbt.hitgroupRecordBase =
+      sample::UploadRecord(groups[2], HitData{reinterpret_cast<const float3*>(d_vertices),
+                                              reinterpret_cast<const uint3*>(d_indices)});
   sbt.hitgroupRecordStrideInBytes = sizeof(SbtRecord<HitData>);
   sbt.hitgroupRecordCount = 1;
 
@@ -132,7 +132,8 @@ int main(int argc, char** argv) {
       vertices = Surface(1.3f * f);
       CUDA_CHECK(cudaMemcpy(reinterpret_cast<void*>(d_vertices), vertices.data(),
                             vertices.size() * sizeof(float3), cudaMemcpyHostToDevice));
-      options.operation = f < frames - 1 ? OPTIX_BUILD_OPERATION_UPDATE : OPTIX_BUILD_OPERATION_BUILD;
+      options.operation =
+          f < frames - 1 ? OPTIX_BUILD_OPERATION_UPDATE : OPTIX_BUILD_OPERATION_BUILD;
       OPTIX_CHECK(optixAccelBuild(
           context, nullptr, &options, &input, 1, reinterpret_cast<CUdeviceptr>(temp),
           options.operation == OPTIX_BUILD_OPERATION_UPDATE ? sizes.tempUpdateSizeInBytes
@@ -148,8 +149,7 @@ int main(int argc, char** argv) {
   CUDA_CHECK(cudaDeviceSynchronize());
   sample::WriteImage(out, width * frames, height,
                      sample::Download<uchar4>(reinterpret_cast<CUdeviceptr>(image), pixels));
-  std::printf("wrote %s (%u frames: build, %u refits, rebuild)\n", out.c_str(), frames,
-              frames - 2);
+  std::printf("wrote %s (%u frames: build, %u refits, rebuild)\n", out.c_str(), frames, frames - 2);
   OPTIX_CHECK(optixPipelineDestroy(pipeline));
   for (OptixProgramGroup g : groups) OPTIX_CHECK(optixProgramGroupDestroy(g));
   OPTIX_CHECK(optixModuleDestroy(module));

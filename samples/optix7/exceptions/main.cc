@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   CUDA_CHECK(cudaMalloc(&image, pixels * sizeof(uchar4)));
   CUDA_CHECK(cudaMalloc(&codes, pixels * sizeof(int)));
   CUDA_CHECK(cudaMalloc(&details, pixels * sizeof(unsigned)));
-  Params params = {static_cast<uchar4*>(image), width, height, gas, static_cast<int*>(codes),
+  Params params = {static_cast<uchar4*>(image),    width, height, gas, static_cast<int*>(codes),
                    static_cast<unsigned*>(details)};
   CUdeviceptr d_params = sample::Upload(&params, sizeof(params));
   OPTIX_CHECK(optixLaunch(pipeline, nullptr, d_params, sizeof(Params), &sbt, width, height, 1));

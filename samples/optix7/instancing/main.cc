@@ -83,7 +83,8 @@ int main(int argc, char** argv) {
 
   OptixModuleCompileOptions module_options = {};
   OptixPipelineCompileOptions pipeline_options = {};
-  pipeline_options.traversableGraphFlags = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_LEVEL_INSTANCING;
+  pipeline_options.traversableGraphFlags =
+      OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_LEVEL_INSTANCING;
   pipeline_options.numPayloadValues = 3;
   pipeline_options.numAttributeValues = 2;
   pipeline_options.pipelineLaunchParamsVariableName = "params";
@@ -135,9 +136,9 @@ int main(int argc, char** argv) {
   CUdeviceptr d_params = sample::Upload(&params, sizeof(params));
   OPTIX_CHECK(optixLaunch(pipeline, nullptr, d_params, sizeof(Params), &sbt, width, height, 1));
   CUDA_CHECK(cudaDeviceSynchronize());
-  sample::WriteImage(out, width, height,
-                     sample::Download<uchar4>(reinterpret_cast<CUdeviceptr>(image),
-                                              size_t(width) * height));
+  sample::WriteImage(
+      out, width, height,
+      sample::Download<uchar4>(reinterpret_cast<CUdeviceptr>(image), size_t(width) * height));
   std::printf("wrote %s\n", out.c_str());
   OPTIX_CHECK(optixPipelineDestroy(pipeline));
   for (OptixProgramGroup g : groups) OPTIX_CHECK(optixProgramGroupDestroy(g));

@@ -23,8 +23,8 @@ namespace {
 enum Material { kWhite = 0, kRed, kGreen, kLight, kMirror, kMaterialCount };
 
 struct Scene {
-  std::vector<float3> vertices;         // three per triangle
-  std::vector<uint32_t> material;       // per triangle
+  std::vector<float3> vertices;    // three per triangle
+  std::vector<uint32_t> material;  // per triangle
   void Quad(float3 a, float3 b, float3 c, float3 d, Material m) {
     for (float3 v : {a, b, c, a, c, d}) vertices.push_back(v);
     material.push_back(m);
@@ -56,13 +56,13 @@ int main(int argc, char** argv) {
   Scene scene;
   scene.Quad({0, 0, 0}, {0, 0, 559.2f}, {556, 0, 559.2f}, {556, 0, 0}, kWhite);  // floor
   scene.Quad({0, 548.8f, 0}, {556, 548.8f, 0}, {556, 548.8f, 559.2f}, {0, 548.8f, 559.2f},
-             kWhite);                                                                   // ceiling
+             kWhite);  // ceiling
   scene.Quad({0, 0, 559.2f}, {0, 548.8f, 559.2f}, {556, 548.8f, 559.2f}, {556, 0, 559.2f},
-             kWhite);                                                                   // back
+             kWhite);  // back
   scene.Quad({556, 0, 0}, {556, 0, 559.2f}, {556, 548.8f, 559.2f}, {556, 548.8f, 0}, kRed);
   scene.Quad({0, 0, 0}, {0, 548.8f, 0}, {0, 548.8f, 559.2f}, {0, 0, 559.2f}, kGreen);
-  scene.Box(185, 169, 82.5f, 165, 0.956f, -0.292f, kWhite);   // short box
-  scene.Box(368, 351, 82.5f, 330, 0.956f, 0.292f, kMirror);   // tall box
+  scene.Box(185, 169, 82.5f, 165, 0.956f, -0.292f, kWhite);  // short box
+  scene.Box(368, 351, 82.5f, 330, 0.956f, 0.292f, kMirror);  // tall box
   Light light;
   light.corner = make_float3(343.0f, 548.6f, 227.0f);
   light.v1 = make_float3(0.0f, 0.0f, 105.0f);
@@ -99,8 +99,16 @@ int main(int argc, char** argv) {
   OptixModule module =
       sample::CreateModule(context, module_options, pipeline_options, path_tracer_programs);
 
-  enum { kRaygen, kMissRadiance, kMissOcclusion, kHitRadiance, kHitOcclusion, kLambertDC,
-         kGlossyDC, kGroupCount };
+  enum {
+    kRaygen,
+    kMissRadiance,
+    kMissOcclusion,
+    kHitRadiance,
+    kHitOcclusion,
+    kLambertDC,
+    kGlossyDC,
+    kGroupCount
+  };
   OptixProgramGroupDesc descs[kGroupCount] = {};
   descs[kRaygen].kind = OPTIX_PROGRAM_GROUP_KIND_RAYGEN;
   descs[kRaygen].raygen = {module, "__raygen__rg"};
@@ -120,8 +128,8 @@ int main(int argc, char** argv) {
   descs[kGlossyDC].callables.entryFunctionNameDC = "__direct_callable__glossy";
   OptixProgramGroupOptions group_options = {};
   OptixProgramGroup groups[kGroupCount] = {};
-  OPTIX_CHECK(optixProgramGroupCreate(context, descs, kGroupCount, &group_options, nullptr,
-                                      nullptr, groups));
+  OPTIX_CHECK(optixProgramGroupCreate(context, descs, kGroupCount, &group_options, nullptr, nullptr,
+                                      groups));
   OptixPipelineLinkOptions link_options = {};
   link_options.maxTraceDepth = 2;
   OptixPipeline pipeline = nullptr;
@@ -130,8 +138,10 @@ int main(int argc, char** argv) {
   OPTIX_CHECK(optixPipelineSetStackSize(pipeline, 0, 1024, 2048, 1));
 
   // Hit records: per material, radiance then occlusion (sbtStride 2).
-  const float3 albedo[kMaterialCount] = {{0.80f, 0.80f, 0.80f}, {0.80f, 0.05f, 0.05f},
-                                         {0.05f, 0.80f, 0.05f}, {0.50f, 0.50f, 0.50f},
+  const float3 albedo[kMaterialCount] = {{0.80f, 0.80f, 0.80f},
+                                         {0.80f, 0.05f, 0.05f},
+                                         {0.05f, 0.80f, 0.05f},
+                                         {0.50f, 0.50f, 0.50f},
                                          {0.90f, 0.90f, 0.90f}};
   std::vector<SbtRecord<HitData>> hits(2 * kMaterialCount);
   for (int m = 0; m < kMaterialCount; ++m) {
@@ -188,9 +198,9 @@ int main(int argc, char** argv) {
                             sizeof(Params), &sbt, width, height, 1));
   }
   CUDA_CHECK(cudaStreamSynchronize(stream));
-  sample::WriteImage(out, width, height,
-                     sample::Download<uchar4>(reinterpret_cast<CUdeviceptr>(image),
-                                              size_t(width) * height));
+  sample::WriteImage(
+      out, width, height,
+      sample::Download<uchar4>(reinterpret_cast<CUdeviceptr>(image), size_t(width) * height));
   std::printf("wrote %s (%u launches of %u samples per pixel)\n", out.c_str(), launches, spp);
   CUDA_CHECK(cudaStreamDestroy(stream));
   OPTIX_CHECK(optixPipelineDestroy(pipeline));

@@ -91,8 +91,8 @@ extern "C" __global__ void __raygen__rg() {
     unsigned int hi = static_cast<unsigned int>(p >> 32), lo = static_cast<unsigned int>(p);
     for (unsigned int depth = 0; depth < params.max_depth && !state.done; ++depth) {
       optixTrace(params.handle, state.origin, state.direction, 0.01f, 1e16f, 0.0f,
-                 OptixVisibilityMask(1), OPTIX_RAY_FLAG_NONE, kRadiance, kRayTypeCount,
-                 kRadiance, hi, lo);
+                 OptixVisibilityMask(1), OPTIX_RAY_FLAG_NONE, kRadiance, kRayTypeCount, kRadiance,
+                 hi, lo);
     }
     seed = state.seed;
     sum += state.radiance;
@@ -127,8 +127,7 @@ extern "C" __global__ void __closesthit__radiance() {
   if (state->count_emitted) state->radiance += state->attenuation * data->emission;
   // Next event: a point on the light, seen or not.
   const Light& light = params.light;
-  const float3 on_light =
-      light.corner + Rnd(state->seed) * light.v1 + Rnd(state->seed) * light.v2;
+  const float3 on_light = light.corner + Rnd(state->seed) * light.v1 + Rnd(state->seed) * light.v2;
   const float dist = length(on_light - p);
   const float3 to_light = (on_light - p) / dist;
   const float n_dot_l = dot(n, to_light), ln_dot_l = -dot(light.normal, to_light);
@@ -144,8 +143,8 @@ extern "C" __global__ void __closesthit__radiance() {
     }
   }
   state->attenuation *= data->albedo;
-  state->direction = optixDirectCall<float3, float3, float3, unsigned int*>(data->bsdf, n, in,
-                                                                          &state->seed);
+  state->direction =
+      optixDirectCall<float3, float3, float3, unsigned int*>(data->bsdf, n, in, &state->seed);
   state->origin = p;
   state->count_emitted = 0;
 }

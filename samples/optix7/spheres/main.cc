@@ -116,9 +116,9 @@ int main(int argc, char** argv) {
   OPTIX_CHECK(optixLaunch(pipeline, nullptr, d_params, sizeof(Params), &sbt, width, height, 1));
   CUDA_CHECK(cudaDeviceSynchronize());
 
-  sample::WriteImage(out, width, height,
-                     sample::Download<uchar4>(reinterpret_cast<CUdeviceptr>(image),
-                                              size_t(width) * height));
+  sample::WriteImage(
+      out, width, height,
+      sample::Download<uchar4>(reinterpret_cast<CUdeviceptr>(image), size_t(width) * height));
   std::printf("wrote %s\n", out.c_str());
   OPTIX_CHECK(optixPipelineDestroy(pipeline));
   for (OptixProgramGroup g : groups) OPTIX_CHECK(optixProgramGroupDestroy(g));

@@ -81,8 +81,7 @@ int main(int argc, char** argv) {
   uint32_t from_traversal = 0, from_state = 0, continuation = 0;
   OPTIX_CHECK(optixUtilComputeStackSizes(&stack_sizes, 1, 0, 0, &from_traversal, &from_state,
                                          &continuation));
-  OPTIX_CHECK(
-      optixPipelineSetStackSize(pipeline, from_traversal, from_state, continuation, 1));
+  OPTIX_CHECK(optixPipelineSetStackSize(pipeline, from_traversal, from_state, continuation, 1));
 
   // Shader binding table.
   OptixShaderBindingTable sbt = {};

@@ -18,8 +18,8 @@ static __forceinline__ __device__ void SetPayload(float3 p) {
 extern "C" __global__ void __raygen__rg() {
   const uint3 idx = optixGetLaunchIndex();
   const uint3 dim = optixGetLaunchDimensions();
-  const float2 d = make_float2(2.0f * (idx.x + 0.5f) / dim.x - 1.0f,
-                               2.0f * (idx.y + 0.5f) / dim.y - 1.0f);
+  const float2 d =
+      make_float2(2.0f * (idx.x + 0.5f) / dim.x - 1.0f, 2.0f * (idx.y + 0.5f) / dim.y - 1.0f);
   const float3 origin = params.cam_eye;
   const float3 direction = normalize(d.x * params.cam_u + d.y * params.cam_v + params.cam_w);
   unsigned int p0, p1, p2;
