@@ -10,6 +10,7 @@
 #include "call.h"
 #include "module_compiler.h"
 #include "optix_host.h"
+#include "tessera/optix7_ext.h"
 
 namespace tessera::optix7 {
 namespace {
@@ -264,3 +265,22 @@ OptixResult optixDeviceContextGetCacheDatabaseSizes(OptixDeviceContext context,
 }
 
 }  // extern "C"
+
+extern "C" __attribute__((visibility("default"))) OptixResult
+tesseraOptixDeviceContextGetTransferStats(OptixDeviceContext context,
+                                          unsigned long long* bytes_sent,
+                                          unsigned long long* bytes_received) {
+  using tessera::optix7::Call;
+  using tessera::optix7::DeviceContext;
+  return Call(__func__).Run([&](Call& call) -> absl::Status {
+    std::shared_ptr<DeviceContext> c;
+    if (absl::Status s = call.Lookup(context, "context", &c); !s.ok()) return s;
+    if (absl::Status s = call.NotNull(bytes_sent, "bytes_sent"); !s.ok()) return s;
+    if (absl::Status s = call.NotNull(bytes_received, "bytes_received"); !s.ok()) return s;
+    uint64_t sent = 0, received = 0;
+    c->TransferStats(&sent, &received);
+    *bytes_sent = sent;
+    *bytes_received = received;
+    return absl::OkStatus();
+  });
+}

@@ -49,13 +49,17 @@ bool HostDeviceMemory::IsAllocated(uintptr_t address, size_t length) const {
 
 bool HostDeviceMemory::InArena(uintptr_t address) const { return arena_->Contains(address, 0); }
 
-void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length) {
+void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length, bool by_device) {
   if (length == 0) return;
   std::lock_guard<std::mutex> lock(mutex_);
   const uint64_t epoch = ++epoch_;
   const uintptr_t base = arena_->base();
   const uintptr_t first = base + (address - base) / kChunkBytes * kChunkBytes;
-  for (uintptr_t c = first; c < address + length; c += kChunkBytes) written_[c] = epoch;
+  for (uintptr_t c = first; c < address + length; c += kChunkBytes) {
+    Written& w = written_[c];
+    w.any = epoch;
+    if (!by_device) w.host = epoch;
+  }
 }
 
 uint64_t HostDeviceMemory::epoch() const {
@@ -64,12 +68,12 @@ uint64_t HostDeviceMemory::epoch() const {
 }
 
 std::vector<std::pair<uintptr_t, uint64_t>> HostDeviceMemory::ChunksWrittenSince(
-    uint64_t since) const {
+    uint64_t since, bool host_only) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<std::pair<uintptr_t, uint64_t>> chunks;
   if (since >= epoch_) return chunks;
-  for (const auto& [chunk, epoch] : written_) {
-    if (epoch > since) chunks.emplace_back(chunk, epoch);
+  for (const auto& [chunk, w] : written_) {
+    if ((host_only ? w.host : w.any) > since) chunks.emplace_back(chunk, w.any);
   }
   return chunks;
 }

@@ -35,13 +35,21 @@ class HostDeviceMemory {
   bool InArena(uintptr_t address) const;
 
   // Records a write to [address, address + length): the host's (cudaMemcpy, cudaMemset,
-  // optixAccelBuild) or one a launch's programs made on a device. Each call is a new write epoch.
-  void MarkWritten(uintptr_t address, size_t length);
+  // optixAccelBuild), or, with `by_device`, one a launch's programs made on a device (which
+  // reaches the other devices as the bytes written, not as chunks: launch_target.cc). Each call
+  // is a new write epoch.
+  void MarkWritten(uintptr_t address, size_t length, bool by_device = false);
+  // The chunk that holds `address` (its first byte's address).
+  uintptr_t ChunkOf(uintptr_t address) const {
+    const uintptr_t base = arena_->base();
+    return base + (address - base) / kChunkBytes * kChunkBytes;
+  }
   // The write epoch of the last MarkWritten (0: none yet).
   uint64_t epoch() const;
-  // The chunks written after epoch `since`, by address, ascending, with the epoch of their last
-  // write: what devices that took everything up to `since` may lack.
-  std::vector<std::pair<uintptr_t, uint64_t>> ChunksWrittenSince(uint64_t since) const;
+  // The chunks written after epoch `since` (by the host only, with `host_only`), by address,
+  // ascending, with the epoch of their last write of any kind (what their content is as of).
+  std::vector<std::pair<uintptr_t, uint64_t>> ChunksWrittenSince(uint64_t since,
+                                                                 bool host_only = false) const;
   // The chunks written since the last call, by address, ascending (tests).
   std::vector<uintptr_t> TakeWrittenChunks();
 
@@ -58,7 +66,11 @@ class HostDeviceMemory {
   mutable std::mutex mutex_;
   memory::DeviceArena* arena_;  // the process's (memory::ProcessArena)
   memory::DeviceAllocator allocator_;
-  std::map<uintptr_t, uint64_t> written_;  // chunk address -> epoch of its last write
+  struct Written {
+    uint64_t any = 0;   // epoch of the chunk's last write
+    uint64_t host = 0;  // epoch of its last host write (0: none)
+  };
+  std::map<uintptr_t, Written> written_;  // by chunk address
   uint64_t epoch_ = 0;
   uint64_t taken_epoch_ = 0;  // TakeWrittenChunks
   uint64_t allocation_generation_ = 0;

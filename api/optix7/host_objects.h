@@ -67,6 +67,12 @@ class DeviceContext {
     }
     return f(*target_);
   }
+  // Bytes launches sent and received so far (tessera/optix7_ext.h); 0 before the first.
+  void TransferStats(uint64_t* sent, uint64_t* received) {
+    std::lock_guard<std::mutex> lock(launch_mutex_);
+    *sent = *received = 0;
+    if (target_) TargetTransferStats(*target_, sent, received);
+  }
 
  private:
   const bool validation_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <deque>
 #include <map>
 #include <utility>
 
@@ -21,6 +22,7 @@ namespace tessera::optix7 {
 // objects of its own: the pipeline and device memory ship as its extension.
 class LaunchTarget final : public api::ContextExtension {
  public:
+  api::Context* context() const { return context_; }
   explicit LaunchTarget(api::Context* context) : context_(context) {
     context_->set_extension(this);
   }
@@ -34,6 +36,7 @@ class LaunchTarget final : public api::ContextExtension {
     pipeline_ = &pipeline;
     absl::Status status = context_->Launch(0, dims, &launch);
     pipeline_ = nullptr;
+    TrimRuns();
     return status;
   }
 
@@ -67,11 +70,12 @@ class LaunchTarget final : public api::ContextExtension {
         std::memcpy(reinterpret_cast<void*>(static_cast<uintptr_t>(address)),
                     region.data().data() + at, size);
         at += size;
+        context_->CountReceived(size);
       }
-      // Other devices receive it before the next launch.
-      (*memory)->MarkWritten(address, size);
+      // Other devices receive these bytes before the next launch (AddMemory).
+      (*memory)->MarkWritten(address, size, /*by_device=*/true);
+      runs_.push_back(WrittenRun{++last_run_, slot.sync.session_id, address, size});
     }
-    (void)slot;
     return absl::OkStatus();
   }
 
@@ -135,33 +139,120 @@ class LaunchTarget final : public api::ContextExtension {
       });
     }
     if (slot.desc.type == api::DeviceSpecEntry::Type::kInproc) return;  // the host's own memory
+    // A device that has all of device memory takes what the host wrote since, by chunk, and the
+    // bytes other devices' programs wrote, as they were written: a launch that writes 1% of a
+    // buffer costs the other devices 1% of it, and one that writes what was there costs nothing.
+    // A new device takes every chunk ever written.
+    const bool whole = !sync.memory_synced;
     const uint64_t epoch = memory.epoch();
-    if (epoch == sync.memory_epoch) return;
+    const uint64_t cursor = last_run_;
     std::vector<std::pair<uint64_t, uint64_t>> hashes;
-    for (const auto& [chunk, written] : memory.ChunksWrittenSince(sync.memory_epoch)) {
-      const uintptr_t chunk_end = chunk + HostDeviceMemory::kChunkBytes;
-      // The allocations the chunk overlaps: the first that ends after it begins, and on.
-      auto it = std::upper_bound(allocations.begin(), allocations.end(), chunk,
-                                 [](uintptr_t a, const auto& b) { return a < b.first; });
-      if (it != allocations.begin() && std::prev(it)->first + std::prev(it)->second > chunk) --it;
-      for (; it != allocations.end() && it->first < chunk_end; ++it) {
-        const uintptr_t begin = std::max<uintptr_t>(chunk, it->first);
-        const uintptr_t end = std::min<uintptr_t>(chunk_end, it->first + it->second);
-        if (begin >= end) continue;
-        const uint64_t hash = PieceHash(begin, end - begin, written);
-        auto known = sync.memory_hashes.find(begin);
-        if (known != sync.memory_hashes.end() && known->second == hash) continue;
-        v1::DeviceMemoryChunk* c = prepared->delta.add_memory();
-        c->set_address(begin);
-        c->set_data(reinterpret_cast<const char*>(begin), end - begin);
-        c->set_hash(hash);
-        hashes.emplace_back(begin, hash);
+    std::vector<std::pair<uintptr_t, uintptr_t>> stale;  // pieces whose hash the device lost
+    if (whole || epoch != sync.memory_epoch) {
+      for (const auto& [chunk, written] :
+           memory.ChunksWrittenSince(whole ? 0 : sync.memory_epoch, /*host_only=*/!whole)) {
+        ForEachPiece(allocations, chunk, chunk + HostDeviceMemory::kChunkBytes,
+                     [&](uintptr_t begin, uintptr_t end) {
+                       const uint64_t hash = PieceHash(begin, end - begin, written);
+                       auto known = sync.memory_hashes.find(begin);
+                       if (!whole && known != sync.memory_hashes.end() && known->second == hash) {
+                         return;
+                       }
+                       AddBytes(begin, end, hash, prepared);
+                       hashes.emplace_back(begin, hash);
+                     });
       }
     }
-    prepared->commits.push_back([epoch, hashes = std::move(hashes)](api::DeviceSync* s) {
+    if (!whole) {
+      std::vector<std::pair<uintptr_t, uintptr_t>> ranges;
+      for (const WrittenRun& run : runs_) {
+        if (run.sequence <= sync.memory_run_cursor) continue;
+        // The device's copy of these pieces no longer has the content its hashes say.
+        stale.emplace_back(run.address, run.address + run.size);
+        if (run.writer != sync.session_id) ranges.emplace_back(run.address, run.address + run.size);
+      }
+      // Packed many to a message: scattered writes are many small ranges.
+      v1::DeviceMemoryChunk* packed = nullptr;
+      for (const auto& [begin, end] : Coalesced(std::move(ranges))) {
+        for (uintptr_t c = memory.ChunkOf(begin); c < end; c += HostDeviceMemory::kChunkBytes) {
+          ForEachPiece(allocations, std::max(c, begin),
+                       std::min<uintptr_t>(c + HostDeviceMemory::kChunkBytes, end),
+                       [&](uintptr_t b, uintptr_t e) {
+                         if (packed == nullptr ||
+                             packed->data().size() + (e - b) > HostDeviceMemory::kChunkBytes) {
+                           packed = prepared->delta.add_memory();
+                         }
+                         packed->add_run_addresses(b);
+                         packed->add_run_sizes(e - b);
+                         packed->mutable_data()->append(reinterpret_cast<const char*>(b), e - b);
+                       });
+        }
+      }
+    }
+    prepared->commits.push_back([&memory, epoch, cursor, allocations, hashes = std::move(hashes),
+                                 stale = std::move(stale)](api::DeviceSync* s) {
+      for (const auto& [begin, end] : stale) {
+        for (uintptr_t c = memory.ChunkOf(begin); c < end; c += HostDeviceMemory::kChunkBytes) {
+          ForEachPiece(allocations, c, c + HostDeviceMemory::kChunkBytes,
+                       [&, begin = begin, end = end](uintptr_t b, uintptr_t e) {
+                         if (b < end && e > begin) s->memory_hashes.erase(b);
+                       });
+        }
+      }
+      s->memory_synced = true;
       s->memory_epoch = epoch;
+      s->memory_run_cursor = cursor;
       for (const auto& [address, hash] : hashes) s->memory_hashes[address] = hash;
     });
+  }
+
+  // Calls f(begin, end) for each part of [begin, end) inside one allocation, in order.
+  template <typename F>
+  static void ForEachPiece(const std::vector<std::pair<uintptr_t, size_t>>& allocations,
+                           uintptr_t begin, uintptr_t end, F&& f) {
+    auto it = std::upper_bound(allocations.begin(), allocations.end(), begin,
+                               [](uintptr_t a, const auto& b) { return a < b.first; });
+    if (it != allocations.begin() && std::prev(it)->first + std::prev(it)->second > begin) --it;
+    for (; it != allocations.end() && it->first < end; ++it) {
+      const uintptr_t b = std::max<uintptr_t>(begin, it->first);
+      const uintptr_t e = std::min<uintptr_t>(end, it->first + it->second);
+      if (b < e) f(b, e);
+    }
+  }
+
+  // Sorted, overlapping and touching ranges merged.
+  static std::vector<std::pair<uintptr_t, uintptr_t>> Coalesced(
+      std::vector<std::pair<uintptr_t, uintptr_t>> ranges) {
+    std::sort(ranges.begin(), ranges.end());
+    std::vector<std::pair<uintptr_t, uintptr_t>> out;
+    for (const auto& r : ranges) {
+      if (!out.empty() && r.first <= out.back().second) {
+        out.back().second = std::max(out.back().second, r.second);
+      } else {
+        out.push_back(r);
+      }
+    }
+    return out;
+  }
+
+  static void AddBytes(uintptr_t begin, uintptr_t end, uint64_t hash,
+                       api::PreparedDelta* prepared) {
+    v1::DeviceMemoryChunk* c = prepared->delta.add_memory();
+    c->set_address(begin);
+    c->set_data(reinterpret_cast<const char*>(begin), end - begin);
+    c->set_hash(hash);
+  }
+
+  // Forgets runs every device has taken (devices lost since take all of memory again).
+  void TrimRuns() {
+    uint64_t taken = last_run_;
+    for (const api::DeviceSlot& slot : context_->device_slots()) {
+      if (slot.device == nullptr || slot.desc.type == api::DeviceSpecEntry::Type::kInproc) {
+        continue;
+      }
+      taken = std::min(taken, slot.sync.memory_synced ? slot.sync.memory_run_cursor : last_run_);
+    }
+    while (!runs_.empty() && runs_.front().sequence <= taken) runs_.pop_front();
   }
 
   // The allocation holding `address`, or null.
@@ -191,9 +282,20 @@ class LaunchTarget final : public api::ContextExtension {
     size_t size = 0;
     uint64_t hash = 0;
   };
+  // Bytes a device's programs wrote, in the order the host applied them, until every device has
+  // them: `writer` is the session of the device that wrote them.
+  struct WrittenRun {
+    uint64_t sequence = 0;
+    uint64_t writer = 0;
+    uintptr_t address = 0;
+    size_t size = 0;
+  };
+
   api::Context* context_;
   const LaunchPipeline* pipeline_ = nullptr;  // during Launch
   std::map<uintptr_t, Cached> hashes_;
+  std::deque<WrittenRun> runs_;
+  uint64_t last_run_ = 0;
 };
 
 absl::StatusOr<LaunchTargetPtr> CreateLaunchTarget() {
@@ -203,6 +305,11 @@ absl::StatusOr<LaunchTargetPtr> CreateLaunchTarget() {
 }
 
 void DestroyLaunchTarget(LaunchTarget* target) { delete target; }
+
+void TargetTransferStats(LaunchTarget& target, uint64_t* sent, uint64_t* received) {
+  *sent = target.context()->bytes_sent();
+  *received = target.context()->bytes_received();
+}
 
 absl::Status LaunchOnTarget(LaunchTarget& target, const LaunchPipeline& pipeline,
                             const v1::Optix7Launch& launch, const std::vector<uint64_t>& dims) {

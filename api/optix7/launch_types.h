@@ -39,6 +39,8 @@ void DestroyLaunchTarget(LaunchTarget* target);
 struct LaunchTargetDeleter {
   void operator()(LaunchTarget* target) const { DestroyLaunchTarget(target); }
 };
+// Bytes the target's launches sent to devices and received from them so far (launch_target.cc).
+void TargetTransferStats(LaunchTarget& target, uint64_t* sent, uint64_t* received);
 using LaunchTargetPtr = std::unique_ptr<LaunchTarget, LaunchTargetDeleter>;
 // The devices are created at the first launch; this fails only when no context can be made.
 absl::StatusOr<LaunchTargetPtr> CreateLaunchTarget();

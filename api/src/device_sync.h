@@ -36,7 +36,9 @@ struct DeviceSync {
   // received, by address.
   absl::flat_hash_map<uint64_t, uint64_t> optix7_versions;
   uint64_t allocation_generation = 0;
-  uint64_t memory_epoch = 0;
+  bool memory_synced = false;      // has taken the whole device memory once
+  uint64_t memory_epoch = 0;       // host writes up to this epoch it has
+  uint64_t memory_run_cursor = 0;  // runs other devices wrote, up to this one, it has
   absl::flat_hash_map<uint64_t, uint64_t> memory_hashes;
 };
 

@@ -3,7 +3,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -13,6 +16,7 @@
 #include "device_arena.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
+#include "tessera/scheduler/launch_timing.h"
 #include "tile_pieces.h"
 #include "write_tracker.h"
 
@@ -35,6 +39,23 @@ absl::StatusOr<memory::WriteTracker*> ProcessTracker() {
   if (!made.ok()) return made.status();
   tracker = *std::move(made);
   return tracker.get();
+}
+
+// How the writes to each allocation are found, chosen from what the last calls saw (per process:
+// calls hold Optix7CallMutex): write-protection costs a fault per page programs write (tens of
+// microseconds with several threads, whose TLBs each change of protection flushes) and nothing
+// for memory they only read; a copy before the call costs a copy and a compare of every page
+// however few are written. An allocation whose pages the last call wrote more than one in 16 of
+// is copied next time; a copied one goes back to protection after kCalmCalls calls that changed
+// fewer than one page in 64 of it.
+struct TrackingMode {
+  bool copy = false;
+  int calm = 0;  // calls in a row that changed few of its pages, while copied
+};
+constexpr int kCalmCalls = 3;
+std::map<uint64_t, TrackingMode>& TrackingModes() {
+  static auto* const modes = new std::map<uint64_t, TrackingMode>;
+  return *modes;
 }
 
 // Packs `runs` into region results (device_memory), with their bytes unless `with_data` is off.
@@ -72,6 +93,46 @@ void SendRuns(const std::vector<memory::WriteTracker::Run>& runs, bool with_data
   flush();
 }
 
+// Chooses each allocation's tracking for the next call (TrackingMode).
+void UpdateTrackingModes(const std::map<uint64_t, uint64_t>& allocations,
+                         const std::vector<std::pair<uintptr_t, size_t>>& faulted,
+                         const std::vector<memory::WriteTracker::Run>& runs) {
+  const size_t page = memory::DeviceArena::PageSize();
+  auto& modes = TrackingModes();
+  // Forget allocations that are gone.
+  for (auto it = modes.begin(); it != modes.end();) {
+    it = allocations.count(it->first) != 0 ? std::next(it) : modes.erase(it);
+  }
+  auto pages_of = [page](uint64_t size) { return std::max<uint64_t>(1, (size + page - 1) / page); };
+  for (const auto& [address, written] : faulted) {
+    auto it = allocations.find(address);  // protected ranges are whole allocations
+    if (it == allocations.end()) continue;
+    const uint64_t pages = pages_of(it->second);
+    if (written > 16 && written * 16 > pages) modes[it->first] = TrackingMode{true, 0};
+  }
+  // Pages with changed bytes per copied allocation.
+  std::map<uint64_t, uint64_t> changed;
+  uintptr_t last_page = 0;
+  for (const auto& [address, size] : runs) {
+    for (uintptr_t p = address / page * page; p < address + size; p += page) {
+      if (p == last_page) continue;
+      last_page = p;
+      auto it = allocations.upper_bound(p + page - 1);
+      if (it == allocations.begin()) continue;
+      --it;
+      ++changed[it->first];
+    }
+  }
+  for (auto& [address, mode] : modes) {
+    if (!mode.copy) continue;
+    auto size = allocations.find(address);
+    if (size == allocations.end()) continue;
+    const uint64_t pages = pages_of(size->second);
+    mode.calm = changed[address] * 64 < pages ? mode.calm + 1 : 0;
+    if (mode.calm >= kCalmCalls) mode = TrackingMode{};
+  }
+}
+
 }  // namespace
 
 absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
@@ -83,6 +144,7 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
   if (absl::Status s = engine.Prepare(session.state(), request.optix7(), &cancel); !s.ok()) {
     return s;
   }
+  const auto prepared = std::chrono::steady_clock::now();
   Index3 dims{1, 1, 1};
   bool empty = false;
   for (int i = 0; i < request.dims_size(); ++i) {
@@ -98,14 +160,22 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
           absl::StrCat("cannot track writes to device memory: ", made.status().message()));
     }
     tracker = *made;
-    for (const auto& [address, size] : session.state().allocations) {
-      if (absl::Status s = tracker->Protect(address, size); !s.ok()) {
-        (void)tracker->Collect();
-        return s;
+    // Copies first: a page shared with a protected allocation must end up protected.
+    auto& modes = TrackingModes();
+    for (int pass = 0; pass < 2; ++pass) {
+      for (const auto& [address, size] : session.state().allocations) {
+        const bool copy = modes[address].copy;
+        if (copy != (pass == 0)) continue;
+        absl::Status s = copy ? tracker->Snapshot(address, size) : tracker->Protect(address, size);
+        if (!s.ok()) {
+          (void)tracker->Collect();
+          return s;
+        }
       }
     }
   }
 
+  const auto armed = std::chrono::steady_clock::now();
   std::mutex result_mu;
   std::atomic<bool> stop{false};
   absl::Status failure;
@@ -148,12 +218,29 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
                         [&](size_t i) { run_piece(pieces[i]); });
     });
   }
+  const auto traced = std::chrono::steady_clock::now();
   // Collected whatever happened, so that the next call starts with nothing protected.
   std::vector<memory::WriteTracker::Run> runs;
-  if (tracker != nullptr) runs = tracker->Collect();
+  if (tracker != nullptr) {
+    std::vector<std::pair<uintptr_t, size_t>> faulted;
+    runs = tracker->Collect(&faulted);
+    UpdateTrackingModes(session.state().allocations, faulted, runs);
+  }
+  const auto collected = std::chrono::steady_clock::now();
   if (!failure.ok()) return failure;
   if (cancel.load()) return absl::CancelledError("launch cancelled");
   SendRuns(runs, !session.shares_host_memory(), request, sequence, on_result);
+  if (scheduler::LaunchTimingEnabled()) {
+    auto ms = [](auto a, auto b) {
+      return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    std::fprintf(stderr,
+                 "tessera: OptiX 7 device call of launch %llu: prepare %.1fms, write tracking "
+                 "set up %.1fms, tiles %.1fms, writes collected %.1fms (%zu runs), sent %.1fms\n",
+                 static_cast<unsigned long long>(request.launch_id()), ms(started, prepared),
+                 ms(prepared, armed), ms(armed, traced), ms(traced, collected), runs.size(),
+                 ms(collected, std::chrono::steady_clock::now()));
+  }
   // The call's end, also when nothing was written: the host counts the call's tiles by it.
   v1::TileResult end;
   end.set_launch_id(request.launch_id());

@@ -134,10 +134,29 @@ absl::Status Optix7Session::Check(const v1::StateDelta& delta) const {
   const std::map<uint64_t, uint64_t>& after =
       delta.has_allocations() ? allocations : state_.allocations;
   for (const v1::DeviceMemoryChunk& c : delta.memory()) {
-    if (Holding(after, c.address(), c.data().size()) == nullptr) {
-      return absl::OutOfRangeError(absl::StrCat("device memory chunk ",
-                                                Range(c.address(), c.data().size()),
-                                                " is not inside one device allocation"));
+    if (c.run_addresses_size() == 0) {
+      if (Holding(after, c.address(), c.data().size()) == nullptr) {
+        return absl::OutOfRangeError(absl::StrCat("device memory chunk ",
+                                                  Range(c.address(), c.data().size()),
+                                                  " is not inside one device allocation"));
+      }
+      continue;
+    }
+    if (c.run_sizes_size() != c.run_addresses_size()) {
+      return absl::InvalidArgumentError("device memory runs without as many sizes as addresses");
+    }
+    uint64_t bytes = 0;
+    for (int r = 0; r < c.run_addresses_size(); ++r) {
+      if (Holding(after, c.run_addresses(r), c.run_sizes(r)) == nullptr) {
+        return absl::OutOfRangeError(absl::StrCat("device memory run ",
+                                                  Range(c.run_addresses(r), c.run_sizes(r)),
+                                                  " is not inside one device allocation"));
+      }
+      bytes += c.run_sizes(r);
+    }
+    if (bytes != c.data().size()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("device memory runs of ", bytes, " bytes carry ", c.data().size()));
     }
   }
   return absl::OkStatus();
@@ -181,8 +200,17 @@ absl::Status Optix7Session::Apply(const v1::StateDelta& delta) {
   }
   if (!shares_host_memory_) {
     for (const v1::DeviceMemoryChunk& c : delta.memory()) {
-      std::memcpy(reinterpret_cast<void*>(static_cast<uintptr_t>(c.address())), c.data().data(),
-                  c.data().size());
+      if (c.run_addresses_size() == 0) {
+        std::memcpy(reinterpret_cast<void*>(static_cast<uintptr_t>(c.address())), c.data().data(),
+                    c.data().size());
+        continue;
+      }
+      size_t at = 0;
+      for (int r = 0; r < c.run_addresses_size(); ++r) {
+        std::memcpy(reinterpret_cast<void*>(static_cast<uintptr_t>(c.run_addresses(r))),
+                    c.data().data() + at, c.run_sizes(r));
+        at += c.run_sizes(r);
+      }
     }
   }
   return absl::OkStatus();

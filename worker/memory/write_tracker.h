@@ -33,9 +33,14 @@ class WriteTracker {
   // Write-protects the pages of [address, address + length) (readable and writable memory
   // inside the range); the first write to each is recorded from then on.
   absl::Status Protect(uintptr_t address, size_t length);
-  // Makes every protected page writable again and returns what changed since Protect, in address
-  // order, adjacent bytes merged; the tracker is then ready for the next Protect.
-  std::vector<Run> Collect();
+  // Copies the pages of [address, address + length) now instead of at their first write: for
+  // memory that programs will mostly write, where a fault per page costs far more than a copy.
+  absl::Status Snapshot(uintptr_t address, size_t length);
+  // Makes every protected page writable again and returns what changed since Protect or
+  // Snapshot, in address order, adjacent bytes merged; the tracker is then ready for the next
+  // call. `faulted`, when given, receives for each protected range (by the address Protect was
+  // given) how many of its pages were written (faulted), whether or not their bytes changed.
+  std::vector<Run> Collect(std::vector<std::pair<uintptr_t, size_t>>* faulted = nullptr);
 
   // Pages written since Protect (for tests and statistics).
   size_t pages_written() const { return written_.load(std::memory_order_relaxed); }
@@ -50,7 +55,12 @@ class WriteTracker {
   size_t page_;
   unsigned char* shadow_ = nullptr;        // the pages as they were, at their offsets
   std::atomic<uint8_t>* state_ = nullptr;  // per page: kFree, kProtected, kCopying, kWritten
-  std::vector<std::pair<size_t, size_t>> protected_;  // page ranges [first, end)
+  struct Protected {
+    size_t p0, p1;      // pages [p0, p1)
+    uintptr_t address;  // as Protect was given it
+  };
+  std::vector<Protected> protected_;
+  std::vector<std::pair<size_t, size_t>> snapshots_;  // page ranges copied up front
   std::atomic<size_t> written_{0};
 };
 

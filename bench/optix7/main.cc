@@ -1,0 +1,323 @@
+// tessera-bench-optix7: the OptiX 7 layer's figures (issue 25, point 7), each printed as
+// key=value lines.
+//  --mode eyelight: Embree viewer's eyelight shader on a model through the OptiX 7 API (built-in
+//    triangles, one in-process device on every core by default), timed against Embree's own
+//    `viewer --benchmark` in the same run: eyelight_optix7_ratio_vs_embree=<ours/theirs>.
+//  --mode bytes: what launches ship and gather on worker devices (local:2 by default): an
+//    unchanged launch, one after a 4 KiB cudaMemcpy into a 64 MiB buffer, one whose programs
+//    write 1% of that buffer (the bytes gathered, and what the next launch ships for them).
+#include <cuda_runtime.h>
+#include <optix.h>
+#include <optix_function_table_definition.h>
+#include <optix_stubs.h>
+#include <tessera/optix7_ext.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/embree_viewer.h"
+#include "eyelight/mesh.h"
+#include "eyelight/timing.h"
+#include "eyelight7.h"
+
+extern "C" const char eyelight7_programs[];
+
+namespace tessera::bench {
+namespace {
+
+#define CHECK_CUDA(call)                                        \
+  do {                                                          \
+    cudaError_t e_ = (call);                                    \
+    if (e_ != cudaSuccess) Fail(#call, cudaGetErrorString(e_)); \
+  } while (0)
+#define CHECK_OPTIX(call)                                          \
+  do {                                                             \
+    OptixResult r_ = (call);                                       \
+    if (r_ != OPTIX_SUCCESS) Fail(#call, optixGetErrorString(r_)); \
+  } while (0)
+
+[[noreturn]] void Fail(const char* call, const char* why) {
+  std::fprintf(stderr, "%s failed: %s\n", call, why);
+  std::exit(1);
+}
+
+template <typename T>
+struct Record {
+  __align__(OPTIX_SBT_RECORD_ALIGNMENT) char header[OPTIX_SBT_RECORD_HEADER_SIZE];
+  T data;
+};
+struct Empty {};
+
+CUdeviceptr Upload(const void* data, size_t bytes) {
+  void* p = nullptr;
+  CHECK_CUDA(cudaMalloc(&p, bytes));
+  CHECK_CUDA(cudaMemcpy(p, data, bytes, cudaMemcpyHostToDevice));
+  return reinterpret_cast<CUdeviceptr>(p);
+}
+
+template <typename T>
+CUdeviceptr UploadRecord(OptixProgramGroup group, const T& data) {
+  Record<T> r;
+  CHECK_OPTIX(optixSbtRecordPackHeader(group, &r));
+  r.data = data;
+  return Upload(&r, sizeof(r));
+}
+
+// The context and one module of the bench's programs, with a pipeline per raygen program.
+struct Pipelines {
+  OptixDeviceContext context = nullptr;
+  OptixModule module = nullptr;
+
+  Pipelines() {
+    CHECK_CUDA(cudaFree(nullptr));
+    CHECK_OPTIX(optixInit());
+    OptixDeviceContextOptions options = {};
+    CHECK_OPTIX(optixDeviceContextCreate(nullptr, &options, &context));
+  }
+  ~Pipelines() { optixDeviceContextDestroy(context); }
+
+  // A pipeline of raygen `raygen`, the eyelight miss and hit programs, launch parameters in
+  // `params`; its SBT in *sbt (hit and miss records without data).
+  OptixPipeline Make(const char* raygen, const char* params, OptixShaderBindingTable* sbt) {
+    OptixModuleCompileOptions module_options = {};
+    OptixPipelineCompileOptions pipeline_options = {};
+    pipeline_options.traversableGraphFlags = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_GAS;
+    pipeline_options.numPayloadValues = 2;
+    pipeline_options.numAttributeValues = 2;
+    pipeline_options.pipelineLaunchParamsVariableName = params;
+    const std::string input = eyelight7_programs;
+    CHECK_OPTIX(optixModuleCreate(context, &module_options, &pipeline_options, input.c_str(),
+                                  input.size(), nullptr, nullptr, &module));
+    OptixProgramGroupDesc descs[3] = {};
+    descs[0].kind = OPTIX_PROGRAM_GROUP_KIND_RAYGEN;
+    descs[0].raygen = {module, raygen};
+    descs[1].kind = OPTIX_PROGRAM_GROUP_KIND_MISS;
+    descs[1].miss = {module, "__miss__none"};
+    descs[2].kind = OPTIX_PROGRAM_GROUP_KIND_HITGROUP;
+    descs[2].hitgroup.moduleCH = module;
+    descs[2].hitgroup.entryFunctionNameCH = "__closesthit__eyelight";
+    OptixProgramGroupOptions group_options = {};
+    OptixProgramGroup groups[3] = {};
+    CHECK_OPTIX(
+        optixProgramGroupCreate(context, descs, 3, &group_options, nullptr, nullptr, groups));
+    OptixPipelineLinkOptions link = {};
+    link.maxTraceDepth = 1;
+    OptixPipeline pipeline = nullptr;
+    CHECK_OPTIX(optixPipelineCreate(context, &pipeline_options, &link, groups, 3, nullptr, nullptr,
+                                    &pipeline));
+    *sbt = {};
+    sbt->raygenRecord = UploadRecord(groups[0], Empty{});
+    sbt->missRecordBase = UploadRecord(groups[1], Empty{});
+    sbt->missRecordStrideInBytes = sizeof(Record<Empty>);
+    sbt->missRecordCount = 1;
+    sbt->hitgroupRecordBase = UploadRecord(groups[2], Empty{});
+    sbt->hitgroupRecordStrideInBytes = sizeof(Record<Empty>);
+    sbt->hitgroupRecordCount = 1;
+    return pipeline;
+  }
+
+  struct Stats {
+    unsigned long long sent = 0, received = 0;
+  };
+  Stats Transfers() const {
+    Stats s;
+    CHECK_OPTIX(tesseraOptixDeviceContextGetTransferStats(context, &s.sent, &s.received));
+    return s;
+  }
+};
+
+// Embree viewer's default camera for the eyelight bench (bench/eyelight/scene.h).
+struct Camera {
+  float from[3] = {278.f, 273.f, -800.f};
+  float to[3] = {278.f, 273.f, 0.f};
+  float up[3] = {0.f, 1.f, 0.f};
+  float fov_degrees = 37.f;
+  std::vector<std::string> ViewerFlags() const {
+    auto num = [](float v) {
+      char b[32];
+      std::snprintf(b, sizeof(b), "%g", v);
+      return std::string(b);
+    };
+    return {"-vp",      num(from[0]), num(from[1]), num(from[2]),    "-vi",
+            num(to[0]), num(to[1]),   num(to[2]),   "-vu",           num(up[0]),
+            num(up[1]), num(up[2]),   "-fov",       num(fov_degrees)};
+  }
+};
+
+int RunEyelight(const std::string& model, unsigned width, unsigned height, int warmup, int runs,
+                const std::string& viewer_name) {
+  std::optional<std::string> viewer = FindExecutable(viewer_name);
+  if (!viewer) {
+    std::fprintf(stderr, "Embree's viewer ('%s') was not found; install embree-tools.\n",
+                 viewer_name.c_str());
+    return 2;
+  }
+  const Mesh mesh = LoadObjMesh(model);
+  Pipelines p;
+  CUdeviceptr vertices = Upload(mesh.positions.data(), mesh.positions.size() * sizeof(float));
+  CUdeviceptr indices = Upload(mesh.indices.data(), mesh.indices.size() * sizeof(int));
+  const uint32_t flags[1] = {OPTIX_GEOMETRY_FLAG_DISABLE_ANYHIT};
+  OptixBuildInput input = {};
+  input.type = OPTIX_BUILD_INPUT_TYPE_TRIANGLES;
+  input.triangleArray.vertexFormat = OPTIX_VERTEX_FORMAT_FLOAT3;
+  input.triangleArray.numVertices = static_cast<unsigned>(mesh.VertexCount());
+  input.triangleArray.vertexBuffers = &vertices;
+  input.triangleArray.indexFormat = OPTIX_INDICES_FORMAT_UNSIGNED_INT3;
+  input.triangleArray.numIndexTriplets = static_cast<unsigned>(mesh.TriangleCount());
+  input.triangleArray.indexBuffer = indices;
+  input.triangleArray.flags = flags;
+  input.triangleArray.numSbtRecords = 1;
+  OptixAccelBuildOptions build = {};
+  build.buildFlags = OPTIX_BUILD_FLAG_PREFER_FAST_TRACE;
+  build.operation = OPTIX_BUILD_OPERATION_BUILD;
+  OptixAccelBufferSizes sizes;
+  CHECK_OPTIX(optixAccelComputeMemoryUsage(p.context, &build, &input, 1, &sizes));
+  void *temp = nullptr, *out = nullptr;
+  CHECK_CUDA(cudaMalloc(&temp, sizes.tempSizeInBytes));
+  CHECK_CUDA(cudaMalloc(&out, sizes.outputSizeInBytes));
+  OptixTraversableHandle gas = 0;
+  CHECK_OPTIX(optixAccelBuild(p.context, nullptr, &build, &input, 1,
+                              reinterpret_cast<CUdeviceptr>(temp), sizes.tempSizeInBytes,
+                              reinterpret_cast<CUdeviceptr>(out), sizes.outputSizeInBytes, &gas,
+                              nullptr, 0));
+  OptixShaderBindingTable sbt;
+  OptixPipeline pipeline = p.Make("__raygen__pinhole", "params", &sbt);
+
+  // The OptiX SDK pinhole for Embree viewer's camera (bench/eyelight/scene.cc MakePinhole).
+  const Camera camera;
+  const float3 eye = make_float3(camera.from[0], camera.from[1], camera.from[2]);
+  float3 w = make_float3(camera.to[0] - eye.x, camera.to[1] - eye.y, camera.to[2] - eye.z);
+  const float wlen = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
+  auto cross = [](float3 a, float3 b) {
+    return make_float3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+  };
+  auto scaled = [](float3 a, float s) {
+    const float l = std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
+    return make_float3(a.x * s / l, a.y * s / l, a.z * s / l);
+  };
+  const float vlen = wlen * std::tan(0.5f * camera.fov_degrees * static_cast<float>(M_PI) / 180.f);
+  const float3 u = scaled(cross(w, make_float3(camera.up[0], camera.up[1], camera.up[2])),
+                          vlen * width / height);
+  const float3 v = scaled(cross(u, w), vlen);
+  void* image = nullptr;
+  CHECK_CUDA(cudaMalloc(&image, size_t(width) * height * sizeof(uchar4)));
+  EyelightParams params = {static_cast<uchar4*>(image),
+                           width,
+                           height,
+                           eye,
+                           u,
+                           v,
+                           w,
+                           gas,
+                           reinterpret_cast<const float3*>(vertices),
+                           reinterpret_cast<const int3*>(indices)};
+  const CUdeviceptr d_params = Upload(&params, sizeof(params));
+  const LaunchTimes times = TimeLaunches(
+      [&] {
+        CHECK_OPTIX(
+            optixLaunch(pipeline, nullptr, d_params, sizeof(params), &sbt, width, height, 1));
+      },
+      warmup, runs);
+  const double rays = double(width) * height;
+  const double ours = rays / times.Median() / 1e6;
+  std::printf("tessera optix7: median %.3f ms per launch (min %.3f, max %.3f), %.2f cores used\n",
+              1e3 * times.Median(), 1e3 * times.Min(), 1e3 * times.Max(), times.Utilization());
+  ViewerRun run;
+  run.viewer = *viewer;
+  run.model = model;
+  run.width = width;
+  run.height = height;
+  run.warmup = warmup;
+  run.runs = runs;
+  run.camera_flags = camera.ViewerFlags();
+  std::string command;
+  const double theirs = RunEmbreeViewer(run, &command);
+  std::printf("embree: %s\n", command.c_str());
+  std::printf("embree_mrays_per_s=%.3f\n", theirs);
+  std::printf("tessera_optix7_mrays_per_s=%.3f\n", ours);
+  std::printf("eyelight_optix7_ratio_vs_embree=%.3f\n", ours / theirs);
+  return 0;
+}
+
+int RunBytes() {
+  constexpr size_t kBuffer = size_t{64} << 20;
+  constexpr unsigned kStride = 100;  // every 100th word: 1% of the buffer
+  const unsigned words = static_cast<unsigned>(kBuffer / sizeof(unsigned) / kStride);
+  Pipelines p;
+  OptixShaderBindingTable sbt;
+  OptixPipeline pipeline = p.Make("__raygen__write", "write_params", &sbt);
+  void* buffer = nullptr;
+  CHECK_CUDA(cudaMalloc(&buffer, kBuffer));
+  CHECK_CUDA(cudaMemset(buffer, 0, kBuffer));
+  WriteParams params = {static_cast<unsigned*>(buffer), kStride, 1};
+  void* d_params = nullptr;
+  CHECK_CUDA(cudaMalloc(&d_params, sizeof(params)));
+  auto launch = [&](const char* what) {
+    CHECK_CUDA(cudaMemcpy(d_params, &params, sizeof(params), cudaMemcpyHostToDevice));
+    const Pipelines::Stats before = p.Transfers();
+    CHECK_OPTIX(optixLaunch(pipeline, nullptr, reinterpret_cast<CUdeviceptr>(d_params),
+                            sizeof(params), &sbt, words, 1, 1));
+    const Pipelines::Stats after = p.Transfers();
+    std::printf("%s: sent %llu bytes, received %llu bytes\n", what, after.sent - before.sent,
+                after.received - before.received);
+    return Pipelines::Stats{after.sent - before.sent, after.received - before.received};
+  };
+  launch("first launch (everything ships)");
+  launch("a launch writing what it wrote before");
+  const Pipelines::Stats unchanged = launch("the same launch again");
+  std::vector<unsigned char> four_k(4096, 7);
+  CHECK_CUDA(cudaMemcpy(static_cast<char*>(buffer) + kBuffer / 2 + 100, four_k.data(),
+                        four_k.size(), cudaMemcpyHostToDevice));
+  const Pipelines::Stats after_memcpy = launch("after a 4 KiB cudaMemcpy");
+  params.value = 1000;
+  const Pipelines::Stats writes = launch("programs write 1% of the buffer anew");
+  params.value = 1000;
+  const Pipelines::Stats next = launch("the next launch (other devices take those bytes)");
+  const char* devices = std::getenv("TESSERA_DEVICES");
+  std::printf("devices=%s buffer_bytes=%zu\n", devices ? devices : "", kBuffer);
+  std::printf("optix7_unchanged_launch_bytes_sent=%llu\n", unchanged.sent);
+  std::printf("optix7_4k_memcpy_launch_bytes_sent=%llu\n", after_memcpy.sent);
+  std::printf("optix7_1pct_write_bytes_gathered=%llu (%.4f of the buffer)\n", writes.received,
+              double(writes.received) / kBuffer);
+  std::printf("optix7_1pct_write_next_launch_bytes_sent=%llu (%.4f of the buffer)\n", next.sent,
+              double(next.sent) / kBuffer);
+  return 0;
+}
+
+}  // namespace
+}  // namespace tessera::bench
+
+int main(int argc, char** argv) {
+  CLI::App app{"tessera-bench-optix7: the OptiX 7 layer against Embree's viewer, and its bytes"};
+  std::string mode = "all", model = TESSERA_BENCH_DEFAULT_MODEL, viewer = "viewer";
+  std::string devices;
+  unsigned width = 1024, height = 1024;
+  int warmup = 5, runs = 20;
+  app.add_option("--mode", mode, "eyelight, bytes or all")
+      ->check(CLI::IsMember({"eyelight", "bytes", "all"}));
+  app.add_option("--model", model, "OBJ model for eyelight");
+  app.add_option("--viewer", viewer, "Embree's viewer executable");
+  app.add_option("--devices", devices,
+                 "device spec (default: inproc for eyelight, local:2 for bytes)");
+  app.add_option("--width", width);
+  app.add_option("--height", height);
+  app.add_option("--warmup", warmup);
+  app.add_option("--runs", runs);
+  CLI11_PARSE(app, argc, argv);
+  int status = 0;
+  if (mode == "eyelight" || mode == "all") {
+    setenv("TESSERA_DEVICES", devices.empty() ? "inproc" : devices.c_str(), 1);
+    status = tessera::bench::RunEyelight(model, width, height, warmup, runs, viewer);
+  }
+  if (status == 0 && (mode == "bytes" || mode == "all")) {
+    setenv("TESSERA_DEVICES", devices.empty() ? "local:2" : devices.c_str(), 1);
+    status = tessera::bench::RunBytes();
+  }
+  return status;
+}
