@@ -163,7 +163,7 @@ absl::StatusOr<uint64_t> Optix7SceneCache::KeyOf(uint64_t handle, unsigned depth
     if (auto it = keys_this_launch_.find(handle); it != keys_this_launch_.end()) return it->second;
   }
   uint64_t key;
-  if (TransformTag(handle) != 0) {
+  if (IsTransformHandle(handle)) {
     absl::StatusOr<Optix7Transform> t = ReadTransform(handle, readable_(TransformAddress(handle)));
     if (!t.ok()) return t.status();
     absl::StatusOr<uint64_t> child = KeyOf(t->child, depth + 1);
@@ -222,12 +222,12 @@ absl::Status Optix7SceneCache::BuildInstances(uint64_t handle, unsigned depth, O
     InvertAffine(inst.to_world, inst.to_object);
     masks.set(inst.mask & 0xFFu);
     auto fail = [&](const absl::Status& st) {
-      return absl::InvalidArgumentError(absl::StrCat("instance ", k, ": ", st.message()));
+      return absl::Status(st.code(), absl::StrCat("instance ", k, ": ", st.message()));
     };
     // The transforms on the way to the child acceleration.
     std::vector<Optix7Transform> chain;
     uint64_t c = inst.child;
-    while (TransformTag(c) != 0) {
+    while (IsTransformHandle(c)) {
       if (depth + 1 + chain.size() > kMaxGraphDepth) {
         return fail(absl::InvalidArgumentError(
             absl::StrCat("more than ", kMaxGraphDepth, " transforms and instances in a row")));
@@ -296,7 +296,7 @@ absl::Status Optix7SceneCache::BuildInstances(uint64_t handle, unsigned depth, O
 }
 
 absl::StatusOr<const Optix7Scene*> Optix7SceneCache::GetAt(uint64_t handle, unsigned depth) {
-  if (TransformTag(handle) != 0) {
+  if (IsTransformHandle(handle)) {
     return absl::InvalidArgumentError(
         absl::StrCat("traversable handle 0x", absl::Hex(handle),
                      " is a transform: optixTrace and the primitive queries take an acceleration"));

@@ -23,6 +23,12 @@ inline uint32_t TransformTag(uint64_t handle) {
   return static_cast<uint32_t>(handle & kTransformTagMask);
 }
 inline uint64_t TransformAddress(uint64_t handle) { return handle & ~kTransformTagMask; }
+// Tags 1 to 3 (OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM to SRT_MOTION_TRANSFORM); other low bits
+// are no transform (a descriptor the tests keep in heap memory, 16-byte aligned).
+inline bool IsTransformHandle(uint64_t handle) {
+  const uint32_t tag = TransformTag(handle);
+  return tag >= 1 && tag <= 3;
+}
 
 inline constexpr float kIdentity3x4[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 
