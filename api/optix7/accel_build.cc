@@ -1,5 +1,6 @@
 #include "accel_build.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -78,6 +79,7 @@ struct InputPlan {
   const OptixBuildInput* in = nullptr;
   uint32_t primitives = 0, vertices = 0, sbt_records = 1;
   uint32_t vertex_stride = 0, index_stride = 0, sbt_stride = 0, aabb_stride = 0;
+  uint32_t radius_stride = 0;  // spheres
   AccelInput record{};
 };
 
@@ -85,8 +87,10 @@ struct Plan {
   AccelKind kind = AccelKind::kTriangles;
   std::vector<InputPlan> inputs;
   uint32_t instance_stride = 0;
+  uint32_t keys = 1;  // motion keys: every vertex and box buffer comes `keys` times
   uint64_t primitives = 0;
   uint64_t total = 0;
+  uint64_t motion_offset = 0;
 };
 
 // An extent of device memory the build reads: `count` elements `stride` apart, the last
@@ -121,7 +125,28 @@ absl::Status PlanSbt(HostDeviceMemory& m, unsigned i, const unsigned int* flags,
   return Readable(m, i, "sbtIndexOffsetBuffer", offsets, p.primitives, p.sbt_stride, offset_size);
 }
 
-absl::Status PlanTriangles(HostDeviceMemory& m, unsigned i, InputPlan& p) {
+// The per-key buffers of a motion build (vertexBuffers, aabbBuffers, radiusBuffers): `keys`
+// pointers, none null, each `count` elements `stride` apart in one allocation.
+absl::Status ReadableKeys(HostDeviceMemory& m, unsigned input, const char* what,
+                          const CUdeviceptr* buffers, uint32_t keys, uint64_t count,
+                          uint64_t stride, uint64_t element) {
+  if (count == 0) return absl::OkStatus();
+  if (buffers == nullptr) return Invalid(input, absl::StrCat(what, " is null"));
+  for (uint32_t k = 0; k < keys; ++k) {
+    const std::string name = absl::StrCat(what, "[", k, "]");
+    if (buffers[k] == 0) {
+      return Invalid(input,
+                     absl::StrCat(name, " is null", keys > 1 ? " (one per motion key)" : ""));
+    }
+    if (absl::Status s = Readable(m, input, name.c_str(), buffers[k], count, stride, element);
+        !s.ok()) {
+      return s;
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::Status PlanTriangles(HostDeviceMemory& m, unsigned i, uint32_t keys, InputPlan& p) {
   const OptixBuildInputTriangleArray& t = p.in->triangleArray;
   if (t.opacityMicromap.opacityMicromapArray != 0 ||
       t.displacementMicromap.displacementMicromapArray != 0) {
@@ -136,15 +161,10 @@ absl::Status PlanTriangles(HostDeviceMemory& m, unsigned i, InputPlan& p) {
   p.vertices = t.numVertices;
   p.vertex_stride = t.vertexStrideInBytes == 0 ? vb : t.vertexStrideInBytes;
   if (p.vertex_stride < vb) return Invalid(i, "vertexStrideInBytes is smaller than a vertex");
-  if (t.numVertices > 0 && (t.vertexBuffers == nullptr || t.vertexBuffers[0] == 0)) {
-    return Invalid(i, "vertexBuffers[0] is null");
-  }
-  if (t.numVertices > 0) {
-    if (absl::Status s = Readable(m, i, "vertexBuffers[0]", t.vertexBuffers[0], t.numVertices,
-                                  p.vertex_stride, vb);
-        !s.ok()) {
-      return s;
-    }
+  if (absl::Status s = ReadableKeys(m, i, "vertexBuffers", t.vertexBuffers, keys, t.numVertices,
+                                    p.vertex_stride, vb);
+      !s.ok()) {
+    return s;
   }
   if (t.indexFormat == OPTIX_INDICES_FORMAT_NONE) {
     if (t.numIndexTriplets != 0) return Invalid(i, "numIndexTriplets without an indexFormat");
@@ -181,7 +201,7 @@ absl::Status PlanTriangles(HostDeviceMemory& m, unsigned i, InputPlan& p) {
                  t.sbtIndexOffsetSizeInBytes, t.sbtIndexOffsetStrideInBytes, p);
 }
 
-absl::Status PlanCustom(HostDeviceMemory& m, unsigned i, InputPlan& p) {
+absl::Status PlanCustom(HostDeviceMemory& m, unsigned i, uint32_t keys, InputPlan& p) {
   const OptixBuildInputCustomPrimitiveArray& c = p.in->customPrimitiveArray;
   p.primitives = c.numPrimitives;
   p.aabb_stride = c.strideInBytes == 0 ? sizeof(OptixAabb) : c.strideInBytes;
@@ -189,18 +209,42 @@ absl::Status PlanCustom(HostDeviceMemory& m, unsigned i, InputPlan& p) {
     return Invalid(
         i, absl::StrCat("strideInBytes ", c.strideInBytes, " (at least 24, a multiple of 8)"));
   }
-  if (c.numPrimitives > 0 && (c.aabbBuffers == nullptr || c.aabbBuffers[0] == 0)) {
-    return Invalid(i, "aabbBuffers[0] is null");
-  }
-  if (c.numPrimitives > 0) {
-    if (absl::Status s = Readable(m, i, "aabbBuffers[0]", c.aabbBuffers[0], c.numPrimitives,
-                                  p.aabb_stride, sizeof(OptixAabb));
-        !s.ok()) {
-      return s;
-    }
+  if (absl::Status s = ReadableKeys(m, i, "aabbBuffers", c.aabbBuffers, keys, c.numPrimitives,
+                                    p.aabb_stride, sizeof(OptixAabb));
+      !s.ok()) {
+    return s;
   }
   return PlanSbt(m, i, c.flags, c.numSbtRecords, c.sbtIndexOffsetBuffer,
                  c.sbtIndexOffsetSizeInBytes, c.sbtIndexOffsetStrideInBytes, p);
+}
+
+// Spheres: a centre (float3) and a radius per sphere and key; singleRadius: one radius per key.
+absl::Status PlanSpheres(HostDeviceMemory& m, unsigned i, uint32_t keys, InputPlan& p) {
+  const OptixBuildInputSphereArray& sp = p.in->sphereArray;
+  p.primitives = p.vertices = sp.numVertices;
+  p.vertex_stride = sp.vertexStrideInBytes == 0 ? 12 : sp.vertexStrideInBytes;
+  if (p.vertex_stride < 12 || p.vertex_stride % 4 != 0) {
+    return Invalid(i, absl::StrCat("vertexStrideInBytes ", sp.vertexStrideInBytes,
+                                   " (at least 12, a multiple of 4)"));
+  }
+  p.radius_stride = sp.radiusStrideInBytes == 0 ? 4 : sp.radiusStrideInBytes;
+  if (p.radius_stride < 4 || p.radius_stride % 4 != 0) {
+    return Invalid(i, absl::StrCat("radiusStrideInBytes ", sp.radiusStrideInBytes,
+                                   " (at least 4, a multiple of 4)"));
+  }
+  if (absl::Status s = ReadableKeys(m, i, "vertexBuffers", sp.vertexBuffers, keys, sp.numVertices,
+                                    p.vertex_stride, 12);
+      !s.ok()) {
+    return s;
+  }
+  if (absl::Status s = ReadableKeys(m, i, "radiusBuffers", sp.radiusBuffers, keys,
+                                    sp.singleRadius ? std::min(sp.numVertices, 1u) : sp.numVertices,
+                                    p.radius_stride, 4);
+      !s.ok()) {
+    return s;
+  }
+  return PlanSbt(m, i, sp.flags, sp.numSbtRecords, sp.sbtIndexOffsetBuffer,
+                 sp.sbtIndexOffsetSizeInBytes, sp.sbtIndexOffsetStrideInBytes, p);
 }
 
 absl::StatusOr<Plan> PlanBuild(HostDeviceMemory& m, const OptixAccelBuildOptions& options,
@@ -208,17 +252,28 @@ absl::StatusOr<Plan> PlanBuild(HostDeviceMemory& m, const OptixAccelBuildOptions
   if (inputs == nullptr || count == 0) {
     return absl::InvalidArgumentError("no build inputs (buildInputs is null or numBuildInputs 0)");
   }
-  if (options.motionOptions.numKeys > 1) {
-    return absl::UnimplementedError(absl::StrCat("motion blur (motionOptions.numKeys ",
-                                                 options.motionOptions.numKeys,
-                                                 ") is not supported yet"));
+  Plan plan;
+  // numKeys 0 or 1 builds without motion, ignoring the times and flags (guide 5.10.1).
+  const OptixMotionOptions& motion = options.motionOptions;
+  if (motion.numKeys > 1) {
+    if (!(motion.timeBegin <= motion.timeEnd) || !std::isfinite(motion.timeBegin) ||
+        !std::isfinite(motion.timeEnd)) {
+      return absl::InvalidArgumentError(absl::StrCat("motionOptions: timeBegin ", motion.timeBegin,
+                                                     " is after timeEnd ", motion.timeEnd,
+                                                     " (or one is not finite)"));
+    }
+    if ((motion.flags & ~unsigned{OPTIX_MOTION_FLAG_START_VANISH | OPTIX_MOTION_FLAG_END_VANISH}) !=
+        0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("motionOptions.flags 0x", absl::Hex(motion.flags), " has unknown bits"));
+    }
+    plan.keys = motion.numKeys;
   }
   if (options.operation != OPTIX_BUILD_OPERATION_BUILD &&
       options.operation != OPTIX_BUILD_OPERATION_UPDATE) {
     return absl::InvalidArgumentError(
         absl::StrCat("operation 0x", absl::Hex(options.operation), " is unknown"));
   }
-  Plan plan;
   const OptixBuildInputType type = inputs[0].type;
   switch (type) {
     case OPTIX_BUILD_INPUT_TYPE_TRIANGLES:
@@ -231,9 +286,13 @@ absl::StatusOr<Plan> PlanBuild(HostDeviceMemory& m, const OptixAccelBuildOptions
     case OPTIX_BUILD_INPUT_TYPE_INSTANCE_POINTERS:
       plan.kind = AccelKind::kInstances;
       break;
-    case OPTIX_BUILD_INPUT_TYPE_CURVES:
     case OPTIX_BUILD_INPUT_TYPE_SPHERES:
-      return absl::UnimplementedError("curves and spheres are not supported yet");
+      plan.kind = AccelKind::kSpheres;
+      break;
+    case OPTIX_BUILD_INPUT_TYPE_CURVES:
+      return absl::UnimplementedError(
+          "curves are not supported yet (spheres, triangles and custom "
+          "primitives are)");
     default:
       return Invalid(0, absl::StrCat("type 0x", absl::Hex(type), " is unknown"));
   }
@@ -274,6 +333,10 @@ absl::StatusOr<Plan> PlanBuild(HostDeviceMemory& m, const OptixAccelBuildOptions
       }
     }
     plan.total = at + plan.primitives * memory::kInstanceBytes;
+    if (plan.keys > 1) {
+      plan.motion_offset = Align8(plan.total);
+      plan.total = plan.motion_offset + sizeof(memory::AccelMotion);
+    }
     return plan;
   }
   plan.inputs.resize(count);
@@ -281,24 +344,30 @@ absl::StatusOr<Plan> PlanBuild(HostDeviceMemory& m, const OptixAccelBuildOptions
   for (unsigned i = 0; i < count; ++i) {
     InputPlan& p = plan.inputs[i];
     p.in = &inputs[i];
-    absl::Status s =
-        plan.kind == AccelKind::kTriangles ? PlanTriangles(m, i, p) : PlanCustom(m, i, p);
+    absl::Status s = plan.kind == AccelKind::kTriangles ? PlanTriangles(m, i, plan.keys, p)
+                     : plan.kind == AccelKind::kSpheres ? PlanSpheres(m, i, plan.keys, p)
+                                                        : PlanCustom(m, i, plan.keys, p);
     if (!s.ok()) return s;
     AccelInput& r = p.record;
     r.primitive_count = p.primitives;
-    r.primitive_index_offset = plan.kind == AccelKind::kTriangles
-                                   ? inputs[i].triangleArray.primitiveIndexOffset
-                                   : inputs[i].customPrimitiveArray.primitiveIndexOffset;
+    r.primitive_index_offset =
+        plan.kind == AccelKind::kTriangles ? inputs[i].triangleArray.primitiveIndexOffset
+        : plan.kind == AccelKind::kSpheres ? inputs[i].sphereArray.primitiveIndexOffset
+                                           : inputs[i].customPrimitiveArray.primitiveIndexOffset;
     r.num_sbt_records = p.sbt_records;
     if (plan.kind == AccelKind::kTriangles) {
       r.vertex_count = p.vertices;
       r.vertices_offset = at;
-      at += Align8(12ull * p.vertices);
+      at += Align8(12ull * p.vertices * plan.keys);
       r.indices_offset = at;
       at += Align8(12ull * p.primitives);
+    } else if (plan.kind == AccelKind::kSpheres) {
+      r.vertex_count = p.vertices;
+      r.vertices_offset = at;
+      at += Align8(16ull * p.vertices * plan.keys);
     } else {
       r.aabbs_offset = at;
-      at += Align8(24ull * p.primitives);
+      at += Align8(24ull * p.primitives * plan.keys);
     }
     r.flags_offset = at;
     at += Align8(4ull * p.sbt_records);
@@ -308,26 +377,32 @@ absl::StatusOr<Plan> PlanBuild(HostDeviceMemory& m, const OptixAccelBuildOptions
     }
     plan.primitives += p.primitives;
   }
+  if (plan.keys > 1) {
+    plan.motion_offset = at;
+    at += sizeof(memory::AccelMotion);
+  }
   plan.total = at;
   return plan;
 }
 
-// Writes input `i` of `plan` into `out` (the descriptor being made).
-absl::Status WriteInput(const InputPlan& p, unsigned i, AccelKind kind, unsigned char* out) {
+// Writes input `i` of `plan` into `out` (the descriptor being made), `keys` motion keys.
+absl::Status WriteInput(const InputPlan& p, unsigned i, AccelKind kind, uint32_t keys,
+                        unsigned char* out) {
   const AccelInput& r = p.record;
   if (kind == AccelKind::kTriangles) {
     const OptixBuildInputTriangleArray& t = p.in->triangleArray;
     float m[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
     if (t.preTransform != 0) std::memcpy(m, reinterpret_cast<const void*>(t.preTransform), 48);
-    auto* v = reinterpret_cast<float*>(out + r.vertices_offset);
-    const auto* src =
-        reinterpret_cast<const unsigned char*>(p.vertices > 0 ? t.vertexBuffers[0] : 0);
-    for (uint32_t k = 0; k < p.vertices; ++k) {
-      float x[3];
-      ReadVertex(src + uint64_t{k} * p.vertex_stride, t.vertexFormat, x);
-      for (int row = 0; row < 3; ++row) {
-        v[3 * k + row] =
-            m[4 * row] * x[0] + m[4 * row + 1] * x[1] + m[4 * row + 2] * x[2] + m[4 * row + 3];
+    for (uint32_t key = 0; key < keys && p.vertices > 0; ++key) {
+      auto* v = reinterpret_cast<float*>(out + r.vertices_offset) + 3ull * p.vertices * key;
+      const auto* src = reinterpret_cast<const unsigned char*>(t.vertexBuffers[key]);
+      for (uint32_t k = 0; k < p.vertices; ++k) {
+        float x[3];
+        ReadVertex(src + uint64_t{k} * p.vertex_stride, t.vertexFormat, x);
+        for (int row = 0; row < 3; ++row) {
+          v[3 * k + row] =
+              m[4 * row] * x[0] + m[4 * row + 1] * x[1] + m[4 * row + 2] * x[2] + m[4 * row + 3];
+        }
       }
     }
     auto* idx = reinterpret_cast<uint32_t*>(out + r.indices_offset);
@@ -349,24 +424,44 @@ absl::Status WriteInput(const InputPlan& p, unsigned i, AccelKind kind, unsigned
         idx[3 * k + c] = index;
       }
     }
+  } else if (kind == AccelKind::kSpheres) {
+    const OptixBuildInputSphereArray& sp = p.in->sphereArray;
+    for (uint32_t key = 0; key < keys && p.primitives > 0; ++key) {
+      auto* v = reinterpret_cast<float*>(out + r.vertices_offset) + 4ull * p.primitives * key;
+      const auto* centres = reinterpret_cast<const unsigned char*>(sp.vertexBuffers[key]);
+      const auto* radii = reinterpret_cast<const unsigned char*>(sp.radiusBuffers[key]);
+      for (uint32_t k = 0; k < p.primitives; ++k) {
+        std::memcpy(v + 4ull * k, centres + uint64_t{k} * p.vertex_stride, 12);
+        std::memcpy(v + 4ull * k + 3, radii + (sp.singleRadius ? 0 : uint64_t{k} * p.radius_stride),
+                    4);
+        if (!(v[4ull * k + 3] >= 0.f)) {
+          return Invalid(i, absl::StrCat("sphere ", k, " has radius ", v[4ull * k + 3]));
+        }
+      }
+    }
   } else {
     const OptixBuildInputCustomPrimitiveArray& c = p.in->customPrimitiveArray;
-    const auto* src =
-        reinterpret_cast<const unsigned char*>(p.primitives > 0 ? c.aabbBuffers[0] : 0);
-    for (uint32_t k = 0; k < p.primitives; ++k) {
-      std::memcpy(out + r.aabbs_offset + 24ull * k, src + uint64_t{k} * p.aabb_stride, 24);
+    for (uint32_t key = 0; key < keys && p.primitives > 0; ++key) {
+      const auto* src = reinterpret_cast<const unsigned char*>(c.aabbBuffers[key]);
+      unsigned char* dst = out + r.aabbs_offset + 24ull * p.primitives * key;
+      for (uint32_t k = 0; k < p.primitives; ++k) {
+        std::memcpy(dst + 24ull * k, src + uint64_t{k} * p.aabb_stride, 24);
+      }
     }
   }
-  const unsigned int* flags =
-      kind == AccelKind::kTriangles ? p.in->triangleArray.flags : p.in->customPrimitiveArray.flags;
+  const unsigned int* flags = kind == AccelKind::kTriangles ? p.in->triangleArray.flags
+                              : kind == AccelKind::kSpheres ? p.in->sphereArray.flags
+                                                            : p.in->customPrimitiveArray.flags;
   std::memcpy(out + r.flags_offset, flags, 4ull * p.sbt_records);
   if (p.sbt_records > 1) {
-    const CUdeviceptr base = kind == AccelKind::kTriangles
-                                 ? p.in->triangleArray.sbtIndexOffsetBuffer
-                                 : p.in->customPrimitiveArray.sbtIndexOffsetBuffer;
-    const unsigned size = kind == AccelKind::kTriangles
-                              ? p.in->triangleArray.sbtIndexOffsetSizeInBytes
-                              : p.in->customPrimitiveArray.sbtIndexOffsetSizeInBytes;
+    const CUdeviceptr base =
+        kind == AccelKind::kTriangles ? p.in->triangleArray.sbtIndexOffsetBuffer
+        : kind == AccelKind::kSpheres ? p.in->sphereArray.sbtIndexOffsetBuffer
+                                      : p.in->customPrimitiveArray.sbtIndexOffsetBuffer;
+    const unsigned size =
+        kind == AccelKind::kTriangles ? p.in->triangleArray.sbtIndexOffsetSizeInBytes
+        : kind == AccelKind::kSpheres ? p.in->sphereArray.sbtIndexOffsetSizeInBytes
+                                      : p.in->customPrimitiveArray.sbtIndexOffsetSizeInBytes;
     auto* offsets = reinterpret_cast<uint32_t*>(out + r.sbt_index_offsets_offset);
     for (uint32_t k = 0; k < p.primitives; ++k) {
       uint32_t value = 0;
@@ -438,10 +533,18 @@ absl::StatusOr<OptixTraversableHandle> BuildAccel(HostDeviceMemory& memory,
     for (unsigned i = 0; i < count; ++i) {
       std::memcpy(bytes.data() + h.inputs_offset + i * sizeof(AccelInput), &plan->inputs[i].record,
                   sizeof(AccelInput));
-      if (absl::Status s = WriteInput(plan->inputs[i], i, plan->kind, bytes.data()); !s.ok()) {
+      if (absl::Status s = WriteInput(plan->inputs[i], i, plan->kind, plan->keys, bytes.data());
+          !s.ok()) {
         return s;
       }
     }
+  }
+  if (plan->keys > 1) {
+    h.motion_offset = plan->motion_offset;
+    const memory::AccelMotion motion{plan->keys, options.motionOptions.flags,
+                                     options.motionOptions.timeBegin,
+                                     options.motionOptions.timeEnd};
+    std::memcpy(bytes.data() + plan->motion_offset, &motion, sizeof(motion));
   }
   h.content_hash =
       api::Hash64(bytes.data() + sizeof(AccelHeader), bytes.size() - sizeof(AccelHeader));

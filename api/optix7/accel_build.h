@@ -18,7 +18,7 @@ class HostDeviceMemory;
 // The output buffer a build of `inputs` needs, and the temporary buffers (Tessera uses none, but
 // gives a small nonzero size: applications allocate what it says and may check the pointer).
 // INVALID_ARGUMENT naming the input and field for inputs OptiX would refuse; UNIMPLEMENTED for
-// what Tessera cannot build yet (motion keys, curves, spheres, micromaps), saying which.
+// what Tessera cannot build yet (curves, micromaps), saying which.
 absl::StatusOr<OptixAccelBufferSizes> AccelBufferSizes(HostDeviceMemory& memory,
                                                        const OptixAccelBuildOptions& options,
                                                        const OptixBuildInput* inputs,

@@ -3,6 +3,8 @@
 // only an instance build's child handles are addresses, which optixAccelRelocate replaces).
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -71,11 +73,92 @@ void Extend(OptixAabb& box, const float p[3]) {
   box.maxZ = std::max(box.maxZ, p[2]);
 }
 
-// The bounds of everything a build holds; an empty build's box has min > max.
+// `box` through 3x4 matrix `t` into `out`.
+void ExtendTransformed(OptixAabb& out, const OptixAabb& box, const float t[12]) {
+  for (int corner = 0; corner < 8; ++corner) {
+    const float x = corner & 1 ? box.maxX : box.minX;
+    const float y = corner & 2 ? box.maxY : box.minY;
+    const float z = corner & 4 ? box.maxZ : box.minZ;
+    const float p[3] = {t[0] * x + t[1] * y + t[2] * z + t[3],
+                        t[4] * x + t[5] * y + t[6] * z + t[7],
+                        t[8] * x + t[9] * y + t[10] * z + t[11]};
+    Extend(out, p);
+  }
+}
+
+// An SRT motion key (OptixSRTData) as its matrix C = T * R * S, the quaternion normalized.
+void SrtKeyMatrix(const float v[16], float out[12]) {
+  float q[4] = {v[9], v[10], v[11], v[12]};
+  const float n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (float& c : q) c = n > 0.f ? c / n : c;
+  const float x = q[0], y = q[1], z = q[2], w = q[3];
+  const float r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w),     2 * (x * z + y * w),
+                      2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+                      2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
+  const float s[12] = {v[0], v[1], v[2], v[3], 0, v[4], v[5], v[6], 0, 0, v[7], v[8]};
+  const float t[3] = {v[13], v[14], v[15]};
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 4; ++k) {
+      out[i * 4 + k] =
+          r[i * 3] * s[k] + r[i * 3 + 1] * s[4 + k] + r[i * 3 + 2] * s[8 + k] + (k == 3 ? t[i] : 0);
+    }
+  }
+}
+
+absl::StatusOr<OptixAabb> Bounds(HostDeviceMemory& m, OptixTraversableHandle handle, int depth);
+
+// The bounds of a transform traversable's child through its keys (a handle with a type tag,
+// api/optix7/transform_handles.cc). Matrix keys bound a matrix motion exactly; an SRT's rotation
+// between keys may reach a little outside its keys' boxes, which the box does not cover.
+absl::StatusOr<OptixAabb> TransformBounds(HostDeviceMemory& m, OptixTraversableHandle handle,
+                                          int depth) {
+  const CUdeviceptr p = handle & ~CUdeviceptr{63};
+  const unsigned tag = static_cast<unsigned>(handle & 63);
+  if (tag < OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM ||
+      tag > OPTIX_TRANSFORM_TYPE_SRT_MOTION_TRANSFORM || !m.IsAllocated(p, 32)) {
+    return OptixError(OPTIX_ERROR_INVALID_VALUE,
+                      absl::StrCat("traversable 0x", absl::Hex(handle), " is no transform"));
+  }
+  const auto* bytes = reinterpret_cast<const unsigned char*>(p);
+  OptixTraversableHandle child;
+  std::memcpy(&child, bytes, sizeof(child));
+  absl::StatusOr<OptixAabb> inner = Bounds(m, child, depth + 1);
+  if (!inner.ok() || inner->minX > inner->maxX) return inner;
+  OptixAabb box{FLT_MAX, FLT_MAX, FLT_MAX, -FLT_MAX, -FLT_MAX, -FLT_MAX};
+  if (tag == OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM) {
+    float t[12];
+    std::memcpy(t, bytes + offsetof(OptixStaticTransform, transform), sizeof(t));
+    ExtendTransformed(box, *inner, t);
+    return box;
+  }
+  OptixMotionOptions mo;
+  std::memcpy(&mo, bytes + 8, sizeof(mo));
+  const size_t per_key = tag == OPTIX_TRANSFORM_TYPE_MATRIX_MOTION_TRANSFORM ? 12 : 16;
+  if (!m.IsAllocated(p, 32 + per_key * 4 * mo.numKeys)) {
+    return OptixError(OPTIX_ERROR_INVALID_VALUE,
+                      absl::StrCat("motion transform 0x", absl::Hex(handle), " of ", mo.numKeys,
+                                   " keys does not lie in one allocation"));
+  }
+  for (unsigned k = 0; k < mo.numKeys; ++k) {
+    float v[16], t[12];
+    std::memcpy(v, bytes + 32 + per_key * 4 * k, per_key * 4);
+    if (per_key == 16) {
+      SrtKeyMatrix(v, t);
+    } else {
+      std::memcpy(t, v, sizeof(t));
+    }
+    ExtendTransformed(box, *inner, t);
+  }
+  return box;
+}
+
+// The bounds of everything a build holds (every motion key); an empty build's box has
+// min > max.
 absl::StatusOr<OptixAabb> Bounds(HostDeviceMemory& m, OptixTraversableHandle handle, int depth) {
   if (depth > kMaxBoundsDepth) {
     return OptixError(OPTIX_ERROR_INVALID_VALUE, "instances nest deeper than 31 levels");
   }
+  if ((handle & 63) != 0) return TransformBounds(m, handle, depth);
   absl::StatusOr<const AccelHeader*> h = Descriptor(m, handle, "traversable");
   if (!h.ok()) return h.status();
   OptixAabb box{FLT_MAX, FLT_MAX, FLT_MAX, -FLT_MAX, -FLT_MAX, -FLT_MAX};
@@ -92,32 +175,38 @@ absl::StatusOr<OptixAabb> Bounds(HostDeviceMemory& m, OptixTraversableHandle han
                           absl::StrCat("instance ", k, ": ", child.status().message()));
       }
       if (child->minX > child->maxX) continue;
-      const float* t = instance.transform;
-      for (int corner = 0; corner < 8; ++corner) {
-        const float x = corner & 1 ? child->maxX : child->minX;
-        const float y = corner & 2 ? child->maxY : child->minY;
-        const float z = corner & 4 ? child->maxZ : child->minZ;
-        const float p[3] = {t[0] * x + t[1] * y + t[2] * z + t[3],
-                            t[4] * x + t[5] * y + t[6] * z + t[7],
-                            t[8] * x + t[9] * y + t[10] * z + t[11]};
-        Extend(box, p);
-      }
+      ExtendTransformed(box, *child, instance.transform);
     }
     return box;
   }
+  uint32_t keys = 1;
+  if ((*h)->motion_offset != 0) {
+    keys = At<memory::AccelMotion>(*h, (*h)->motion_offset)->keys;
+  }
   for (uint32_t i = 0; i < (*h)->input_count; ++i) {
     const AccelInput& in = *At<AccelInput>(*h, (*h)->inputs_offset + i * sizeof(AccelInput));
-    if ((*h)->kind == AccelKind::kTriangles) {
-      const float* vertices = At<float>(*h, in.vertices_offset);
-      const uint32_t* indices = At<uint32_t>(*h, in.indices_offset);
-      for (uint64_t k = 0; k < uint64_t{in.primitive_count} * 3; ++k) {
-        if (indices[k] < in.vertex_count) Extend(box, vertices + uint64_t{indices[k]} * 3);
-      }
-    } else {
-      const float* boxes = At<float>(*h, in.aabbs_offset);
-      for (uint64_t k = 0; k < in.primitive_count; ++k) {
-        Extend(box, boxes + k * 6);
-        Extend(box, boxes + k * 6 + 3);
+    for (uint32_t key = 0; key < keys; ++key) {
+      if ((*h)->kind == AccelKind::kTriangles) {
+        const float* vertices = At<float>(*h, in.vertices_offset) + 3ull * in.vertex_count * key;
+        const uint32_t* indices = At<uint32_t>(*h, in.indices_offset);
+        for (uint64_t k = 0; k < uint64_t{in.primitive_count} * 3; ++k) {
+          if (indices[k] < in.vertex_count) Extend(box, vertices + uint64_t{indices[k]} * 3);
+        }
+      } else if ((*h)->kind == AccelKind::kSpheres) {
+        const float* spheres = At<float>(*h, in.vertices_offset) + 4ull * in.primitive_count * key;
+        for (uint64_t k = 0; k < in.primitive_count; ++k) {
+          const float* c = spheres + 4 * k;
+          const float lo[3] = {c[0] - c[3], c[1] - c[3], c[2] - c[3]};
+          const float hi[3] = {c[0] + c[3], c[1] + c[3], c[2] + c[3]};
+          Extend(box, lo);
+          Extend(box, hi);
+        }
+      } else {
+        const float* boxes = At<float>(*h, in.aabbs_offset) + 6ull * in.primitive_count * key;
+        for (uint64_t k = 0; k < in.primitive_count; ++k) {
+          Extend(box, boxes + k * 6);
+          Extend(box, boxes + k * 6 + 3);
+        }
       }
     }
   }

@@ -1,5 +1,6 @@
 // optixConvertPointerToTraversableHandle: the handle of a static or motion transform is its
-// address in device memory, which the trace path reads as OptiX's does.
+// address in device memory with its type in the low bits, which the trace path reads as OptiX's
+// does (worker/core/optix7_transforms.h).
 #include <memory>
 
 #include "absl/strings/str_cat.h"
@@ -55,7 +56,15 @@ OptixResult optixConvertPointerToTraversableHandle(OptixDeviceContext onDevice, 
                                      " bytes of device memory, OPTIX_TRANSFORM_BYTE_ALIGNMENT (64) "
                                      "aligned"));
     }
-    *traversableHandle = pointer;  // the handle of a transform is its address
+    // The handle is the address with the OptixTransformType in its low bits (the pointer is
+    // 64-byte aligned; accelerations' handles, 128-byte aligned, have none): the engine tells a
+    // transform from an acceleration, and the three kinds apart, without reading device memory.
+    const unsigned tag = traversableType == OPTIX_TRAVERSABLE_TYPE_STATIC_TRANSFORM
+                             ? OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM
+                         : traversableType == OPTIX_TRAVERSABLE_TYPE_MATRIX_MOTION_TRANSFORM
+                             ? OPTIX_TRANSFORM_TYPE_MATRIX_MOTION_TRANSFORM
+                             : OPTIX_TRANSFORM_TYPE_SRT_MOTION_TRANSFORM;
+    *traversableHandle = pointer | tag;
     return absl::OkStatus();
   });
 }

@@ -50,10 +50,12 @@ struct Built {
 };
 
 // Sizes, allocates the output and builds; `error` holds the message of a refused build.
-Built Build(const std::vector<OptixBuildInput>& inputs, unsigned flags = 0) {
+Built Build(const std::vector<OptixBuildInput>& inputs, unsigned flags = 0,
+            const OptixMotionOptions& motion = {}) {
   OptixAccelBuildOptions options{};
   options.buildFlags = flags;
   options.operation = OPTIX_BUILD_OPERATION_BUILD;
+  options.motionOptions = motion;
   Built b;
   auto sizes = tessera::optix7::AccelBufferSizes(Memory(), options, inputs.data(),
                                                  static_cast<unsigned>(inputs.size()));
@@ -286,7 +288,7 @@ TEST(AccelBuildTest, InputsOptiXWouldRefuseAreNamed) {
 
   OptixBuildInput curves{};
   curves.type = OPTIX_BUILD_INPUT_TYPE_CURVES;
-  refused(curves, "curves and spheres are not supported yet");
+  refused(curves, "curves are not supported yet");
   OptixBuildInput other = triangles();
   OptixBuildInput custom{};
   custom.type = OPTIX_BUILD_INPUT_TYPE_CUSTOM_PRIMITIVES;
@@ -330,6 +332,87 @@ TEST(AccelFormatTest, ADescriptorThatIsNotOneIsRefused) {
   read = tessera::memory::ReadAccelHeader(junk.data(), junk.size());
   ASSERT_FALSE(read.ok());
   EXPECT_NE(read.status().message().find("format version 99"), std::string::npos);
+}
+
+TEST(AccelBuildTest, MotionKeysAndSpheresAreHeldKeyAfterKey) {
+  const unsigned flags = OPTIX_GEOMETRY_FLAG_NONE;
+  // Three keys of one triangle, moving +10 in x per key.
+  std::vector<CUdeviceptr> keys;
+  for (int k = 0; k < 3; ++k) {
+    const float x = 10.f * k;
+    keys.push_back(Upload(std::vector<float>{x, 0, 0, x + 1, 0, 0, x, 1, 0}));
+  }
+  OptixBuildInput tri{};
+  tri.type = OPTIX_BUILD_INPUT_TYPE_TRIANGLES;
+  tri.triangleArray.vertexBuffers = keys.data();
+  tri.triangleArray.numVertices = 3;
+  tri.triangleArray.vertexFormat = OPTIX_VERTEX_FORMAT_FLOAT3;
+  tri.triangleArray.flags = &flags;
+  tri.triangleArray.numSbtRecords = 1;
+  const Built moving =
+      Build({tri}, 0, OptixMotionOptions{3, OPTIX_MOTION_FLAG_END_VANISH, -1.f, 2.f});
+  ASSERT_TRUE(moving.error.empty()) << moving.error;
+  ASSERT_NE(moving.header->motion_offset, 0u);
+  const auto* motion = moving.at<tessera::memory::AccelMotion>(moving.header->motion_offset);
+  EXPECT_EQ(motion->keys, 3u);
+  EXPECT_EQ(motion->flags, static_cast<uint32_t>(OPTIX_MOTION_FLAG_END_VANISH));
+  EXPECT_EQ(motion->time_begin, -1.f);
+  EXPECT_EQ(motion->time_end, 2.f);
+  const float* v = moving.at<float>(moving.input(0).vertices_offset);
+  EXPECT_EQ(v[0], 0.f);    // key 0, vertex 0
+  EXPECT_EQ(v[9], 10.f);   // key 1, vertex 0
+  EXPECT_EQ(v[21], 21.f);  // key 2, vertex 1
+  // One key, or none, builds without motion whatever the times say.
+  const Built still = Build({tri}, 0, OptixMotionOptions{1, 0, 5.f, 1.f});
+  ASSERT_TRUE(still.error.empty()) << still.error;
+  EXPECT_EQ(still.header->motion_offset, 0u);
+  // What a motion build refuses.
+  std::vector<CUdeviceptr> short_keys = {keys[0], 0};
+  tri.triangleArray.vertexBuffers = short_keys.data();
+  EXPECT_NE(
+      Build({tri}, 0, OptixMotionOptions{2, 0, 0.f, 1.f}).error.find("vertexBuffers[1] is null"),
+      std::string::npos);
+  tri.triangleArray.vertexBuffers = keys.data();
+  EXPECT_NE(Build({tri}, 0, OptixMotionOptions{2, 0, 1.f, 0.f}).error.find("timeBegin 1 is after"),
+            std::string::npos);
+
+  // Custom primitives: boxes per key.
+  const std::vector<OptixAabb> box0 = {{0, 0, 0, 1, 1, 1}}, box1 = {{5, 0, 0, 6, 1, 1}};
+  std::vector<CUdeviceptr> boxes = {Upload(box0), Upload(box1)};
+  OptixBuildInput custom{};
+  custom.type = OPTIX_BUILD_INPUT_TYPE_CUSTOM_PRIMITIVES;
+  custom.customPrimitiveArray.aabbBuffers = boxes.data();
+  custom.customPrimitiveArray.numPrimitives = 1;
+  custom.customPrimitiveArray.flags = &flags;
+  custom.customPrimitiveArray.numSbtRecords = 1;
+  const Built moving_boxes = Build({custom}, 0, OptixMotionOptions{2, 0, 0.f, 1.f});
+  ASSERT_TRUE(moving_boxes.error.empty()) << moving_boxes.error;
+  EXPECT_EQ(moving_boxes.at<float>(moving_boxes.input(0).aabbs_offset)[6], 5.f);
+
+  // Spheres: centre and radius as float[4]; one radius for all with singleRadius.
+  const CUdeviceptr centres = Upload(std::vector<float>{1, 2, 3, 4, 5, 6});
+  const CUdeviceptr radii = Upload(std::vector<float>{0.5f, 0.25f});
+  OptixBuildInput spheres{};
+  spheres.type = OPTIX_BUILD_INPUT_TYPE_SPHERES;
+  spheres.sphereArray.vertexBuffers = &centres;
+  spheres.sphereArray.numVertices = 2;
+  spheres.sphereArray.radiusBuffers = &radii;
+  spheres.sphereArray.flags = &flags;
+  spheres.sphereArray.numSbtRecords = 1;
+  spheres.sphereArray.primitiveIndexOffset = 7;
+  const Built built = Build({spheres});
+  ASSERT_TRUE(built.error.empty()) << built.error;
+  EXPECT_EQ(built.header->kind, AccelKind::kSpheres);
+  EXPECT_EQ(built.input(0).primitive_index_offset, 7u);
+  const float* s = built.at<float>(built.input(0).vertices_offset);
+  EXPECT_EQ(std::vector<float>(s, s + 8), (std::vector<float>{1, 2, 3, 0.5f, 4, 5, 6, 0.25f}));
+  spheres.sphereArray.singleRadius = 1;
+  const Built single = Build({spheres});
+  ASSERT_TRUE(single.error.empty()) << single.error;
+  EXPECT_EQ(single.at<float>(single.input(0).vertices_offset)[7], 0.5f);
+  const CUdeviceptr negative = Upload(std::vector<float>{-1.f});
+  spheres.sphereArray.radiusBuffers = &negative;
+  EXPECT_NE(Build({spheres}).error.find("sphere 0 has radius -1"), std::string::npos);
 }
 
 }  // namespace

@@ -135,9 +135,11 @@ OptixBuildInput EngineTest::Instances(const std::vector<OptixInstance>& instance
   return in;
 }
 
-OptixTraversableHandle EngineTest::Build(const std::vector<OptixBuildInput>& inputs) {
+OptixTraversableHandle EngineTest::Build(const std::vector<OptixBuildInput>& inputs,
+                                         const OptixMotionOptions& motion) {
   OptixAccelBuildOptions options{};
   options.operation = OPTIX_BUILD_OPERATION_BUILD;
+  options.motionOptions = motion;
   auto sizes = optix7::AccelBufferSizes(Memory(), options, inputs.data(),
                                         static_cast<unsigned>(inputs.size()));
   EXPECT_TRUE(sizes.ok()) << sizes.status();
@@ -164,6 +166,14 @@ uint64_t EngineTest::Group(uint32_t kind, const TestModule& m, const std::string
   *g.mutable_intersection() = Entry(m, is);
   state_.program_groups[g.id()] = g;
   return g.id();
+}
+
+OptixTraversableHandle EngineTest::Transform(const void* data, size_t bytes,
+                                             OptixTransformType type) {
+  const CUdeviceptr p = Alloc(bytes);  // cudaMalloc: 256-byte aligned
+  EXPECT_EQ(cudaMemcpy(reinterpret_cast<void*>(p), data, bytes, cudaMemcpyHostToDevice),
+            cudaSuccess);
+  return p | type;
 }
 
 uint64_t EngineTest::Raygen(const TestModule& m, const std::string& fn) {

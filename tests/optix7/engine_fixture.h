@@ -77,7 +77,11 @@ class EngineTest : public ::testing::Test {
                             const std::vector<uint32_t>& sbt_index_offsets = {});
   OptixBuildInput Spheres(const std::vector<float4>& spheres);  // their boxes
   OptixBuildInput Instances(const std::vector<OptixInstance>& instances);
-  OptixTraversableHandle Build(const std::vector<OptixBuildInput>& inputs);
+  OptixTraversableHandle Build(const std::vector<OptixBuildInput>& inputs,
+                               const OptixMotionOptions& motion = {});
+  // Device memory of `bytes` bytes at OPTIX_TRANSFORM_BYTE_ALIGNMENT holding `data`, and its
+  // handle as optixConvertPointerToTraversableHandle makes it (the type in the low bits).
+  OptixTraversableHandle Transform(const void* data, size_t bytes, OptixTransformType type);
 
   // Program groups of the pipeline (every group made so far), by kind.
   uint64_t Raygen(const TestModule& m, const std::string& fn);

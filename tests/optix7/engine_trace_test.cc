@@ -41,8 +41,8 @@ TEST_F(EngineTest, TrianglesHitAndMissWithPayloadsBarycentricsAndSbtIndexing) {
     EXPECT_EQ(r.word(i, 2), static_cast<uint32_t>(OPTIX_HIT_KIND_TRIANGLE_FRONT_FACE));
     EXPECT_NEAR(r.real(i, 3), 0.25f, 1e-5f);  // barycentrics: the weights of vertices 1 and 2
     EXPECT_NEAR(r.real(i, 4), 0.5f, 1e-5f);
-    EXPECT_EQ(r.word(i, 5), 0u);  // no instance
-    EXPECT_EQ(r.word(i, 6), i);   // SBT-GAS index
+    EXPECT_EQ(r.word(i, 5), ~0u);  // no instance (guide 11.7)
+    EXPECT_EQ(r.word(i, 6), i);    // SBT-GAS index
     EXPECT_NEAR(r.real(i, 7), 1.f, 1e-6f);
     EXPECT_EQ(r.word(i, 9), 1u);  // front face
     EXPECT_EQ(r.word(i, 10), 0u);

@@ -192,12 +192,12 @@ TEST_F(AccelTest, BuildEmitCompactRelocateAndInstance) {
 }
 
 TEST_F(AccelTest, UnsupportedInputsAndTransformHandles) {
-  OptixBuildInput spheres{};
-  spheres.type = OPTIX_BUILD_INPUT_TYPE_SPHERES;
+  OptixBuildInput curves{};
+  curves.type = OPTIX_BUILD_INPUT_TYPE_CURVES;
   OptixAccelBuildOptions options{};
   options.operation = OPTIX_BUILD_OPERATION_BUILD;
   OptixAccelBufferSizes sizes{};
-  EXPECT_EQ(optixAccelComputeMemoryUsage(context_, &options, &spheres, 1, &sizes),
+  EXPECT_EQ(optixAccelComputeMemoryUsage(context_, &options, &curves, 1, &sizes),
             OPTIX_ERROR_NOT_SUPPORTED);
   EXPECT_EQ(optixAccelComputeMemoryUsage(context_, &options, nullptr, 1, &sizes),
             OPTIX_ERROR_INVALID_VALUE);
@@ -208,7 +208,7 @@ TEST_F(AccelTest, UnsupportedInputsAndTransformHandles) {
   ASSERT_EQ(optixConvertPointerToTraversableHandle(
                 context_, transform, OPTIX_TRAVERSABLE_TYPE_STATIC_TRANSFORM, &handle),
             OPTIX_SUCCESS);
-  EXPECT_EQ(handle, transform);
+  EXPECT_EQ(handle, transform | OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM);  // the type in low bits
   EXPECT_EQ(optixConvertPointerToTraversableHandle(
                 context_, transform + 16, OPTIX_TRAVERSABLE_TYPE_STATIC_TRANSFORM, &handle),
             OPTIX_ERROR_INVALID_VALUE);

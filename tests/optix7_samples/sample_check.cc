@@ -135,6 +135,43 @@ void InstancesShowThreeMaterialsAndTheMaskedOneIsHidden() {
   EXPECT_NEAR(gap[0], gap[1], 30) << gap;
 }
 
+// The motion blur sample's image: an orthographic view of x in [-1.6, 1.6], y in [-1.2, 1.2].
+void MovingThingsBlurAndTheStillOneStaysSharp() {
+  const Image image = Load("motion_blur");
+  ASSERT_EQ(image.width, 320);
+  auto at = [&](float x, float y) {
+    return image.At(static_cast<int>((x / 1.6f + 1.f) * 160.f),
+                    static_cast<int>((y / 1.2f + 1.f) * 120.f));
+  };
+  const std::array<int, 3> background = {Channel(0.1f), Channel(0.1f), Channel(0.15f)};
+  EXPECT_EQ(image.At(0, 0), background);
+  // The still square is sharp: its full colour inside, background just past its edge.
+  const std::array<int, 3> blue = {Channel(0.15f), Channel(0.3f), Channel(0.95f)};
+  EXPECT_EQ(at(0.8f, 0.55f), blue);
+  EXPECT_EQ(at(0.95f, 0.55f), blue);
+  EXPECT_EQ(at(1.1f, 0.55f), background);
+  // The moving mesh covers its first place about a third of the shutter time: red, but between
+  // the background and its full colour; past its path there is background.
+  const std::array<int, 3> start = at(-1.15f, 0.55f);
+  EXPECT_GT(start[0], background[0] + 30) << start;
+  EXPECT_LT(start[0], Channel(0.9f) - 30) << start;
+  EXPECT_GT(start[0], start[1] + 40) << start;
+  EXPECT_EQ(at(-1.5f, 0.55f), background);
+  EXPECT_EQ(at(-0.75f, 0.15f), background);  // below the arc of its path
+  // The spinning square's centre is always covered; a point near its corner only while the
+  // corner passes.
+  EXPECT_EQ(at(0.8f, -0.5f), (std::array<int, 3>{Channel(0.1f), Channel(0.85f), Channel(0.2f)}));
+  const std::array<int, 3> corner = at(1.012f, -0.288f);
+  EXPECT_GT(corner[1], background[1] + 30) << corner;
+  EXPECT_LT(corner[1], Channel(0.85f) - 30) << corner;
+  // Blur leaves many colours between the background and the full ones.
+  std::set<std::array<int, 3>> colours;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) colours.insert(image.At(x, y));
+  }
+  EXPECT_GT(colours.size(), 20u);  // 16 samples a pixel: up to 17 levels per moving object
+}
+
 void CutoutsLetTheBackgroundThroughTheHoles() {
   const Image image = Load("cutouts");
   ASSERT_EQ(image.width, 320);
@@ -204,6 +241,7 @@ int main(int argc, char** argv) {
       {"cutouts", CutoutsLetTheBackgroundThroughTheHoles},
       {"dynamic", DynamicFramesDifferAndTheLastRebuildMatchesItsSurface},
       {"path_tracer", CornellBoxHasRedAndGreenWallsAndALight},
+      {"motion_blur", MovingThingsBlurAndTheStillOneStaysSharp},
       {"exceptions", [] {}},  // the sample checks its exception records itself (exit status)
   };
   if (argc != 3 || checks.count(argv[1]) == 0) {

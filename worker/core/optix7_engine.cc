@@ -243,13 +243,15 @@ __attribute__((noinline)) bool RunIndices(Optix7Thread& ts, const Index3& origin
 Optix7Engine::Optix7Engine(RTCDevice device)
     : scenes_(device, Optix7IntersectFunction(), [this](uint64_t address) -> size_t {
         return launch_ != nullptr ? launch_->Readable(address) : 0;
-      }) {}
+      }) {
+  scenes_.set_node_intersect(Optix7NodeIntersectFunction());
+}
 
 Optix7Engine::~Optix7Engine() = default;
 
 absl::StatusOr<const Optix7Scene*> Optix7Engine::Scene(uint64_t handle) {
   std::lock_guard<std::mutex> lock(scenes_mu_);
-  return scenes_.Get(handle);
+  return scenes_.Get(handle, launch_ != nullptr ? launch_->serial : 0);
 }
 
 bool Optix7Engine::RunTile(const Index3& origin, const Index3& size, const Index3& dims,

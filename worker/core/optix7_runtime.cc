@@ -78,14 +78,13 @@ void Apply(const float m[12], const float v[3], float w, float out[3]) {
   }
 }
 
-constexpr float kIdentity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
-
-// The running program's transform between world and object space: its hit's instance, identity
-// for a GAS traced directly and for programs without a hit.
+// The running program's transform between world and object space: the product of its hit's
+// transform list at the ray's time, identity for a GAS traced directly and for programs without a
+// hit.
 const float* TransformOf(const Optix7Thread& ts, bool to_world) {
   const Optix7Hit* h = ts.ctx.hit;
-  if (h == nullptr || h->instance == nullptr) return kIdentity;
-  return to_world ? h->instance->to_world : h->instance->to_object;
+  if (h == nullptr || h->path.size == 0) return kIdentity3x4;
+  return to_world ? h->path.to_world : h->path.to_object;
 }
 
 void RayVector(unsigned int which, float out[3]) {
@@ -139,8 +138,9 @@ unsigned int StateUint(unsigned int which) {
     case TESSERA_OPTIX7_PRIMITIVE_INDEX:
       return HitOf(ts, "optixGetPrimitiveIndex").primitive;
     case TESSERA_OPTIX7_INSTANCE_ID: {
+      // Guide 11.7: ~0u when no instance was visited on the way to the primitive.
       const Optix7Hit& h = HitOf(ts, "optixGetInstanceId");
-      return h.instance != nullptr ? h.instance->id : 0;
+      return h.instance != nullptr ? h.instance->id : ~0u;
     }
     case TESSERA_OPTIX7_INSTANCE_INDEX:
       return HitOf(ts, "optixGetInstanceIndex").instance_index;
@@ -151,16 +151,19 @@ unsigned int StateUint(unsigned int which) {
                 "optixGetHitKind");
       return HitOf(ts, "optixGetHitKind").hit_kind;
     case TESSERA_OPTIX7_TRANSFORM_LIST_SIZE:
-      return ts.ctx.hit != nullptr && ts.ctx.hit->instance != nullptr ? 1 : 0;
+      return ts.ctx.hit != nullptr ? ts.ctx.hit->path.size : 0;
     default:
       Fail(ts, "optixGet*", absl::StrCat("unknown state value ", which));
   }
 }
 
-// Guide 11.5: 0xFE and 0xFF are triangle faces; 0..127 are custom primitives' own kinds; the
-// lowest bit says the face (0 front) for both.
+// Guide 11.5: 0xFE and 0xFF are triangle faces, kOptix7SphereFrontFace and BackFace spheres';
+// 0..127 are custom primitives' own kinds; the lowest bit says the face (0 front) for all.
 unsigned int HitKindQuery(unsigned int hit_kind, unsigned int what) {
   if (what == TESSERA_OPTIX7_HIT_KIND_PRIMITIVE_TYPE) {
+    if (hit_kind == kOptix7SphereFrontFace || hit_kind == kOptix7SphereBackFace) {
+      return OPTIX_PRIMITIVE_TYPE_SPHERE;
+    }
     return hit_kind == OPTIX_HIT_KIND_TRIANGLE_FRONT_FACE ||
                    hit_kind == OPTIX_HIT_KIND_TRIANGLE_BACK_FACE
                ? OPTIX_PRIMITIVE_TYPE_TRIANGLE
@@ -208,26 +211,30 @@ T Read(uint64_t address) {
   Raise(ts, e, what);
 }
 
+// optixGetTriangleVertexData and optixGetSphereData: the primitive at `time` (the GAS's keys
+// interpolated, time clamped to its range).
 void PrimitiveData(OptixPrimitiveType type, OptixTraversableHandle gas, unsigned int prim,
-                   unsigned int sbt_gas_index, float, float* out) {
+                   unsigned int sbt_gas_index, float time, float* out) {
   InterruptPoint();
   Optix7Thread& ts = Optix7TS();
-  if (type != OPTIX_PRIMITIVE_TYPE_TRIANGLE) {
-    NotBuilt("optixGet*VertexData", "Tessera builds no curves or spheres");
+  const bool sphere = type == OPTIX_PRIMITIVE_TYPE_SPHERE;
+  if (type != OPTIX_PRIMITIVE_TYPE_TRIANGLE && !sphere) {
+    NotBuilt("optixGet*VertexData", "Tessera builds no curves");
   }
-  const Optix7Scene* s = SceneOf(ts, gas, "optixGetTriangleVertexData");
-  if (s->kind != memory::AccelKind::kTriangles) {
-    RaiseArgument(
-        ts, OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_0,
-        absl::StrCat("optixGetTriangleVertexData: 0x", absl::Hex(gas), " is no triangle GAS"));
+  const char* call = sphere ? "optixGetSphereData" : "optixGetTriangleVertexData";
+  const Optix7Scene* s = SceneOf(ts, gas, call);
+  if (s->kind != (sphere ? memory::AccelKind::kSpheres : memory::AccelKind::kTriangles)) {
+    RaiseArgument(ts, OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_0,
+                  absl::StrCat(call, ": 0x", absl::Hex(gas), " is no ",
+                               sphere ? "sphere" : "triangle", " GAS"));
   }
   // The build input whose SBT records include sbt_gas_index (guide 7.3.2).
   size_t input = 0;
   while (input + 1 < s->sbt_bases.size() && s->sbt_bases[input + 1] <= sbt_gas_index) ++input;
   if (input + 1 >= s->sbt_bases.size()) {
     RaiseArgument(ts, OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_2,
-                  absl::StrCat("optixGetTriangleVertexData: SBT-GAS index ", sbt_gas_index,
-                               " past the GAS's ", s->sbt_bases.back(), " records"));
+                  absl::StrCat(call, ": SBT-GAS index ", sbt_gas_index, " past the GAS's ",
+                               s->sbt_bases.back(), " records"));
   }
   const auto* header = reinterpret_cast<const memory::AccelHeader*>(gas);
   const memory::AccelInput in =
@@ -235,17 +242,17 @@ void PrimitiveData(OptixPrimitiveType type, OptixTraversableHandle gas, unsigned
   const uint64_t local = uint64_t{prim} - in.primitive_index_offset;
   if (prim < in.primitive_index_offset || local >= in.primitive_count) {
     RaiseArgument(ts, OPTIX_EXCEPTION_CODE_INVALID_VALUE_ARGUMENT_1,
-                  absl::StrCat("optixGetTriangleVertexData: primitive ", prim,
-                               " is not in build input ", input));
+                  absl::StrCat(call, ": primitive ", prim, " is not in build input ", input));
+  }
+  const float normalized = s->motion.Normalized(time);
+  if (sphere) {
+    Optix7Vertex(gas, in, *s, static_cast<uint32_t>(local), normalized, 4, out);
+    return;
   }
   uint32_t idx[3];
   std::memcpy(idx, reinterpret_cast<const void*>(gas + in.indices_offset + 12 * local),
               sizeof(idx));
-  for (int k = 0; k < 3; ++k) {
-    std::memcpy(out + 3 * k,
-                reinterpret_cast<const void*>(gas + in.vertices_offset + 12ull * idx[k]),
-                3 * sizeof(float));
-  }
+  for (int k = 0; k < 3; ++k) Optix7Vertex(gas, in, *s, idx[k], normalized, 3, out + 3 * k);
 }
 
 void RibbonNormal(OptixTraversableHandle, unsigned int, unsigned int, float, const float[2],
@@ -264,9 +271,15 @@ OptixTraversableHandle GasTraversableHandle() {
   return HitOf(ts, "optixGetGASTraversableHandle").gas;
 }
 
-// Accelerations are built without motion: one key, at time 0.
-float GasMotionTime(OptixTraversableHandle, int) { return 0.f; }
-unsigned int GasMotionStepCount(OptixTraversableHandle) { return 1; }
+// The GAS's motion options: a GAS built without motion has one step, from time 0 to 0.
+float GasMotionTime(OptixTraversableHandle gas, int end) {
+  const Optix7Scene* s = SceneOf(Optix7TS(), gas, "optixGetGASMotionTime*");
+  if (!s->motion.moves()) return 0.f;
+  return end ? s->motion.end : s->motion.begin;
+}
+unsigned int GasMotionStepCount(OptixTraversableHandle gas) {
+  return SceneOf(Optix7TS(), gas, "optixGetGASMotionStepCount")->motion.keys;
+}
 
 // An instance's handle in a transform list is the address of its OptixInstance record in the
 // IAS descriptor, which optixGetInstance*FromHandle read like OptiX's.
@@ -278,16 +291,23 @@ uint64_t InstanceRecord(uint64_t ias, uint32_t index) {
 OptixTraversableHandle TransformListHandle(unsigned int index) {
   Optix7Thread& ts = Optix7TS();
   const Optix7Hit& h = HitOf(ts, "optixGetTransformListHandle");
-  if (h.instance == nullptr || index != 0) {
+  if (index >= h.path.size) {
     Fail(ts, "optixGetTransformListHandle",
-         absl::StrCat("index ", index, " past the transform list's ", h.instance != nullptr ? 1 : 0,
-                      " entries"));
+         absl::StrCat("index ", index, " past the transform list's ", h.path.size, " entries"));
   }
-  return InstanceRecord(ts.ctx.frame->root_handle, h.instance_index);
+  return h.path.handles[index];
 }
 
-// The instance of the running program's root IAS whose record is at `handle`, or null.
+// The instance whose record is at `handle`: one of the running program's transform list, or one
+// of the root IAS's; null when neither.
 const Optix7Scene::Instance* InstanceAt(const Optix7Thread& ts, uint64_t handle) {
+  if (const Optix7Hit* h = ts.ctx.hit; h != nullptr) {
+    for (uint32_t i = 0; i < h->path.size; ++i) {
+      if (h->path.handles[i] == handle && h->path.instances[i] != nullptr) {
+        return h->path.instances[i];
+      }
+    }
+  }
   const Optix7Frame* f = ts.ctx.frame;
   if (f == nullptr || f->root == nullptr || f->root->kind != memory::AccelKind::kInstances) {
     return nullptr;
@@ -299,6 +319,11 @@ const Optix7Scene::Instance* InstanceAt(const Optix7Thread& ts, uint64_t handle)
 }
 
 OptixTransformType TransformTypeFromHandle(OptixTraversableHandle handle) {
+  const uint32_t tag = TransformTag(handle);
+  if (tag >= OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM &&
+      tag <= OPTIX_TRANSFORM_TYPE_SRT_MOTION_TRANSFORM) {
+    return static_cast<OptixTransformType>(tag);
+  }
   return InstanceAt(Optix7TS(), handle) != nullptr ? OPTIX_TRANSFORM_TYPE_INSTANCE
                                                    : OPTIX_TRANSFORM_TYPE_NONE;
 }
@@ -321,10 +346,17 @@ const void* TransformDataFromHandle(OptixTraversableHandle handle, unsigned int 
       return InstanceOrFail(ts, handle, "optixGetInstanceTransformFromHandle").to_world;
     case TESSERA_OPTIX7_INSTANCE_INVERSE_TRANSFORM:
       return InstanceOrFail(ts, handle, "optixGetInstanceInverseTransformFromHandle").to_object;
-    default:
-      // No static or motion transform traversables exist yet (optixConvertPointerToTraversable
-      // Handle is not built): a handle here is no such transform.
-      return nullptr;
+    default: {
+      // The traversable itself, in device memory (the same address on every device); null for
+      // a handle of another type, as OptiX leaves that undefined.
+      const uint32_t want = what == TESSERA_OPTIX7_STATIC_TRANSFORM
+                                ? OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM
+                            : what == TESSERA_OPTIX7_MATRIX_MOTION_TRANSFORM
+                                ? OPTIX_TRANSFORM_TYPE_MATRIX_MOTION_TRANSFORM
+                                : OPTIX_TRANSFORM_TYPE_SRT_MOTION_TRANSFORM;
+      if (TransformTag(handle) != want) return nullptr;
+      return reinterpret_cast<const void*>(TransformAddress(handle));
+    }
   }
 }
 

@@ -16,20 +16,47 @@
 
 #include "absl/status/statusor.h"
 #include "accel_format.h"
+#include "optix7_transforms.h"
 
 namespace tessera::worker {
+
+struct Optix7Scene;
+
+// An instance of an IAS that Embree's one instance level cannot trace: its child is a transform
+// traversable (static, matrix motion, SRT motion; chains of them), another IAS, or a GAS whose
+// motion does not fit the IAS's time (Optix7Scene::time). The IAS holds it as a user geometry
+// whose intersection function (the engine's) evaluates the transforms at the ray's time, moves
+// the ray into the child's space and traces the child's scene there: docs/optix7_engine.md,
+// "Traversable graphs".
+struct Optix7Node {
+  uint32_t instance = 0;                    // its index in the IAS
+  std::vector<Optix7Transform> transforms;  // between the instance and the child, outermost first
+  const Optix7Scene* child = nullptr;       // a GAS or an IAS
+  uint64_t child_handle = 0;
+  float bounds[6] = {};  // in the IAS's space, over every time: what Embree's bounds function says
+};
 
 struct Optix7Scene {
   ~Optix7Scene();
   RTCScene scene = nullptr;
   memory::AccelKind kind = memory::AccelKind::kTriangles;
+  // The build's motion options (keys 1: built without motion).
+  Optix7Motion motion;
+  // The motion range Embree's time spans in this scene: a GAS's own; for an IAS, the range of the
+  // moving GASes it instances directly (one range: those of another range become nodes).
+  // Rays enter with Embree time time.Normalized(ray time).
+  Optix7Motion time;
   // GAS: the build input of each Embree geometry (geomID), whose primitive IDs count from 0 in
-  // the input; IAS: the child scene of each instance.
+  // the input; IAS: the child scene of each instance (the node's final child for a node).
   std::vector<uint32_t> input_of_geometry;
   std::vector<const Optix7Scene*> children;
-  // Per custom-primitive geometry, where its boxes are: what its bounds function reads (reserved
-  // up front, so that the addresses Embree holds stay put).
-  std::vector<const float*> custom_boxes;
+  // Per custom-primitive geometry, where its boxes are (key after key): what its bounds function
+  // reads (reserved up front, so that the addresses Embree holds stay put).
+  struct Boxes {
+    const float* boxes;
+    uint64_t per_key;  // primitives
+  };
+  std::vector<Boxes> custom_boxes;
   // The descriptor the scene was built from, in device memory (valid while the memory is).
   const memory::AccelHeader* header = nullptr;
 
@@ -53,10 +80,15 @@ struct Optix7Scene {
     alignas(16) float to_object[12];
     uint32_t id = 0, sbt_offset = 0, mask = 0, flags = 0;
     uint64_t child = 0;
+    const Optix7Node* node = nullptr;  // null: an Embree instance of a GAS
   };
   std::vector<Instance> instances;
-  // IAS: bit r is set when every instance shares a bit with visibility mask r: rays with such a
-  // mask need no per-hit mask test.
+  std::vector<std::unique_ptr<Optix7Node>> nodes;
+  // Whether any instance is a node, or any nested IAS has one: traces then need the transform
+  // list kept per level.
+  bool deep = false;
+  // IAS: bit r is set when every instance (of nested IASes too) shares a bit with visibility mask
+  // r: rays with such a mask need no per-hit mask test.
   std::bitset<256> all_visible;
 };
 
@@ -72,18 +104,36 @@ class Optix7SceneCache {
   Optix7SceneCache(const Optix7SceneCache&) = delete;
   Optix7SceneCache& operator=(const Optix7SceneCache&) = delete;
 
-  // The scene of the descriptor at `handle`. INVALID_ARGUMENT for a handle that is no descriptor;
-  // UNIMPLEMENTED for an instance whose child is itself an instance build (Embree here has one
-  // instance level; deeper instancing goes through the engine's own traversal, not yet built).
-  absl::StatusOr<const Optix7Scene*> Get(uint64_t handle);
+  // `node_intersect`: the intersection function of nodes (Optix7Node), the engine's.
+  void set_node_intersect(RTCIntersectFunctionN f) { node_intersect_ = f; }
+
+  // The scene of the descriptor at `handle`. An IAS's scene is keyed by its content and its
+  // children's (transforms' contents, nested scenes' keys), so that a child rebuilt in place
+  // gives a new scene. Within one launch (`serial` > 0: the same device memory throughout)
+  // answers are remembered by handle. INVALID_ARGUMENT for a handle that is no descriptor, a
+  // transform that is not in device memory or has invalid motion options, a graph deeper than
+  // kMaxGraphDepth or with a cycle.
+  absl::StatusOr<const Optix7Scene*> Get(uint64_t handle, uint64_t serial = 0);
 
   size_t built() const { return built_; }
 
+  // Instances and transforms on one path from a trace's root to a GAS, at most (a transform list
+  // longer than OptiX's limit of traversable graph depth 31 is refused when a scene is built).
+  static constexpr unsigned kMaxGraphDepth = 16;
+
  private:
+  absl::StatusOr<const Optix7Scene*> GetAt(uint64_t handle, unsigned depth);
+  absl::StatusOr<uint64_t> KeyOf(uint64_t handle, unsigned depth);
+  absl::Status BuildInstances(uint64_t handle, unsigned depth, Optix7Scene& s);
+
   RTCDevice device_;
   RTCIntersectFunctionN intersect_;
+  RTCIntersectFunctionN node_intersect_ = nullptr;
   Readable readable_;
   std::unordered_map<uint64_t, std::unique_ptr<Optix7Scene>> by_hash_;
+  uint64_t serial_ = 0;
+  std::unordered_map<uint64_t, const Optix7Scene*> this_launch_;  // by handle, for serial_
+  std::unordered_map<uint64_t, uint64_t> keys_this_launch_;       // by handle, for serial_
   size_t built_ = 0;
 };
 

@@ -199,13 +199,24 @@ TEST_F(Optix7SceneTest, CustomPrimitivesAreBoundedByTheirBoxesAndInstancesPlaced
   EXPECT_EQ(hit.hit.instID[0], 0u);
   EXPECT_FLOAT_EQ(hit.ray.tfar, 20.5f);  // x = 10.5
 
-  // An instance of an instance build: one level only, said so.
-  Descriptor nested = Descriptor::Instances(ias.handle(), {0.f}, 13);
+  // An instance of an instance build: without the engine's node intersection function it cannot
+  // be traced, said so; with it, a node bounded by its child (x from 10 to 25, moved by 100).
+  Descriptor nested = Descriptor::Instances(ias.handle(), {100.f}, 13);
   Register(nested);
   auto refused = cache_.Get(nested.handle());
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.status().code(), absl::StatusCode::kUnimplemented);
-  EXPECT_NE(refused.status().message().find("more than one instance level"), std::string::npos);
+  EXPECT_NE(refused.status().message().find("no node intersection function"), std::string::npos);
+  cache_.set_node_intersect([](const RTCIntersectFunctionNArguments*) {});
+  auto deeper = cache_.Get(nested.handle());
+  ASSERT_TRUE(deeper.ok()) << deeper.status();
+  const Optix7Node* node = (*deeper)->instances[0].node;
+  ASSERT_NE(node, nullptr);
+  EXPECT_TRUE((*deeper)->deep);
+  EXPECT_EQ(node->child, *top);
+  EXPECT_EQ(node->child_handle, ias.handle());
+  EXPECT_EQ(node->bounds[0], 110.f);
+  EXPECT_EQ(node->bounds[3], 125.f);
 }
 
 TEST_F(Optix7SceneTest, HandlesThatAreNoDescriptorAreRefused) {

@@ -33,6 +33,23 @@ enum class Optix7Kind : uint8_t {
   kContinuationCallable,
 };
 
+// The instances and transforms between a trace's root and the scene being traversed (the
+// transform list, outermost first), with their product at the ray's time.
+struct Optix7Path {
+  static constexpr unsigned kMax = Optix7SceneCache::kMaxGraphDepth;
+  uint32_t size = 0;
+  uint32_t instance_index = 0;                      // of `instance` in its IAS
+  const Optix7Scene::Instance* instance = nullptr;  // the last (innermost) instance
+  alignas(16) float to_world[12];                   // when size > 0
+  alignas(16) float to_object[12];
+  uint64_t handles[kMax];                        // instance records' and transforms' handles
+  const Optix7Scene::Instance* instances[kMax];  // null for transforms
+
+  // Appends a transform (`inst` null) or an instance, given its matrices at the ray's time.
+  void Push(uint64_t handle, const Optix7Scene::Instance* inst, const float w[12],
+            const float o[12]);
+};
+
 // A primitive under consideration or hit: where it is and, once reported, how it was hit.
 struct Optix7Hit {
   float t = 0;
@@ -41,9 +58,11 @@ struct Optix7Hit {
   uint32_t primitive = 0;       // optixGetPrimitiveIndex: with the input's primitive index offset
   uint32_t sbt_gas_index = 0;
   uint32_t geometry_flags = 0;                      // the record's OptixGeometryFlags
-  const Optix7Scene::Instance* instance = nullptr;  // null: a GAS traced directly
+  const Optix7Scene::Instance* instance = nullptr;  // the innermost; null: no instance on the way
   uint32_t instance_index = 0;
   uint64_t gas = 0;  // the GAS's traversable handle
+  const Optix7Scene* gas_scene = nullptr;
+  Optix7Path path;  // the transform list; path.size 0: object space is world space
   const Optix7Scene::Geometry* geometry = nullptr;
   uint32_t local_primitive = 0;  // within the build input (Embree's primID)
   const Optix7Record* record = nullptr;
@@ -143,9 +162,17 @@ const char* ExceptionCodeName(int code);
 // `call` when the handle is not one the engine can trace.
 const Optix7Scene* SceneOf(Optix7Thread& ts, uint64_t handle, const char* call);
 
-// Tracing (optix7_trace.cc). The intersection function of custom primitives is Embree's, handed
-// to Optix7SceneCache.
+// Tracing (optix7_trace.cc). The intersection functions of custom primitives and of nodes
+// (Optix7Node) are Embree's, handed to Optix7SceneCache.
 RTCIntersectFunctionN Optix7IntersectFunction();
+RTCIntersectFunctionN Optix7NodeIntersectFunction();
+// Hit kinds of built-in spheres (custom primitives have 0..127, triangles 0xFE and 0xFF); the
+// lowest bit says the face, 0 front, as for triangles.
+inline constexpr unsigned kOptix7SphereFrontFace = 0x86, kOptix7SphereBackFace = 0x87;
+// Vertex `index` of a triangle or sphere build input of GAS `gas` (its descriptor) at Embree time
+// `time` (the GAS's motion range as [0, 1]): keys interpolated as Embree does. `n` floats.
+void Optix7Vertex(uint64_t gas, const memory::AccelInput& in, const Optix7Scene& s, uint32_t index,
+                  float time, unsigned n, float* out);
 void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
                  unsigned int* const* payload);
 int Optix7ReportIntersection(float hit_t, unsigned int hit_kind, unsigned int num_attributes,

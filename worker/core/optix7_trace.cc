@@ -18,11 +18,15 @@
 namespace tessera::worker {
 namespace {
 
-// What Embree hands the callbacks: its context first, then the trace's own state.
+// What Embree hands the callbacks: its context first, then the trace's own state. One per
+// rtcIntersect1: the trace's root, or a node's child (Optix7Node) traced in the child's space.
 struct TraceContext {
   RTCIntersectContext rtc;
   Optix7Thread* ts;
   Optix7Frame* frame;
+  const Optix7Scene* scene;  // what this rtcIntersect1 traverses
+  uint64_t scene_handle;     // its traversable handle
+  const Optix7Path* path;    // between the root and `scene`; null at the root
 };
 
 template <typename T>
@@ -45,21 +49,41 @@ class Running {
   Optix7Context saved_;
 };
 
-// Where primitive `prim` of Embree geometry `geom` lies, reached through instance `inst` of the
-// frame's root (an IAS) or directly (a GAS), and which hit group record it runs (guide 7.3:
-// instance.sbtOffset + sbtGASIndex * sbtStride + sbtOffset).
-void Locate(Optix7Thread& ts, const Optix7Frame& f, unsigned inst, unsigned geom, unsigned prim,
-            Optix7Hit& h) {
-  const Optix7Scene* gas = f.root;
-  h.gas = f.root_handle;
-  h.instance = nullptr;
-  h.instance_index = 0;
-  if (f.root->kind == memory::AccelKind::kInstances) {
-    h.instance = &f.root->instances[inst];
-    h.instance_index = inst;
-    gas = f.root->children[inst];
-    h.gas = h.instance->child;
+// An instance's handle in a transform list is the address of its OptixInstance record in the
+// IAS descriptor, which optixGetInstance*FromHandle read like OptiX's.
+uint64_t InstanceRecord(uint64_t ias, uint32_t index) {
+  const auto* header = reinterpret_cast<const memory::AccelHeader*>(ias);
+  return ias + header->inputs_offset + uint64_t{index} * memory::kInstanceBytes;
+}
+
+// Where primitive `prim` of Embree geometry `geom` lies, reached through Embree instance `inst`
+// of the context's scene (an IAS) or directly (a GAS), below the context's path, and which hit
+// group record it runs (guide 7.3: instance.sbtOffset + sbtGASIndex * sbtStride + sbtOffset; the
+// instance is the innermost one, the most recently visited).
+void Locate(const TraceContext& c, unsigned inst, unsigned geom, unsigned prim, Optix7Hit& h) {
+  Optix7Thread& ts = *c.ts;
+  const Optix7Frame& f = *c.frame;
+  const Optix7Scene* gas = c.scene;
+  h.gas = c.scene_handle;
+  if (c.path != nullptr) {
+    h.path = *c.path;
+  } else {
+    h.path.size = 0;
+    h.path.instance = nullptr;
+    h.path.instance_index = 0;
   }
+  if (c.scene->kind == memory::AccelKind::kInstances) {
+    const Optix7Scene::Instance& instance = c.scene->instances[inst];
+    h.path.Push(InstanceRecord(c.scene_handle, inst), &instance, instance.to_world,
+                instance.to_object);
+    h.path.instance = &instance;
+    h.path.instance_index = inst;
+    gas = c.scene->children[inst];
+    h.gas = instance.child;
+  }
+  h.instance = h.path.instance;
+  h.instance_index = h.path.instance_index;
+  h.gas_scene = gas;
   const Optix7Scene::Geometry& g = gas->geometries[geom];
   h.geometry = &g;
   h.local_primitive = prim;
@@ -111,11 +135,11 @@ AnyHit DecideAnyHit(const Optix7Frame& f, const Optix7Hit& h) {
 // The world-space direction in the hit's object space.
 void ObjectDirection(const Optix7Frame& f, const Optix7Hit& h, float out[3]) {
   const float* d = f.ray.direction;
-  if (h.instance == nullptr) {
+  if (h.path.size == 0) {
     std::memcpy(out, d, 3 * sizeof(float));
     return;
   }
-  const float* m = h.instance->to_object;
+  const float* m = h.path.to_object;
   for (int r = 0; r < 3; ++r) out[r] = m[r * 4] * d[0] + m[r * 4 + 1] * d[1] + m[r * 4 + 2] * d[2];
 }
 
@@ -130,10 +154,8 @@ bool TriangleFace(const Optix7Frame& f, Optix7Hit& h, float u, float v) {
               reinterpret_cast<const void*>(h.gas + in.indices_offset + 12ull * h.local_primitive),
               sizeof(idx));
   float p[3][3];
-  for (int k = 0; k < 3; ++k) {
-    std::memcpy(p[k], reinterpret_cast<const void*>(h.gas + in.vertices_offset + 12ull * idx[k]),
-                sizeof(p[k]));
-  }
+  const float time = h.gas_scene->time.Normalized(f.ray.ray_time);
+  for (int k = 0; k < 3; ++k) Optix7Vertex(h.gas, in, *h.gas_scene, idx[k], time, 3, p[k]);
   const float e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
   const float e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
   const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
@@ -151,6 +173,30 @@ bool TriangleFace(const Optix7Frame& f, Optix7Hit& h, float u, float v) {
   const unsigned ray = f.ray.ray_flags;
   if ((ray & OPTIX_RAY_FLAG_CULL_BACK_FACING_TRIANGLES) && !front) return false;
   if ((ray & OPTIX_RAY_FLAG_CULL_FRONT_FACING_TRIANGLES) && front) return false;
+  return true;
+}
+
+// A sphere's hit kind: front where the ray enters it (the hit point's offset from the centre
+// against the ray), back where it leaves (a ray from inside). Spheres have no attributes.
+bool SphereFace(const Optix7Frame& f, Optix7Hit& h) {
+  float c[4];
+  Optix7Vertex(h.gas, h.geometry->input, *h.gas_scene, h.local_primitive,
+               h.gas_scene->time.Normalized(f.ray.ray_time), 4, c);
+  float o[3], d[3];
+  ObjectDirection(f, h, d);
+  if (h.path.size == 0) {
+    std::memcpy(o, f.ray.origin, sizeof(o));
+  } else {
+    const float* m = h.path.to_object;
+    for (int r = 0; r < 3; ++r) {
+      o[r] = m[r * 4] * f.ray.origin[0] + m[r * 4 + 1] * f.ray.origin[1] +
+             m[r * 4 + 2] * f.ray.origin[2] + m[r * 4 + 3];
+    }
+  }
+  float dot = 0.f;
+  for (int r = 0; r < 3; ++r) dot += (o[r] + h.t * d[r] - c[r]) * d[r];
+  h.hit_kind = dot < 0.f ? kOptix7SphereFrontFace : kOptix7SphereBackFace;
+  std::memset(h.attributes, 0, sizeof(h.attributes));
   return true;
 }
 
@@ -191,7 +237,13 @@ bool Accept(Optix7Thread& ts, Optix7Frame& f, const Optix7Hit& h, AnyHit decisio
   return true;
 }
 
-// Embree's filter for built-in triangles, in traces that need one (NeedsFilter).
+// A built-in primitive's face and attributes; false when culled.
+bool Face(const Optix7Frame& f, Optix7Hit& h, float u, float v) {
+  return h.gas_scene->kind == memory::AccelKind::kSpheres ? SphereFace(f, h)
+                                                          : TriangleFace(f, h, u, v);
+}
+
+// Embree's filter for built-in triangles and spheres, in traces that need one (NeedsFilter).
 void FilterTriangle(const RTCFilterFunctionNArguments* args) {
   auto* c = reinterpret_cast<TraceContext*>(args->context);
   Optix7Frame& f = *c->frame;
@@ -202,11 +254,10 @@ void FilterTriangle(const RTCFilterFunctionNArguments* args) {
   try {
     const unsigned n = args->N;
     Optix7Hit& h = f.candidate;
-    Locate(*c->ts, f, RTCHitN_instID(args->hit, n, 0, 0), RTCHitN_geomID(args->hit, n, 0),
+    Locate(*c, RTCHitN_instID(args->hit, n, 0, 0), RTCHitN_geomID(args->hit, n, 0),
            RTCHitN_primID(args->hit, n, 0), h);
     h.t = RTCRayN_tfar(args->ray, n, 0);
-    bool keep =
-        Visible(f, h) && TriangleFace(f, h, RTCHitN_u(args->hit, n, 0), RTCHitN_v(args->hit, n, 0));
+    bool keep = Visible(f, h) && Face(f, h, RTCHitN_u(args->hit, n, 0), RTCHitN_v(args->hit, n, 0));
     if (keep) {
       const AnyHit decision = DecideAnyHit(f, h);
       keep = decision != AnyHit::kCull && Accept(*c->ts, f, h, decision);
@@ -216,6 +267,38 @@ void FilterTriangle(const RTCFilterFunctionNArguments* args) {
     f.pending = std::current_exception();
     args->valid[0] = 0;
   }
+}
+
+// Whether the ray of `rh` (in the primitive's space) meets custom primitive `h`'s box at the
+// ray's time, its keys interpolated (guide 5.10.1). Embree's motion bounds only cull (a leaf's
+// primitives all see its rays), so the engine tests the interpolated box itself, as OptiX does
+// before it runs an intersection program.
+bool MeetsMovingBox(const Optix7Frame& f, const Optix7Hit& h, const RTCRayHit& rh) {
+  const Optix7Scene& s = *h.gas_scene;
+  const memory::AccelInput& in = h.geometry->input;
+  const float time = s.time.Normalized(f.ray.ray_time) * static_cast<float>(s.motion.keys - 1);
+  const unsigned k = std::min(static_cast<unsigned>(time), s.motion.keys - 2);
+  const float t = time - static_cast<float>(k);
+  float a[6], b[6];
+  const uint64_t box = h.gas + in.aabbs_offset + 24ull * h.local_primitive;
+  std::memcpy(a, reinterpret_cast<const void*>(box + 24ull * in.primitive_count * k), sizeof(a));
+  std::memcpy(b, reinterpret_cast<const void*>(box + 24ull * in.primitive_count * (k + 1)),
+              sizeof(b));
+  const float o[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z};
+  const float d[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
+  float lo = rh.ray.tnear, hi = rh.ray.tfar;
+  for (int i = 0; i < 3; ++i) {
+    const float min = (1.f - t) * a[i] + t * b[i], max = (1.f - t) * a[3 + i] + t * b[3 + i];
+    if (d[i] == 0.f) {
+      if (o[i] < min || o[i] > max) return false;
+      continue;
+    }
+    float t0 = (min - o[i]) / d[i], t1 = (max - o[i]) / d[i];
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0);
+    hi = std::min(hi, t1);
+  }
+  return lo <= hi;
 }
 
 // Embree's intersection function for custom primitives: runs the hit group's intersection
@@ -228,8 +311,12 @@ void IntersectCustom(const RTCIntersectFunctionNArguments* args) {
   try {
     Optix7Hit& h = f.candidate;
     const unsigned inst = args->context->instID[0];
-    Locate(ts, f, inst, args->geomID, args->primID, h);
+    Locate(*c, inst, args->geomID, args->primID, h);
     if (!Visible(f, h) || DecideAnyHit(f, h) == AnyHit::kCull) return;
+    if (h.gas_scene->motion.moves() &&
+        !MeetsMovingBox(f, h, *reinterpret_cast<const RTCRayHit*>(args->rayhit))) {
+      return;
+    }
     const Optix7Group& g = *h.record->group;
     if (g.intersection.function == nullptr) {
       Fail(ts, "optixTrace",
@@ -307,24 +394,97 @@ __attribute__((noinline)) void RejectTrace(Optix7Thread& ts, const TesseraOptix7
                         v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]));
 }
 
-// The hit Embree reported when no filter saw it: a triangle (custom primitives always commit
-// through Optix7ReportIntersection).
-void CommitTriangle(Optix7Thread& ts, Optix7Frame& f, const RTCRayHit& rh) {
+// Commits the hit an rtcIntersect1 of context `c` returned, unless it is committed already. The
+// last hit accepted is the closest: a filter saw every built-in primitive accepted, custom
+// primitives commit as they are reported, and a node commits its child's hit before reporting
+// it; a triangle or sphere that no filter saw is committed here.
+void Resolve(const TraceContext& c, const RTCRayHit& rh, bool filtered) {
+  if (filtered || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+  const Optix7Scene* gas = c.scene;
+  if (c.scene->kind == memory::AccelKind::kInstances) {
+    if (rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) return;  // a node's
+    gas = c.scene->children[rh.hit.instID[0]];
+  }
+  if (gas->kind == memory::AccelKind::kCustom) return;
+  Optix7Frame& f = *c.frame;
   Optix7Hit& h = f.committed;
-  Locate(ts, f, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, h);
+  Locate(c, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, h);
   h.t = rh.ray.tfar;
-  TriangleFace(f, h, rh.hit.u, rh.hit.v);  // no culling flags without the filter
+  Face(f, h, rh.hit.u, rh.hit.v);  // no culling flags without the filter
   f.has_committed = true;
 }
 
-void Shade(Optix7Thread& ts, Optix7Frame& f, const RTCRayHit& rh, bool filtered) {
+// Embree's intersection function of nodes (Optix7Node): the instance's mask, the transforms at
+// the ray's time (a vanished one hides the child), then the child's scene traced in its space
+// with the same tmin and tmax (directions are not normalized, so distances stay the same in
+// every space); its closest hit is committed and reported to the enclosing traversal.
+void IntersectNode(const RTCIntersectFunctionNArguments* args) {
+  auto* c = reinterpret_cast<TraceContext*>(args->context);
+  Optix7Frame& f = *c->frame;
+  if (!args->valid[0] || f.pending || f.terminated) return;
+  try {
+    const Optix7Node& node = *static_cast<const Optix7Node*>(args->geometryUserPtr);
+    const Optix7Scene::Instance& instance = c->scene->instances[node.instance];
+    if ((instance.mask & f.ray.visibility_mask & 0xFFu) == 0) return;
+    const float time = f.ray.ray_time;
+    Optix7Path path;
+    if (c->path != nullptr) path = *c->path;
+    path.Push(InstanceRecord(c->scene_handle, node.instance), &instance, instance.to_world,
+              instance.to_object);
+    path.instance = &instance;
+    path.instance_index = node.instance;
+    for (const Optix7Transform& t : node.transforms) {
+      if (t.motion.Vanished(time)) return;
+      float w[12], o[12];
+      t.At(time, w, o);
+      path.Push(t.handle, nullptr, w, o);
+    }
+    const Optix7Scene& child = *node.child;
+    if (child.motion.Vanished(time)) return;
+    auto* outer = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    RTCRayHit rh;
+    const float* m = path.to_object;
+    const float* o = f.ray.origin;
+    const float* d = f.ray.direction;
+    rh.ray.org_x = m[0] * o[0] + m[1] * o[1] + m[2] * o[2] + m[3];
+    rh.ray.org_y = m[4] * o[0] + m[5] * o[1] + m[6] * o[2] + m[7];
+    rh.ray.org_z = m[8] * o[0] + m[9] * o[1] + m[10] * o[2] + m[11];
+    rh.ray.dir_x = m[0] * d[0] + m[1] * d[1] + m[2] * d[2];
+    rh.ray.dir_y = m[4] * d[0] + m[5] * d[1] + m[6] * d[2];
+    rh.ray.dir_z = m[8] * d[0] + m[9] * d[1] + m[10] * d[2];
+    rh.ray.tnear = outer->ray.tnear;
+    rh.ray.tfar = outer->ray.tfar;
+    rh.ray.time = child.time.Normalized(time);
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    TraceContext nested;
+    rtcInitIntersectContext(&nested.rtc);
+    nested.rtc.filter = c->rtc.filter;
+    nested.ts = c->ts;
+    nested.frame = c->frame;
+    nested.scene = &child;
+    nested.scene_handle = node.child_handle;
+    nested.path = &path;
+    rtcIntersect1(child.scene, &nested.rtc, &rh);
+    if (f.pending || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+    Resolve(nested, rh, c->rtc.filter != nullptr);
+    outer->ray.tfar = rh.ray.tfar;
+    outer->hit.geomID = args->geomID;
+    outer->hit.primID = args->primID;
+    outer->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;  // a node: Resolve leaves it
+    outer->hit.u = outer->hit.v = 0.f;
+    outer->hit.Ng_x = outer->hit.Ng_y = outer->hit.Ng_z = 0.f;
+  } catch (...) {
+    f.pending = std::current_exception();
+  }
+}
+
+void Shade(Optix7Thread& ts, Optix7Frame& f, const RTCRayHit& rh) {
   const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
   if (hit) {
-    // The last hit accepted is the closest. A filter saw every triangle accepted, and custom
-    // primitives commit as they are reported; a triangle that no filter saw is committed here.
-    const Optix7Scene* gas =
-        f.root->kind == memory::AccelKind::kInstances ? f.root->children[rh.hit.instID[0]] : f.root;
-    if (!filtered && gas->kind == memory::AccelKind::kTriangles) CommitTriangle(ts, f, rh);
     if (f.ray.ray_flags & OPTIX_RAY_FLAG_DISABLE_CLOSESTHIT) return;
     const Optix7Record* record = f.committed.record;
     if (record->group->closest_hit.function == nullptr) return;
@@ -350,6 +510,41 @@ void Shade(Optix7Thread& ts, Optix7Frame& f, const RTCRayHit& rh, bool filtered)
 }  // namespace
 
 RTCIntersectFunctionN Optix7IntersectFunction() { return &IntersectCustom; }
+RTCIntersectFunctionN Optix7NodeIntersectFunction() { return &IntersectNode; }
+
+void Optix7Path::Push(uint64_t handle, const Optix7Scene::Instance* inst, const float w[12],
+                      const float o[12]) {
+  // Scene builds refuse graphs deeper than kMax (Optix7SceneCache::kMaxGraphDepth).
+  if (size == 0) {
+    std::memcpy(to_world, w, sizeof(to_world));
+    std::memcpy(to_object, o, sizeof(to_object));
+  } else {
+    Compose(to_world, w, to_world);    // outer first: world <- ... <- this
+    Compose(o, to_object, to_object);  // this inverse applies last
+  }
+  handles[size] = handle;
+  instances[size] = inst;
+  ++size;
+}
+
+void Optix7Vertex(uint64_t gas, const memory::AccelInput& in, const Optix7Scene& s, uint32_t index,
+                  float time, unsigned n, float* out) {
+  const uint64_t key_bytes = uint64_t{n} * 4 * in.vertex_count;
+  const uint64_t at = gas + in.vertices_offset + uint64_t{n} * 4 * index;
+  if (!s.motion.moves()) {
+    std::memcpy(out, reinterpret_cast<const void*>(at), n * sizeof(float));
+    return;
+  }
+  // As Embree interpolates: the segment of `time` among keys - 1 evenly spaced ones.
+  const unsigned segments = s.motion.keys - 1;
+  const float scaled = time * static_cast<float>(segments);
+  const unsigned k = std::min(static_cast<unsigned>(std::max(scaled, 0.f)), segments - 1);
+  const float t = scaled - static_cast<float>(k);
+  float a[4], b[4];
+  std::memcpy(a, reinterpret_cast<const void*>(at + key_bytes * k), n * sizeof(float));
+  std::memcpy(b, reinterpret_cast<const void*>(at + key_bytes * (k + 1)), n * sizeof(float));
+  for (unsigned i = 0; i < n; ++i) out[i] = (1.f - t) * a[i] + t * b[i];
+}
 
 void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
                  unsigned int* const* payload) {
@@ -384,9 +579,11 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
   f.pending = nullptr;
   f.root_handle = ray->handle;
   // A null handle traces nothing (OptiX allows it: every ray misses); so does a ray with a NaN,
-  // which Embree's result would not be defined for, when the DEBUG exception is off.
+  // which Embree's result would not be defined for, when the DEBUG exception is off, and a ray
+  // at a time when the root has vanished (its motion flags).
   const bool traverse = ray->handle != 0 && !HasNaN(f.ray);
   f.root = traverse ? SceneOf(ts, ray->handle, "optixTrace") : nullptr;
+  if (f.root != nullptr && f.root->motion.Vanished(f.ray.ray_time)) f.root = nullptr;
   struct Pop {
     Optix7Thread& ts;
     ~Pop() { --ts.depth; }
@@ -405,7 +602,7 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
     rh.ray.dir_x = f.ray.direction[0];
     rh.ray.dir_y = f.ray.direction[1];
     rh.ray.dir_z = f.ray.direction[2];
-    rh.ray.time = 0.f;  // no motion
+    rh.ray.time = f.root->time.Normalized(f.ray.ray_time);
     rh.ray.tfar = f.ray.tmax;
     rh.ray.mask = 0xFFFFFFFFu;  // masks are the engine's (Visible)
     rh.ray.id = 0;
@@ -416,10 +613,14 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
     c.rtc.filter = filtered ? &FilterTriangle : nullptr;
     c.ts = &ts;
     c.frame = &f;
+    c.scene = f.root;
+    c.scene_handle = ray->handle;
+    c.path = nullptr;
     rtcIntersect1(f.root->scene, &c.rtc, &rh);
     RethrowPending(f);
+    Resolve(c, rh, filtered);
   }
-  Shade(ts, f, rh, filtered);
+  Shade(ts, f, rh);
   for (unsigned i = 0; i < num_payload; ++i) *payload[i] = f.payload[i];
 }
 

@@ -16,9 +16,10 @@
 namespace tessera::memory {
 
 inline constexpr char kAccelMagic[8] = {'T', 'S', 'R', '7', 'A', 'C', 'C', 'L'};
-inline constexpr uint32_t kAccelFormatVersion = 1;
+// 2: motion keys (AccelMotion) and spheres.
+inline constexpr uint32_t kAccelFormatVersion = 2;
 
-enum class AccelKind : uint32_t { kTriangles = 1, kCustom = 2, kInstances = 3 };
+enum class AccelKind : uint32_t { kTriangles = 1, kCustom = 2, kInstances = 3, kSpheres = 4 };
 
 struct AccelHeader {
   char magic[8];
@@ -30,15 +31,28 @@ struct AccelHeader {
   uint32_t build_flags;   // OptixBuildFlags
   uint64_t primitive_count;  // over all inputs; instances for an IAS
   uint64_t inputs_offset;    // AccelInput[input_count] (GAS) or OptixInstance-sized records (IAS)
-  uint64_t reserved;
+  uint64_t motion_offset;    // AccelMotion, or 0: built without motion (one key)
 };
 static_assert(sizeof(AccelHeader) == 64);
+
+// The build's OptixMotionOptions, when it had two keys or more. A GAS then holds `keys` copies
+// of its vertices (triangles, spheres) or boxes (custom primitives), key after key; an IAS holds
+// its instances once (its motion options only say when its instances vanish).
+struct AccelMotion {
+  uint32_t keys;   // >= 2
+  uint32_t flags;  // OptixMotionFlags
+  float time_begin, time_end;
+};
+static_assert(sizeof(AccelMotion) == 16);
 
 // One build input of a GAS. Triangles: `vertex_count` float[3] at `vertices_offset`, and
 // `primitive_count` uint32[3] at `indices_offset` (always indexed: an unindexed input gets
 // 0 1 2, 3 4 5 ...). Custom primitives: `primitive_count` boxes of float[6] (min xyz, max xyz) at
-// `aabbs_offset`. Both: one OptixGeometryFlags word per SBT record at `flags_offset`, and a
-// uint32 SBT index offset per primitive at `sbt_index_offsets_offset` (0 when one record).
+// `aabbs_offset`. Spheres: `primitive_count` float[4] (centre xyz, radius) at `vertices_offset`
+// (`vertex_count` equals `primitive_count`). With motion, key k of the vertices or boxes follows
+// key k-1 directly (key k of triangle vertices at vertices_offset + k * 12 * vertex_count).
+// All: one OptixGeometryFlags word per SBT record at `flags_offset`, and a uint32 SBT index
+// offset per primitive at `sbt_index_offsets_offset` (0 when one record).
 struct AccelInput {
   uint32_t primitive_count;
   uint32_t primitive_index_offset;

@@ -18,6 +18,7 @@ struct EngineParams {
   unsigned int visibility_mask;
   unsigned int sbt_offset, sbt_stride, miss_index;
   unsigned int recursion;  // __closesthit__recurse traces until this depth
+  float time;              // the ray time of __raygen__trace
 };
 
 // The data block of every SBT record of the tests: a value programs report.

@@ -31,7 +31,7 @@ extern "C" __global__ void __raygen__trace() {
   const float3 origin = Add(params.origin, Scale(params.step, static_cast<float>(idx.x)));
   unsigned int p0 = ~0u, p1 = ~0u, p2 = ~0u, p3 = ~0u, p4 = ~0u, p5 = ~0u, p6 = ~0u, p7 = ~0u,
                p8 = ~0u, p9 = ~0u, p10 = 0, p11 = ~0u;
-  optixTrace(params.handle, origin, params.direction, params.tmin, params.tmax, 0.0f,
+  optixTrace(params.handle, origin, params.direction, params.tmin, params.tmax, params.time,
              OptixVisibilityMask(params.visibility_mask), params.ray_flags, params.sbt_offset,
              params.sbt_stride, params.miss_index, p0, p1, p2, p3, p4, p5, p6, p7, p8, p9, p10,
              p11);
@@ -159,4 +159,67 @@ extern "C" __global__ void __closesthit__transforms() {
       optixGetInstanceTraversableFromIAS(params.handle, optixGetInstanceIndex())));
   optixGetWorldToObjectTransformMatrix(m);
   optixSetPayload_10(__float_as_uint(m[0]));
+}
+
+// What a hit in a traversable graph with motion sees (engine_motion_test.cc): the transform list
+// and its types, the transforms at the ray's time, instance, GAS motion and primitive data.
+extern "C" __global__ void __closesthit__graph() {
+  const float t = optixGetRayTmax();
+  const unsigned int size = optixGetTransformListSize();
+  unsigned int types = 0;
+  for (unsigned int i = 0; i < size && i < 8; ++i) {
+    types |=
+        static_cast<unsigned int>(optixGetTransformTypeFromHandle(optixGetTransformListHandle(i)))
+        << (4 * i);
+  }
+  const float3 object = Add(optixGetObjectRayOrigin(), Scale(optixGetObjectRayDirection(), t));
+  float m[12];
+  optixGetWorldToObjectTransformMatrix(m);
+  const OptixTraversableHandle gas = optixGetGASTraversableHandle();
+  optixSetPayload_0(RecordValue());
+  optixSetPayload_1(size);
+  optixSetPayload_2(types);
+  optixSetPayload_3(__float_as_uint(t));
+  optixSetPayload_4(__float_as_uint(object.x));
+  optixSetPayload_5(__float_as_uint(m[3]));
+  optixSetPayload_6(optixGetInstanceId());
+  optixSetPayload_7(optixGetInstanceIndex());
+  optixSetPayload_8(optixGetGASMotionStepCount(gas));
+  optixSetPayload_9(__float_as_uint(optixGetGASMotionTimeEnd(gas)));
+  optixSetPayload_11(optixGetHitKind());
+  unsigned int* out = Out();
+  out[12] = __float_as_uint(optixTransformPointFromObjectToWorldSpace(object).x);
+  out[13] = static_cast<unsigned int>(optixGetPrimitiveType());
+  if (optixGetPrimitiveType() == OPTIX_PRIMITIVE_TYPE_SPHERE) {
+    float4 s[1];
+    optixGetSphereData(gas, optixGetPrimitiveIndex(), optixGetSbtGASIndex(), optixGetRayTime(), s);
+    out[14] = __float_as_uint(s[0].x);
+  } else {
+    float3 v[3];
+    optixGetTriangleVertexData(gas, optixGetPrimitiveIndex(), optixGetSbtGASIndex(),
+                               optixGetRayTime(), v);
+    out[14] = __float_as_uint(v[0].x);
+  }
+  // What the second entry's getter gives: keys of a motion transform, the static transform's x
+  // translation, an instance's id.
+  out[15] = ~0u;
+  if (size > 1) {
+    const OptixTraversableHandle h = optixGetTransformListHandle(1);
+    switch (optixGetTransformTypeFromHandle(h)) {
+      case OPTIX_TRANSFORM_TYPE_MATRIX_MOTION_TRANSFORM:
+        out[15] = optixGetMatrixMotionTransformFromHandle(h)->motionOptions.numKeys;
+        break;
+      case OPTIX_TRANSFORM_TYPE_SRT_MOTION_TRANSFORM:
+        out[15] = 100u + optixGetSRTMotionTransformFromHandle(h)->motionOptions.numKeys;
+        break;
+      case OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM:
+        out[15] = __float_as_uint(optixGetStaticTransformFromHandle(h)->transform[3]);
+        break;
+      case OPTIX_TRANSFORM_TYPE_INSTANCE:
+        out[15] = optixGetInstanceIdFromHandle(h);
+        break;
+      default:
+        break;
+    }
+  }
 }
