@@ -1,8 +1,13 @@
 # Shared build settings for project targets.
 
-# Program modules compile against the program-side headers only.
-set(TESSERA_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include CACHE INTERNAL "")
-set(TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include7 CACHE INTERNAL "")
+# Program modules compile against the program-side headers only: their API generation's include
+# root, then the headers both roots share (the texture sampler, api/include_common), which an
+# install copies into each root.
+set(TESSERA_COMMON_INCLUDE_DIR ${CMAKE_CURRENT_LIST_DIR}/../api/include_common CACHE INTERNAL "")
+set(TESSERA_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include
+  ${TESSERA_COMMON_INCLUDE_DIR} CACHE INTERNAL "")
+set(TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS ${CMAKE_CURRENT_LIST_DIR}/../api/include7
+  ${TESSERA_COMMON_INCLUDE_DIR} CACHE INTERNAL "")
 include(${CMAKE_CURRENT_LIST_DIR}/TesseraEmbedProgram.cmake)
 
 add_library(tessera_warnings INTERFACE)

@@ -38,6 +38,12 @@ target_include_directories(tessera_optix7_headers INTERFACE
 install(TARGETS tessera_optix7_headers EXPORT TesseraTargets)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/api/include7/
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tessera/optix7)
+# The headers both roots share (the texture sampler, api/include_common) go into each, so that an
+# installed root is one -I directory, as an SDK's is.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/api/include_common/
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tessera)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/api/include_common/
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tessera/optix7)
 install(EXPORT TesseraTargets NAMESPACE Tessera:: DESTINATION ${TESSERA_INSTALL_CMAKEDIR})
 
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/TesseraConfig.cmake.in

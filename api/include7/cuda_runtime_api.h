@@ -3,8 +3,7 @@
  * (docs/optix7.md): one address range that the host and every worker map at the same virtual
  * address, so that pointers in launch parameters and SBT records mean the same everywhere.
  *
- * DECLARED, NOT IMPLEMENTED YET: the definitions are the next part of issue 25. A program that
- * calls these links against libtessera once it exports them.
+ * libtessera exports every function declared here (api/optix7/cuda_*.cc).
  *
  * Thread-safety: as CUDA's; the current device is per host thread. */
 #ifndef TESSERA_OPTIX7_CUDA_RUNTIME_API_H_
@@ -64,15 +63,35 @@ cudaError_t cudaMemsetAsync(void* devPtr, int value, size_t count,
                             cudaStream_t stream TESSERA_CUDA_DEFAULT(0));
 
 /* ---- Arrays ---------------------------------------------------------------------------------- */
+/* Texel storage for textures: device allocations whose handles are their addresses; texels are
+ * packed, x fastest, then y, then z (layer, or cube face +x -x +y -y +z -z, 6 per layer). Sizes,
+ * formats and flags are checked as CUDA checks them (docs/optix7.md, "Textures"). */
 cudaError_t cudaMallocArray(cudaArray_t* array, const struct cudaChannelFormatDesc* desc,
                             size_t width, size_t height TESSERA_CUDA_DEFAULT(0),
                             unsigned int flags TESSERA_CUDA_DEFAULT(0));
 cudaError_t cudaMalloc3DArray(cudaArray_t* array, const struct cudaChannelFormatDesc* desc,
                               struct cudaExtent extent, unsigned int flags TESSERA_CUDA_DEFAULT(0));
+/* Levels one after another in one allocation; at most 16 (a 32768-texel side has 16). */
+cudaError_t cudaMallocMipmappedArray(cudaMipmappedArray_t* mipmappedArray,
+                                     const struct cudaChannelFormatDesc* desc,
+                                     struct cudaExtent extent, unsigned int numLevels,
+                                     unsigned int flags TESSERA_CUDA_DEFAULT(0));
+cudaError_t cudaGetMipmappedArrayLevel(cudaArray_t* levelArray,
+                                       cudaMipmappedArray_const_t mipmappedArray,
+                                       unsigned int level);
+/* An array a texture object still reads keeps its memory until that object is destroyed. */
 cudaError_t cudaFreeArray(cudaArray_t array);
+cudaError_t cudaFreeMipmappedArray(cudaMipmappedArray_t mipmappedArray);
+cudaError_t cudaArrayGetInfo(struct cudaChannelFormatDesc* desc, struct cudaExtent* extent,
+                             unsigned int* flags, cudaArray_t array);
+cudaError_t cudaGetChannelDesc(struct cudaChannelFormatDesc* desc, cudaArray_const_t array);
+/* Copies mark what they write in device memory, which the next launch ships. */
 cudaError_t cudaMemcpy2DToArray(cudaArray_t dst, size_t wOffset, size_t hOffset, const void* src,
                                 size_t spitch, size_t width, size_t height,
                                 enum cudaMemcpyKind kind);
+cudaError_t cudaMemcpy2DFromArray(void* dst, size_t dpitch, cudaArray_const_t src, size_t wOffset,
+                                  size_t hOffset, size_t width, size_t height,
+                                  enum cudaMemcpyKind kind);
 /* Deprecated in CUDA but still in OptiX 7 samples. */
 cudaError_t cudaMemcpyToArray(cudaArray_t dst, size_t wOffset, size_t hOffset, const void* src,
                               size_t count, enum cudaMemcpyKind kind);
@@ -81,6 +100,8 @@ struct cudaChannelFormatDesc cudaCreateChannelDesc(int x, int y, int z, int w,
                                                    enum cudaChannelFormatKind f);
 
 /* ---- Texture objects ------------------------------------------------------------------------- */
+/* A texture object is a descriptor in device memory (tessera/optix7_texture_abi.h) that programs
+ * sample with texture_indirect_functions.h; pResViewDesc must be null (cudaErrorNotSupported). */
 cudaError_t cudaCreateTextureObject(cudaTextureObject_t* pTexObject,
                                     const struct cudaResourceDesc* pResDesc,
                                     const struct cudaTextureDesc* pTexDesc,

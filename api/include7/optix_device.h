@@ -32,6 +32,7 @@
 #include "optix_types.h"
 #include "tessera/optix7_cuda_defines.h"
 #include "tessera/optix7_device_abi.h"
+#include "texture_indirect_functions.h" /* nvcc's implicit CUDA headers give tex2D<T> & co. */
 #include "vector_functions.h"
 #include "vector_types.h"
 

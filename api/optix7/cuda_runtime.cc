@@ -11,6 +11,7 @@
 #include <string>
 #include <thread>
 
+#include "cuda_arrays.h"
 #include "cuda_runtime_api.h"
 #include "host_device_memory.h"
 
@@ -83,6 +84,9 @@ bool ValidStream(cudaStream_t s) {
 }
 
 }  // namespace
+
+cudaError_t RecordCudaError(cudaError_t e) { return Result(e); }
+
 }  // namespace tessera::optix7
 
 using tessera::optix7::HostDeviceMemory;
@@ -112,6 +116,7 @@ const char* cudaGetErrorName(cudaError_t error) {
     TESSERA_CUDA_ERROR_NAME(cudaErrorInitializationError)
     TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidPitchValue)
     TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidDevicePointer)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidChannelDescriptor)
     TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidMemcpyDirection)
     TESSERA_CUDA_ERROR_NAME(cudaErrorNoDevice)
     TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidDevice)
@@ -143,6 +148,10 @@ const char* cudaGetErrorString(cudaError_t error) {
       return "invalid pitch argument";
     case cudaErrorInvalidDevicePointer:
       return "invalid device pointer (not the start of a cudaMalloc allocation)";
+    case cudaErrorInvalidChannelDescriptor:
+      return "invalid channel descriptor (1, 2 or 4 channels of 8, 16 or 32 bits, float 16 or 32)";
+    case cudaErrorNotSupported:
+      return "operation not supported (by Tessera: docs/COMPATIBILITY.md, OptiX 7)";
     case cudaErrorInvalidMemcpyDirection:
       return "invalid copy direction for memcpy (a pointer is not where the kind says: device "
              "memory must lie in one cudaMalloc allocation, host memory outside device memory)";
@@ -188,7 +197,7 @@ cudaError_t cudaGetDeviceProperties(struct cudaDeviceProp* prop, int device) {
   prop->maxGridSize[0] = prop->maxGridSize[1] = prop->maxGridSize[2] = 0x7fffffff;
   prop->memPitch = prop->totalGlobalMem;
   prop->textureAlignment = tessera::memory::DeviceAllocator::kAlignment;
-  prop->texturePitchAlignment = tessera::memory::DeviceAllocator::kAlignment;
+  prop->texturePitchAlignment = 32;  // what GPUs report; pitched textures need no more here
   prop->multiProcessorCount = static_cast<int>(std::thread::hardware_concurrency());
   prop->canMapHostMemory = 0;
   return cudaSuccess;
@@ -230,7 +239,9 @@ cudaError_t cudaMalloc(void** ptr, size_t size) {
 cudaError_t cudaFree(void* ptr) {
   if (ptr == nullptr) return cudaSuccess;  // cudaFree(0): the usual way to initialize CUDA
   HostDeviceMemory* m = tessera::optix7::Memory();
-  if (m == nullptr || !m->Free(tessera::optix7::Address(ptr)).ok()) {
+  // Arrays and texture objects are freed by their own calls, which know who still reads them.
+  if (m == nullptr || tessera::optix7::TextureHandles::Get().Owns(tessera::optix7::Address(ptr)) ||
+      !m->Free(tessera::optix7::Address(ptr)).ok()) {
     return Result(cudaErrorInvalidDevicePointer);
   }
   return cudaSuccess;

@@ -230,7 +230,7 @@ TEST_P(TextureTest, BilinearBytesMatchTheGeneralPathInEveryWrapMode) {
     RayGen("sample_bytes_both");
 
     TesseraTextureView v{};
-    v.levels[0] = {bytes.data(), kW, kH, 1};
+    v.levels[0] = {bytes.data(), kW, kH, 1, 0};
     v.level_count = 1;
     v.dimensionality = 2;
     v.format = RT_FORMAT_UNSIGNED_BYTE4;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tessera/detail/texture_sampling.h"
+#include "tessera/rt.h"
 
 namespace {
 
@@ -26,7 +27,7 @@ using tessera::texture::Sample2DLod;
 TesseraTextureView Rgba8View(const std::vector<uint8_t>& texels, unsigned w, unsigned h,
                              RTwrapmode wrap) {
   TesseraTextureView v{};
-  v.levels[0] = {texels.data(), w, h, 1};
+  v.levels[0] = {texels.data(), w, h, 1, 0};
   v.level_count = 1;
   v.dimensionality = 2;
   v.format = RT_FORMAT_UNSIGNED_BYTE4;

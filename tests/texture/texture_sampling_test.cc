@@ -7,9 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
+
+#include "tessera/rt.h"
 
 namespace {
 
@@ -38,7 +41,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 TesseraTextureView View(RTformat format, unsigned element_size, const void* data, unsigned width,
                         unsigned height = 1, unsigned depth = 1) {
   TesseraTextureView v{};
-  v.levels[0] = {data, width, height, depth};
+  v.levels[0] = {data, width, height, depth, 0};
   v.level_count = 1;
   v.dimensionality = depth > 1 ? 3 : (height > 1 ? 2 : 1);
   v.format = format;
@@ -261,7 +264,7 @@ TEST(TextureLinear, MatchesTheFormulaAtRandomCoordinates) {
     };
     const TesseraTextureView rgba8 = view(RT_FORMAT_UNSIGNED_BYTE4, 4, u8.data());
     TesseraTextureView rgba8_mip = rgba8;  // not the shortcut: two levels, nearest mip filter
-    rgba8_mip.levels[1] = {half_size.data(), 1, 1, 1};
+    rgba8_mip.levels[1] = {half_size.data(), 1, 1, 1, 0};
     rgba8_mip.level_count = 2;
     rgba8_mip.mip_filter = RT_FILTER_NEAREST;
     const TesseraTextureView rg16 = view(RT_FORMAT_UNSIGNED_SHORT2, 4, u16.data());
@@ -615,8 +618,8 @@ struct MipTexture {
                      l2 = std::vector<float>(1, 4.f);
   TesseraTextureView View(RTfiltermode mip_filter) const {
     TesseraTextureView v = FloatView(l0, 4, 4);
-    v.levels[1] = {l1.data(), 2, 2, 1};
-    v.levels[2] = {l2.data(), 1, 1, 1};
+    v.levels[1] = {l1.data(), 2, 2, 1, 0};
+    v.levels[2] = {l2.data(), 1, 1, 1, 0};
     v.level_count = 3;
     v.mip_filter = mip_filter;
     v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
@@ -688,7 +691,7 @@ TEST(TextureMip, LevelFromGradients) {
             (179.f * 2 + 77.f * 4) / 256.f);
   const std::vector<float> t1 = {1, 1, 1, 1}, t2 = {2, 2};
   TesseraTextureView v1 = FloatView(t1, 4);
-  v1.levels[1] = {t2.data(), 2, 1, 1};
+  v1.levels[1] = {t2.data(), 2, 1, 1, 0};
   v1.level_count = 2;
   v1.mip_filter = RT_FILTER_NEAREST;
   v1.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
@@ -703,8 +706,8 @@ TEST(TextureMip, AnisotropyProbesAlongTheLongerAxis) {
   for (int i = 0; i < 16; ++i) l0[i] = 10.f * (i % 4);
   const std::vector<float> l1(4, 50.f), l2(1, 100.f);
   TesseraTextureView v = FloatView(l0, 4, 4);
-  v.levels[1] = {l1.data(), 2, 2, 1};
-  v.levels[2] = {l2.data(), 1, 1, 1};
+  v.levels[1] = {l1.data(), 2, 2, 1, 0};
+  v.levels[2] = {l2.data(), 1, 1, 1, 0};
   v.level_count = 3;
   v.mip_filter = RT_FILTER_NEAREST;
   v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
@@ -720,7 +723,7 @@ TEST(TextureMip, AnisotropyProbesAlongTheLongerAxis) {
 TEST(TextureMip, ThreeDimensionalLevels) {
   const std::vector<float> l0(8, 1.f), l1(1, 3.f);
   TesseraTextureView v = FloatView(l0, 2, 2, 2);
-  v.levels[1] = {l1.data(), 1, 1, 1};
+  v.levels[1] = {l1.data(), 1, 1, 1, 0};
   v.level_count = 2;
   v.mip_filter = RT_FILTER_LINEAR;
   v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
@@ -730,7 +733,7 @@ TEST(TextureMip, ThreeDimensionalLevels) {
 TEST(TextureMip, IntegerElementReadsUseTheNearestLevel) {
   const std::vector<int> l0 = {1, 1}, l1 = {2};
   TesseraTextureView v = View(RT_FORMAT_INT, 4, l0.data(), 2);
-  v.levels[1] = {l1.data(), 1, 1, 1};
+  v.levels[1] = {l1.data(), 1, 1, 1, 0};
   v.level_count = 2;
   v.mip_filter = RT_FILTER_LINEAR;
   EXPECT_EQ(Sample1DLod<int>(v, 0.5f, 0.4f), 1);
@@ -900,6 +903,42 @@ TEST(TextureCoordinates, NanLevelsDerivativesAndDirections) {
   for (float a : {kNaN, kInf, 0.f}) {
     const float r = SampleCubemap<float>(c, a, a, a);
     EXPECT_TRUE(r >= 1.f && r <= 6.f) << a << " -> " << r;
+  }
+}
+
+// Pitched rows (TesseraTextureLevel::pitch, CUDA's cudaResourceTypePitch2D): the padding between
+// rows is never read, and every lookup, the fast RGBA8 one included, gives the packed view's bits.
+TEST(TexturePitch, PitchedRowsSampleAsPackedOnes) {
+  constexpr unsigned kW = 5, kH = 4, kPitch = 8;
+  std::vector<unsigned char> packed(kW * kH * 4), pitched(kPitch * kH * 4, 0xff);
+  for (size_t i = 0; i < packed.size(); ++i) packed[i] = static_cast<unsigned char>(i * 37 + 11);
+  for (unsigned y = 0; y < kH; ++y) {
+    std::memcpy(&pitched[y * kPitch * 4], &packed[y * kW * 4], kW * 4);
+  }
+  for (RTwrapmode wrap : {RT_WRAP_REPEAT, RT_WRAP_CLAMP_TO_EDGE, RT_WRAP_MIRROR}) {
+    TesseraTextureView a = View(RT_FORMAT_UNSIGNED_BYTE4, 4, packed.data(), kW, kH);
+    SetFilter(&a, RT_FILTER_LINEAR);
+    SetWrap(&a, wrap);
+    a.read_mode = RT_TEXTURE_READ_NORMALIZED_FLOAT;
+    a.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
+    TesseraTextureView b = a;
+    b.levels[0].data = pitched.data();
+    b.levels[0].pitch = kPitch;
+    a.fast = tessera::texture::FastKind(a);
+    b.fast = tessera::texture::FastKind(b);
+    for (int i = -20; i <= 40; ++i) {
+      const float x = i * 0.0625f, y = 1.f - i * 0.046875f;
+      const float4 p = Sample2D<float4>(a, x, y), q = Sample2D<float4>(b, x, y);
+      EXPECT_EQ(std::memcmp(&p, &q, sizeof p), 0) << x << ", " << y << " wrap " << wrap;
+      const float4 g = Gather2D<float4>(a, x, y, 1), h = Gather2D<float4>(b, x, y, 1);
+      EXPECT_EQ(std::memcmp(&g, &h, sizeof g), 0) << x << ", " << y;
+    }
+    for (int y = 0; y < int(kH); ++y) {
+      for (int x = 0; x < int(kW); ++x) {
+        const uint4 p = Fetch2D<uint4>(a, x, y), q = Fetch2D<uint4>(b, x, y);
+        EXPECT_EQ(std::memcmp(&p, &q, sizeof p), 0) << x << ", " << y;
+      }
+    }
   }
 }
 

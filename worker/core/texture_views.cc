@@ -3,10 +3,35 @@
 #include "absl/strings/str_cat.h"
 #include "tessera/detail/mip_levels.h"
 #include "tessera/detail/texture_fast.h"
+#include "tessera/detail/texture_modes.h"
 #include "tessera/rt.h"
 
 namespace tessera::worker {
 namespace {
+
+// Views hold OptiX 3's enum values as they are; the shared sampler names them without rt.h.
+namespace tx = tessera::texture;
+constexpr bool Same(unsigned sampler, unsigned optix3) { return sampler == optix3; }
+static_assert(Same(tx::kFormatFloat, RT_FORMAT_FLOAT) && Same(tx::kFormatFloat4, RT_FORMAT_FLOAT4));
+static_assert(Same(tx::kFormatByte, RT_FORMAT_BYTE) &&
+              Same(tx::kFormatUnsignedByte4, RT_FORMAT_UNSIGNED_BYTE4));
+static_assert(Same(tx::kFormatShort, RT_FORMAT_SHORT) &&
+              Same(tx::kFormatUnsignedShort4, RT_FORMAT_UNSIGNED_SHORT4));
+static_assert(Same(tx::kFormatInt, RT_FORMAT_INT) &&
+              Same(tx::kFormatUnsignedInt4, RT_FORMAT_UNSIGNED_INT4));
+static_assert(Same(tx::kFormatHalf, RT_FORMAT_HALF) && Same(tx::kFormatHalf4, RT_FORMAT_HALF4));
+static_assert(Same(tx::kWrapRepeat, RT_WRAP_REPEAT) &&
+              Same(tx::kWrapClampToEdge, RT_WRAP_CLAMP_TO_EDGE) &&
+              Same(tx::kWrapMirror, RT_WRAP_MIRROR) &&
+              Same(tx::kWrapClampToBorder, RT_WRAP_CLAMP_TO_BORDER));
+static_assert(Same(tx::kFilterNearest, RT_FILTER_NEAREST) &&
+              Same(tx::kFilterLinear, RT_FILTER_LINEAR) && Same(tx::kFilterNone, RT_FILTER_NONE));
+static_assert(Same(tx::kReadElementType, RT_TEXTURE_READ_ELEMENT_TYPE) &&
+              Same(tx::kReadNormalizedFloat, RT_TEXTURE_READ_NORMALIZED_FLOAT) &&
+              Same(tx::kReadElementTypeSrgb, RT_TEXTURE_READ_ELEMENT_TYPE_SRGB) &&
+              Same(tx::kReadNormalizedFloatSrgb, RT_TEXTURE_READ_NORMALIZED_FLOAT_SRGB));
+static_assert(Same(tx::kIndexNormalizedCoordinates, RT_TEXTURE_INDEX_NORMALIZED_COORDINATES) &&
+              Same(tx::kIndexArrayIndex, RT_TEXTURE_INDEX_ARRAY_INDEX));
 
 // Components of the numeric RTformats a texture reads (RT_FORMAT_FLOAT … RT_FORMAT_UNSIGNED_INT4
 // and RT_FORMAT_HALF …), 0 for any other format.

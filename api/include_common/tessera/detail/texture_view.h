@@ -1,7 +1,10 @@
-/* What a program sees of a texture sampler: the engine fills one per sampler bound to a program
- * (an rtTextureSampler declaration, or a bindless id), and the sampling functions of
- * tessera/detail/texture_sampling.h read texels through it. Plain C, part of the module ABI
- * (tessera/detail/module_abi.h): both sides must agree on its layout. */
+/* What a program sees of a texture: the OptiX 3 engine fills one per sampler bound to a program
+ * (an rtTextureSampler declaration, or a bindless id), the OptiX 7 layer one per CUDA texture
+ * object (in device memory, tessera/optix7_texture_abi.h), and the sampling functions of
+ * tessera/detail/texture_sampling.h read texels through it. Plain C, part of both module ABIs
+ * (tessera/detail/module_abi.h, tessera/optix7_device_abi.h): both sides must agree on its
+ * layout. The modes are OptiX 3's enum values (tessera/detail/texture_modes.h). Shared by both
+ * include roots (api/include_common). */
 #ifndef TESSERA_DETAIL_TEXTURE_VIEW_H_
 #define TESSERA_DETAIL_TEXTURE_VIEW_H_
 
@@ -16,24 +19,29 @@ extern "C" {
 typedef struct {
   const void* data;
   unsigned width, height, depth; /* unused dimensions are 1 */
+  /* Texels from the start of one row to the next; 0 means width (packed rows). Only CUDA's
+   * pitched 2D memory (cudaResourceTypePitch2D) has longer rows. It fills what was the struct's
+   * tail padding, so the layout and the size stay those of module ABI 9, and views that engines
+   * value-initialize read 0. */
+  unsigned pitch;
 } TesseraTextureLevel;
 
 typedef struct {
   TesseraTextureLevel levels[TESSERA_TEXTURE_MAX_LEVELS];
   unsigned level_count;    /* 1 without mipmaps */
   unsigned dimensionality; /* of the buffer: 1, 2 or 3 */
-  unsigned format;         /* RTformat of a texel */
+  unsigned format;         /* RTformat of a texel (kFormat*) */
   unsigned element_size;   /* bytes per texel */
   /* RT_BUFFER_LAYERED: depth counts layers. RT_BUFFER_CUBEMAP: depth counts faces (+x, -x, +y,
    * -y, +z, -z), 6 per layer when both are set. */
   unsigned layered;
   unsigned cubemap;
-  unsigned wrap[3];         /* RTwrapmode per dimension */
-  unsigned min_filter;      /* RTfiltermode */
+  unsigned wrap[3];         /* RTwrapmode per dimension (kWrap*) */
+  unsigned min_filter;      /* RTfiltermode (kFilter*) */
   unsigned mag_filter;      /* RTfiltermode */
   unsigned mip_filter;      /* RTfiltermode: RT_FILTER_NONE samples level 0 only */
-  unsigned read_mode;       /* RTtexturereadmode */
-  unsigned index_mode;      /* RTtextureindexmode */
+  unsigned read_mode;       /* RTtexturereadmode (kRead*) */
+  unsigned index_mode;      /* RTtextureindexmode (kIndex*) */
   float max_anisotropy;     /* accepted; 1 means none */
   float mip_level_clamp[2]; /* min, max level */
   float mip_level_bias;

@@ -22,10 +22,10 @@
 #include <emmintrin.h>
 #endif
 
-#include "optixu/optixu_vector_types.h"
 #include "tessera/detail/texture_addressing.h"
 #include "tessera/detail/texture_fast.h"
 #include "tessera/detail/texture_formats.h"
+#include "tessera/detail/texture_vector_types.h"
 #include "tessera/detail/texture_view.h"
 
 namespace tessera::texture {
@@ -64,7 +64,7 @@ TESSERA_TEXTURE_INLINE bool FilterLevel(const TesseraTextureLevel& lv, const Req
   if (base == nullptr) return false;
   Axis ax[3];
   AxesFor<D, kLinear>(lv, r, ax);
-  const std::size_t row = lv.width, slice = std::size_t(lv.width) * lv.height;
+  const std::size_t row = RowTexels(lv), slice = row * lv.height;
 #if defined(__SSE2__)
   // RGBA8 read as normalized float, the commonest texture: the same exact float arithmetic as
   // below, four channels at a time.
@@ -145,13 +145,13 @@ inline bool Magnifies(float lod) { return lod <= 0.f; }
 template <typename F, typename Mode, int D>
 inline bool SampleMip(const TesseraTextureView& v, const Request& r, float lod, float out[4]) {
   lod = AdjustLod(v, lod);
-  const bool linear = (Magnifies(lod) ? v.mag_filter : v.min_filter) == RT_FILTER_LINEAR;
+  const bool linear = (Magnifies(lod) ? v.mag_filter : v.min_filter) == kFilterLinear;
   const int count = LevelCount(v);
   int level = 0, q = 0;  // q: the weight of level + 1, in 1/256
-  if (count > 1 && v.mip_filter != RT_FILTER_NONE) {
+  if (count > 1 && v.mip_filter != kFilterNone) {
     const float top = static_cast<float>(count - 1);
     lod = lod > 0.f ? (lod < top ? lod : top) : 0.f;
-    if (v.mip_filter == RT_FILTER_LINEAR) {
+    if (v.mip_filter == kFilterLinear) {
       level = FloorToInt(lod);
       q = static_cast<int>((lod - static_cast<float>(level)) * 256.f + 0.5f);
       if (q == 256) {
@@ -180,7 +180,7 @@ template <typename F, int D>
 inline bool ElementMip(const TesseraTextureView& v, const Request& r, float lod,
                        typename F::Scalar out[4]) {
   int level = 0;
-  if (LevelCount(v) > 1 && v.mip_filter != RT_FILTER_NONE) {
+  if (LevelCount(v) > 1 && v.mip_filter != kFilterNone) {
     const float top = static_cast<float>(LevelCount(v) - 1);
     float l = AdjustLod(v, lod);
     l = l > 0.f ? (l < top ? l : top) : 0.f;
@@ -191,8 +191,9 @@ inline bool ElementMip(const TesseraTextureView& v, const Request& r, float lod,
   if (base == nullptr) return false;
   Axis ax[3];
   AxesFor<D, false>(lv, r, ax);
-  const std::size_t texel = ax[0].index[0] + ax[1].index[0] * std::size_t(lv.width) +
-                            ax[2].index[0] * std::size_t(lv.width) * lv.height;
+  const std::size_t row = RowTexels(lv);
+  const std::size_t texel =
+      ax[0].index[0] + ax[1].index[0] * row + ax[2].index[0] * row * lv.height;
   const bool inside = ax[0].inside[0] && ax[1].inside[0] && ax[2].inside[0];
 #pragma GCC unroll 4
   for (int c = 0; c < F::kChannels; ++c) {
@@ -349,8 +350,7 @@ inline T Gather(const TesseraTextureView& v, const Request& r, int comp) {
     AxesFor<2, true>(lv, r, ax);
     for (int k = 0; k < 4; ++k) {
       const int i = order[k][0], j = order[k][1];
-      const auto* t =
-          base + (ax[0].index[i] + ax[1].index[j] * std::size_t(lv.width)) * F::kChannels;
+      const auto* t = base + (ax[0].index[i] + ax[1].index[j] * RowTexels(lv)) * F::kChannels;
       const bool inside = ax[0].inside[i] && ax[1].inside[j];
       out[k] = comp >= F::kChannels ? (comp == 3 ? 1 : 0) : (inside ? read(t) : 0);
     }
@@ -380,7 +380,7 @@ inline T Fetch(const TesseraTextureView& v, int x, int y, int z) {
     return T{};
   }
   const std::size_t texel =
-      x + std::size_t(lv.width) * (y + std::size_t(lv.height) * static_cast<std::size_t>(z));
+      x + RowTexels(lv) * (y + std::size_t(lv.height) * static_cast<std::size_t>(z));
   return Run<T>(
       v,
       [&](auto format, auto mode, float* out) {

@@ -17,8 +17,8 @@
 #include <emmintrin.h>
 #endif
 
+#include "tessera/detail/texture_modes.h"
 #include "tessera/detail/texture_view.h"
-#include "tessera/rt.h"
 
 namespace tessera::texture {
 
@@ -35,15 +35,15 @@ inline unsigned FastKind(const TesseraTextureView& v) {
 #if defined(__SSE2__)
   const TesseraTextureLevel& lv = v.levels[0];
   const bool fits =
-      v.format == RT_FORMAT_UNSIGNED_BYTE4 && v.element_size == 4 && v.dimensionality == 2 &&
-      v.layered == 0 && v.cubemap == 0 && v.read_mode == RT_TEXTURE_READ_NORMALIZED_FLOAT &&
-      v.index_mode == RT_TEXTURE_INDEX_NORMALIZED_COORDINATES && v.mag_filter == RT_FILTER_LINEAR &&
-      v.min_filter == RT_FILTER_LINEAR && (v.level_count <= 1 || v.mip_filter == RT_FILTER_NONE) &&
+      v.format == kFormatUnsignedByte4 && v.element_size == 4 && v.dimensionality == 2 &&
+      v.layered == 0 && v.cubemap == 0 && v.read_mode == kReadNormalizedFloat &&
+      v.index_mode == kIndexNormalizedCoordinates && v.mag_filter == kFilterLinear &&
+      v.min_filter == kFilterLinear && (v.level_count <= 1 || v.mip_filter == kFilterNone) &&
       lv.data != nullptr && lv.width > 0 && lv.height > 0 && lv.depth > 0 &&
       lv.width < (1u << 24) && lv.height < (1u << 24);
   if (!fits || v.wrap[0] != v.wrap[1]) return kFastNone;
-  if (v.wrap[0] == RT_WRAP_CLAMP_TO_EDGE) return kFastBilinearRgba8Clamp;
-  if (v.wrap[0] == RT_WRAP_REPEAT) return kFastBilinearRgba8Repeat;
+  if (v.wrap[0] == kWrapClampToEdge) return kFastBilinearRgba8Clamp;
+  if (v.wrap[0] == kWrapRepeat) return kFastBilinearRgba8Repeat;
 #else
   (void)v;
 #endif
@@ -110,7 +110,7 @@ TESSERA_TEXTURE_FAST void FastBilinearRgba8(const TesseraTextureView& v, float x
   alignas(16) int at[4];
   _mm_store_si128(reinterpret_cast<__m128i*>(at), _mm_cvttps_epi32(index));
   const auto* base = static_cast<const unsigned char*>(lv.data);
-  const std::size_t row = std::size_t(lv.width) * 4;
+  const std::size_t row = std::size_t(lv.pitch != 0 ? lv.pitch : lv.width) * 4;
   const unsigned char* r0 = base + std::size_t(at[1]) * row;
   const unsigned char* r1 = base + std::size_t(at[3]) * row;
   const std::size_t x0 = std::size_t(at[0]) * 4, x1 = std::size_t(at[2]) * 4;

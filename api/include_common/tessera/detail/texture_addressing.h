@@ -60,13 +60,13 @@ TESSERA_TEXTURE_INLINE Axis AxisAt(float x, int n, unsigned wrap, bool normalize
   int i, i0, i1;
   float t;
   Axis a;
-  if (normalized && (wrap == RT_WRAP_REPEAT || wrap == RT_WRAP_MIRROR)) {
+  if (normalized && (wrap == kWrapRepeat || wrap == kWrapMirror)) {
     bool odd;
     float f = Frac(x, &odd);
-    if (wrap == RT_WRAP_MIRROR && odd) f = 1.f - f;
+    if (wrap == kWrapMirror && odd) f = 1.f - f;
     t = f * size - kOffset;  // in [-0.5, n]: i in [-1, n]
     i = FloorToInt(t);
-    if (wrap == RT_WRAP_REPEAT) {
+    if (wrap == kWrapRepeat) {
       i0 = i < 0 ? i + n : (i >= n ? i - n : i);
       i1 = i + 1 >= n ? i + 1 - n : i + 1;
     } else {
@@ -81,7 +81,7 @@ TESSERA_TEXTURE_INLINE Axis AxisAt(float x, int n, unsigned wrap, bool normalize
     i = FloorToInt(t);
     i0 = i;
     i1 = i + 1;
-    const bool border = wrap == RT_WRAP_CLAMP_TO_BORDER;
+    const bool border = wrap == kWrapClampToBorder;
     a.inside[0] = !border || static_cast<unsigned>(i) < static_cast<unsigned>(n);
     a.inside[1] = !border || static_cast<unsigned>(i + 1) < static_cast<unsigned>(n);
   }
@@ -119,7 +119,7 @@ inline Request MakeRequest(const TesseraTextureView& v, float x, float y, float 
   r.layer = layer;
   r.face = 0;
   r.faces = 1;
-  r.normalized = v.index_mode == RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
+  r.normalized = v.index_mode == kIndexNormalizedCoordinates;
   r.wrap[0] = v.wrap[0];
   r.wrap[1] = v.wrap[1];
   r.wrap[2] = v.wrap[2];
@@ -160,7 +160,7 @@ inline Request CubeRequest(const TesseraTextureView& v, float x, float y, float 
   r.x[1] = (tc / ma + 1.f) * 0.5f;
   r.faces = 6;
   r.normalized = true;
-  r.wrap[0] = r.wrap[1] = r.wrap[2] = RT_WRAP_CLAMP_TO_EDGE;
+  r.wrap[0] = r.wrap[1] = r.wrap[2] = kWrapClampToEdge;
   return r;
 }
 
@@ -182,7 +182,7 @@ TESSERA_TEXTURE_INLINE const typename F::Scalar* PlaneBase(const TesseraTextureL
     int layer = r.layer < planes ? r.layer : planes - 1;
     layer = layer > 0 ? layer : 0;
     const std::size_t plane = static_cast<std::size_t>(layer) * r.faces + r.face;
-    return base + plane * lv.width * lv.height * F::kChannels;
+    return base + plane * RowTexels(lv) * lv.height * F::kChannels;
   }
 }
 

@@ -4,15 +4,16 @@
 #ifndef TESSERA_DETAIL_TEXTURE_FORMATS_H_
 #define TESSERA_DETAIL_TEXTURE_FORMATS_H_
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <type_traits>
 
-#include "optixu/optixu_vector_types.h"
 #include "tessera/detail/half.h"
+#include "tessera/detail/texture_modes.h"
+#include "tessera/detail/texture_vector_types.h"
 #include "tessera/detail/texture_view.h"
-#include "tessera/rt.h"
 
 // The addressing and texel loops are forced inline into the one function per format and read
 // mode that uses them: left to itself GCC calls them, and a lookup then pays for passing its
@@ -97,7 +98,13 @@ inline D FromFloat(float f) {
 
 // ---- Texel formats ---------------------------------------------------------------------------
 
-// An IEEE binary16 texel channel (RT_FORMAT_HALF*), as stored.
+// Texels from one row of a level to the next: the width, unless the level is pitched
+// (TesseraTextureLevel::pitch).
+TESSERA_TEXTURE_INLINE std::size_t RowTexels(const TesseraTextureLevel& lv) {
+  return lv.pitch != 0 ? lv.pitch : lv.width;
+}
+
+// An IEEE binary16 texel channel (kFormatHalf*), as stored.
 struct Half {
   std::uint16_t bits;
 };
@@ -119,38 +126,38 @@ inline T WithFormat(const TesseraTextureView& v, Op&& op) {
   case name:                                \
     return v.element_size == sizeof(S) * (C) ? op(Format<S, C>{}) : T{};
   switch (v.format) {
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_FLOAT, float, 1)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_FLOAT2, float, 2)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_FLOAT3, float, 3)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_FLOAT4, float, 4)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_BYTE, signed char, 1)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_BYTE2, signed char, 2)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_BYTE3, signed char, 3)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_BYTE4, signed char, 4)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_BYTE, unsigned char, 1)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_BYTE2, unsigned char, 2)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_BYTE3, unsigned char, 3)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_BYTE4, unsigned char, 4)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_SHORT, short, 1)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_SHORT2, short, 2)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_SHORT3, short, 3)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_SHORT4, short, 4)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_SHORT, unsigned short, 1)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_SHORT2, unsigned short, 2)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_SHORT3, unsigned short, 3)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_SHORT4, unsigned short, 4)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_INT, int, 1)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_INT2, int, 2)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_INT3, int, 3)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_INT4, int, 4)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_INT, unsigned int, 1)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_INT2, unsigned int, 2)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_INT3, unsigned int, 3)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_UNSIGNED_INT4, unsigned int, 4)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_HALF, Half, 1)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_HALF2, Half, 2)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_HALF3, Half, 3)
-    TESSERA_TEX_FORMAT_CASE(RT_FORMAT_HALF4, Half, 4)
+    TESSERA_TEX_FORMAT_CASE(kFormatFloat, float, 1)
+    TESSERA_TEX_FORMAT_CASE(kFormatFloat2, float, 2)
+    TESSERA_TEX_FORMAT_CASE(kFormatFloat3, float, 3)
+    TESSERA_TEX_FORMAT_CASE(kFormatFloat4, float, 4)
+    TESSERA_TEX_FORMAT_CASE(kFormatByte, signed char, 1)
+    TESSERA_TEX_FORMAT_CASE(kFormatByte2, signed char, 2)
+    TESSERA_TEX_FORMAT_CASE(kFormatByte3, signed char, 3)
+    TESSERA_TEX_FORMAT_CASE(kFormatByte4, signed char, 4)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedByte, unsigned char, 1)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedByte2, unsigned char, 2)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedByte3, unsigned char, 3)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedByte4, unsigned char, 4)
+    TESSERA_TEX_FORMAT_CASE(kFormatShort, short, 1)
+    TESSERA_TEX_FORMAT_CASE(kFormatShort2, short, 2)
+    TESSERA_TEX_FORMAT_CASE(kFormatShort3, short, 3)
+    TESSERA_TEX_FORMAT_CASE(kFormatShort4, short, 4)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedShort, unsigned short, 1)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedShort2, unsigned short, 2)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedShort3, unsigned short, 3)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedShort4, unsigned short, 4)
+    TESSERA_TEX_FORMAT_CASE(kFormatInt, int, 1)
+    TESSERA_TEX_FORMAT_CASE(kFormatInt2, int, 2)
+    TESSERA_TEX_FORMAT_CASE(kFormatInt3, int, 3)
+    TESSERA_TEX_FORMAT_CASE(kFormatInt4, int, 4)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedInt, unsigned int, 1)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedInt2, unsigned int, 2)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedInt3, unsigned int, 3)
+    TESSERA_TEX_FORMAT_CASE(kFormatUnsignedInt4, unsigned int, 4)
+    TESSERA_TEX_FORMAT_CASE(kFormatHalf, Half, 1)
+    TESSERA_TEX_FORMAT_CASE(kFormatHalf2, Half, 2)
+    TESSERA_TEX_FORMAT_CASE(kFormatHalf3, Half, 3)
+    TESSERA_TEX_FORMAT_CASE(kFormatHalf4, Half, 4)
     default:
       return T{};
   }
