@@ -197,7 +197,7 @@ TEST(WorkerWireTest, ApplyStreamsCutShortOrPaddedAreRefused) {
     for (const v1::ApplyChunk& m : messages) ASSERT_TRUE(a.Add(v1::ApplyChunk(m)).ok());
     absl::Status s = a.Add(v1::ApplyChunk(messages[1]));
     EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
-    EXPECT_NE(s.message().find("more than the 6 messages"), std::string::npos) << s;
+    EXPECT_NE(s.message().find("more than the 7 messages"), std::string::npos) << s;
   }
 }
 
@@ -340,7 +340,8 @@ TEST(WorkerWireTest, ManyRemovedIdsTravelInBoundedMessages) {
   absl::StatusOr<v1::StateDelta> out =
       RoundTrip(delta, kMaxRegionBytes, kMaxRegionBytes + (64 << 10), &messages);
   ASSERT_TRUE(out.ok()) << out.status();
-  EXPECT_EQ(messages, 1 + 1 + 2 + 2 + 3);  // header, objects, removed ids, modules, chunks
+  // Header, objects, removed ids, modules, chunks, device memory.
+  EXPECT_EQ(messages, 1 + 1 + 2 + 2 + 3 + 1);
   EXPECT_EQ(out->SerializeAsString(), delta.SerializeAsString());
 }
 

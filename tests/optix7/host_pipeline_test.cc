@@ -134,9 +134,17 @@ TEST_F(PipelineTest, SbtHeaderPackingAndLaunchArgumentChecks) {
   EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, &sbt, 1u << 16, 1u << 15, 1),
             OPTIX_ERROR_INVALID_VALUE);
   EXPECT_TRUE(Logged(2, "at most 2^30"));
-  // Valid arguments reach optix7::Launch; until launches land it says it cannot run them.
-  EXPECT_EQ(optixLaunch(pipeline, 0, p, 64, &sbt, 4, 4, 1), OPTIX_ERROR_NOT_SUPPORTED);
-  EXPECT_TRUE(Logged(2, "launches are not implemented yet"));
+  // Valid arguments launch: raygen writes params.out[x] = 1 (the parameters are the module's
+  // 8-byte `params`).
+  void* out = nullptr;
+  ASSERT_EQ(cudaMalloc(&out, 4 * sizeof(unsigned)), cudaSuccess);
+  ASSERT_EQ(cudaMemset(out, 0, 4 * sizeof(unsigned)), cudaSuccess);
+  ASSERT_EQ(cudaMemcpy(params, &out, sizeof(out), cudaMemcpyHostToDevice), cudaSuccess);
+  EXPECT_EQ(optixLaunch(pipeline, 0, p, sizeof(out), &sbt, 4, 4, 1), OPTIX_SUCCESS)
+      << (log_.empty() ? std::string() : log_.back().message);
+  unsigned written[4] = {};
+  ASSERT_EQ(cudaMemcpy(written, out, sizeof(written), cudaMemcpyDeviceToHost), cudaSuccess);
+  for (unsigned w : written) EXPECT_EQ(w, 1u);
 
   // Validation mode reads the records' headers: one never packed is refused.
   OptixDeviceContext validating = CreateContext(true);

@@ -42,7 +42,8 @@ TEST_F(WriteTrackerTest, ExactlyTheChangedBytesComeBack) {
   *same = *same;                                         // written, unchanged: no run
   base_[page_ - 1] = 9;  // the last byte of page 0 and the first of page 1
   base_[page_] = static_cast<unsigned char>(base_[page_] + 1);
-  EXPECT_EQ((*t)->pages_written(), 3u);
+  // The first fault claims its whole block of 16 pages (or the range's pages, when fewer).
+  EXPECT_EQ((*t)->pages_written(), std::min<size_t>(16, size_ / page_));
   const std::vector<WriteTracker::Run> runs = (*t)->Collect();
   const std::vector<WriteTracker::Run> expected = {
       {At(10), 2}, {At(page_ - 1), 2}};  // adjacent bytes across pages merge
