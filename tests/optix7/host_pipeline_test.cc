@@ -1,7 +1,8 @@
-// Pipelines (link options, option consistency, contexts), SBT header packing, and optixLaunch's
-// argument checks (launches themselves come with the engine).
+// Pipelines (link options, option consistency, contexts), SBT header packing, optixLaunch's
+// argument checks, and a program that crashes its worker named in the launch's error.
 #include <cuda_runtime.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -166,6 +167,51 @@ TEST_F(PipelineTest, SbtHeaderPackingAndLaunchArgumentChecks) {
   EXPECT_TRUE(Logged(2, "has no header packed by optixSbtRecordPackHeader"));
   EXPECT_EQ(cudaFree(device), cudaSuccess);
   EXPECT_EQ(cudaFree(params), cudaSuccess);
+}
+
+// A program that crashes the worker process running it: the launch fails (a crash is not run
+// again elsewhere, it would crash there too) and its error names the program, as OptiX 3's do.
+TEST_F(PipelineTest, ACrashingProgramIsNamedInTheLaunchError) {
+  const char* saved = std::getenv("TESSERA_DEVICES");
+  const std::string restore = saved != nullptr ? saved : "";
+  setenv("TESSERA_DEVICES", "local:1", 1);  // read when the context first launches
+  OptixDeviceContext context = CreateContext(false);
+  OptixModule m = CompileModule(R"(
+#include <optix.h>
+struct Params { unsigned int* out; };
+extern "C" { __constant__ Params params; }
+extern "C" __global__ void __raygen__crash() {
+  volatile unsigned int* nowhere = nullptr;
+  *nowhere = optixGetLaunchIndex().x;
+}
+)",
+                                context);
+  OptixProgramGroupDesc d = Raygen(m, "__raygen__crash");
+  OptixProgramGroup g = nullptr;
+  ASSERT_EQ(optixProgramGroupCreate(context, &d, 1, nullptr, nullptr, nullptr, &g), OPTIX_SUCCESS);
+  OptixPipelineLinkOptions link{};
+  link.maxTraceDepth = 1;
+  OptixPipeline pipeline = nullptr;
+  ASSERT_EQ(
+      optixPipelineCreate(context, &pipeline_options_, &link, &g, 1, nullptr, nullptr, &pipeline),
+      OPTIX_SUCCESS);
+  struct alignas(OPTIX_SBT_RECORD_ALIGNMENT) Record {
+    unsigned char header[OPTIX_SBT_RECORD_HEADER_SIZE];
+  } record;
+  ASSERT_EQ(optixSbtRecordPackHeader(g, record.header), OPTIX_SUCCESS);
+  void* device = nullptr;
+  ASSERT_EQ(cudaMalloc(&device, sizeof(record)), cudaSuccess);
+  ASSERT_EQ(cudaMemcpy(device, &record, sizeof(record), cudaMemcpyHostToDevice), cudaSuccess);
+  OptixShaderBindingTable sbt{};
+  sbt.raygenRecord = reinterpret_cast<CUdeviceptr>(device);
+  EXPECT_EQ(optixLaunch(pipeline, 0, 0, 0, &sbt, 2, 2, 1), OPTIX_ERROR_LAUNCH_FAILURE);
+  EXPECT_TRUE(Logged(2, "SIGSEGV) in OptiX 7 raygen program __raygen__crash in "))
+      << (log_.empty() ? std::string() : log_.back().message);
+  if (restore.empty()) {
+    unsetenv("TESSERA_DEVICES");
+  } else {
+    setenv("TESSERA_DEVICES", restore.c_str(), 1);
+  }
 }
 
 }  // namespace

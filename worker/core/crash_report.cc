@@ -21,6 +21,8 @@ __thread const char* t_crash_context __attribute__((tls_model("initial-exec"))) 
 // exit() destroys the calling thread's thread_local objects, the state among them, before its
 // atexit handlers run. A plain initial-exec pointer that no destructor touches. The program it
 // points to lives in its launch plan, which a program calling exit() is still running.
+std::atomic<Optix7ProgramQuery> g_optix7_query{nullptr};
+
 __thread const worker::BoundProgram* t_exit_program __attribute__((tls_model("initial-exec"))) =
     nullptr;
 
@@ -74,9 +76,17 @@ void OnFatalSignal(int sig) {
   // The thread's state is a plain initial-exec TLS pointer: reading it allocates nothing. It is
   // null again once the state was freed (~ThreadState).
   const worker::ThreadState* ts = worker::t_state;
+  const Optix7ProgramQuery optix7 = g_optix7_query.load(std::memory_order_acquire);
+  const char* optix7_kind = nullptr;
+  const char* optix7_name = nullptr;
   if (ts != nullptr && ts->current != nullptr) {
     line.Add(" in ");
     line.Add(ts->current->name.c_str());
+  } else if (optix7 != nullptr && optix7(&optix7_kind, &optix7_name)) {
+    line.Add(" in OptiX 7 ");
+    line.Add(optix7_kind);
+    line.Add(" program ");
+    line.Add(optix7_name);
   } else if (t_crash_context != nullptr) {
     line.Add(" while ");
     line.Add(t_crash_context);
@@ -191,6 +201,10 @@ void InstallCrashReporter() {
   action.sa_flags = SA_RESETHAND | SA_NODEFER | SA_ONSTACK;
   sigemptyset(&action.sa_mask);
   for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) sigaction(sig, &action, nullptr);
+}
+
+void SetOptix7ProgramQuery(Optix7ProgramQuery query) {
+  g_optix7_query.store(query, std::memory_order_release);
 }
 
 namespace worker {

@@ -15,6 +15,7 @@
 #include "optix7_launch.h"
 #include "optix7_thread.h"
 #include "optix_types.h"
+#include "tessera/worker/crash_report.h"
 
 namespace tessera::worker {
 
@@ -72,6 +73,43 @@ Optix7Thread& CreateOptix7Thread() {
   }
   return *t_optix7;
 }
+
+namespace {
+
+// The crash line's query (crash_report.h): the program the thread's context names. Reads only
+// the thread's initial-exec state pointer and what it points to: async-signal-safe.
+bool RunningOptix7Program(const char** kind, const char** name) {
+  const Optix7Thread* ts = t_optix7;
+  if (ts == nullptr || ts->ctx.record == nullptr || ts->ctx.record->group == nullptr) return false;
+  const Optix7Group& g = *ts->ctx.record->group;
+  const Optix7Entry* entry = &g.entry;
+  switch (ts->ctx.kind) {
+    case Optix7Kind::kClosestHit:
+      entry = &g.closest_hit;
+      break;
+    case Optix7Kind::kAnyHit:
+      entry = &g.any_hit;
+      break;
+    case Optix7Kind::kIntersection:
+      entry = &g.intersection;
+      break;
+    case Optix7Kind::kContinuationCallable:
+      entry = &g.continuation;
+      break;
+    default:
+      break;
+  }
+  *kind = KindName(ts->ctx.kind);
+  *name = entry->name.c_str();
+  return true;
+}
+
+[[maybe_unused]] const bool kCrashQueryInstalled = [] {
+  SetOptix7ProgramQuery(&RunningOptix7Program);
+  return true;
+}();
+
+}  // namespace
 
 std::mutex& Optix7CallMutex() {
   static std::mutex mu;

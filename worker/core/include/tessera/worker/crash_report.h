@@ -46,6 +46,12 @@ class CrashContext {
   const char* const previous_;
 };
 
+// What OptiX 7 program the calling thread runs, for the crash line: its kind ("closest-hit") and
+// name ("__closesthit__ch in /m.so"); false when it runs none. Set once by the OptiX 7 engine;
+// must be async-signal-safe (it runs in the fatal signal's handler).
+using Optix7ProgramQuery = bool (*)(const char** kind, const char** name);
+void SetOptix7ProgramQuery(Optix7ProgramQuery query);
+
 }  // namespace tessera
 
 #endif  // TESSERA_WORKER_CRASH_REPORT_H_
