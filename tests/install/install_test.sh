@@ -59,4 +59,11 @@ err=$(TESSERA_DEVICES=local:2 TESSERA_CACHE_DIR="$work/cache3"       "$work/cons
 grep -q "no usable tessera-worker at $prefix/bin/tessera-worker" <<<"$err" ||
   { echo "no warning about falling back to the build tree's worker: $err"; exit 1; }
 chmod +x "$prefix/bin/tessera-worker"
+# An OptiX 7 application against the same install: Tessera::optix7 and tessera_embed_program.
+cmake -S "$consumer/../consumer7" -B "$work/consumer7-build" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+cmake --build "$work/consumer7-build" -j 2 >/dev/null
+output=$(TESSERA_DEVICES=local:2 TESSERA_CACHE_DIR="$work/cache7" "$work/consumer7-build/consumer7")
+echo "$output"
+grep -q "the OptiX 7 launch wrote what it should" <<<"$output"
 echo "install test passed"
