@@ -236,6 +236,22 @@ cudaError_t cudaMalloc(void** ptr, size_t size) {
   return cudaSuccess;
 }
 
+cudaError_t cudaMallocManaged(void** ptr, size_t size, unsigned int flags) {
+  if (ptr == nullptr) return Result(cudaErrorInvalidValue);
+  *ptr = nullptr;
+  if (size == 0 || (flags != cudaMemAttachGlobal && flags != cudaMemAttachHost)) {
+    return Result(cudaErrorInvalidValue);
+  }
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr) return Result(cudaErrorMemoryAllocation);
+  // Device memory is host memory here: the host reads and writes it through the pointer, and
+  // each launch first takes the host's view of it (HostDeviceMemory::MarkManagedWritten).
+  absl::StatusOr<uintptr_t> address = m->Allocate(size, /*managed=*/true);
+  if (!address.ok()) return Result(cudaErrorMemoryAllocation);
+  *ptr = reinterpret_cast<void*>(*address);
+  return cudaSuccess;
+}
+
 cudaError_t cudaFree(void* ptr) {
   if (ptr == nullptr) return cudaSuccess;  // cudaFree(0): the usual way to initialize CUDA
   HostDeviceMemory* m = tessera::optix7::Memory();

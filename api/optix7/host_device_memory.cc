@@ -19,11 +19,12 @@ absl::StatusOr<HostDeviceMemory*> HostDeviceMemory::Get() {
   return *memory;
 }
 
-absl::StatusOr<uintptr_t> HostDeviceMemory::Allocate(size_t bytes) {
+absl::StatusOr<uintptr_t> HostDeviceMemory::Allocate(size_t bytes, bool managed) {
   std::lock_guard<std::mutex> lock(mutex_);
   absl::StatusOr<uintptr_t> address = allocator_.Allocate(bytes);
   if (!address.ok()) return address;
   ++allocation_generation_;
+  if (managed) managed_[*address] = bytes;
   if (absl::Status s = arena_->Commit(*address, bytes); !s.ok()) {
     (void)allocator_.Free(*address);
     return s;
@@ -36,6 +37,7 @@ absl::Status HostDeviceMemory::Free(uintptr_t address) {
   absl::StatusOr<memory::DeviceAllocator::Freed> freed = allocator_.Free(address);
   if (!freed.ok()) return freed.status();
   ++allocation_generation_;
+  managed_.erase(address);
   if (freed->release_end > freed->release_begin) {
     return arena_->Release(freed->release_begin, freed->release_end - freed->release_begin);
   }
@@ -60,6 +62,15 @@ void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length, bool by_dev
     w.any = epoch;
     if (!by_device) w.host = epoch;
   }
+}
+
+void HostDeviceMemory::MarkManagedWritten() {
+  std::vector<std::pair<uintptr_t, size_t>> managed;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    managed.assign(managed_.begin(), managed_.end());
+  }
+  for (const auto& [address, size] : managed) MarkWritten(address, size);
 }
 
 uint64_t HostDeviceMemory::epoch() const {

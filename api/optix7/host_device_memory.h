@@ -27,7 +27,9 @@ class HostDeviceMemory {
   // cannot be had.
   static absl::StatusOr<HostDeviceMemory*> Get();
 
-  absl::StatusOr<uintptr_t> Allocate(size_t bytes);
+  // `managed`: cudaMallocManaged memory, which the host reads and writes through pointers without
+  // telling anyone: MarkManagedWritten treats all of it as written before each launch.
+  absl::StatusOr<uintptr_t> Allocate(size_t bytes, bool managed = false);
   absl::Status Free(uintptr_t address);
   // Whether [address, address + length) lies in one live allocation.
   bool IsAllocated(uintptr_t address, size_t length) const;
@@ -39,6 +41,11 @@ class HostDeviceMemory {
   // reaches the other devices as the bytes written, not as chunks: launch_target.cc). Each call
   // is a new write epoch.
   void MarkWritten(uintptr_t address, size_t length, bool by_device = false);
+  // Marks every managed allocation written (by the host): what a launch does first, so that the
+  // host's writes through pointers reach devices (chunks whose content did not change travel
+  // nowhere: devices are sent what differs from their hashes).
+  void MarkManagedWritten();
+
   // The chunk that holds `address` (its first byte's address).
   uintptr_t ChunkOf(uintptr_t address) const {
     const uintptr_t base = arena_->base();
@@ -74,6 +81,7 @@ class HostDeviceMemory {
   uint64_t epoch_ = 0;
   uint64_t taken_epoch_ = 0;  // TakeWrittenChunks
   uint64_t allocation_generation_ = 0;
+  std::map<uintptr_t, size_t> managed_;  // cudaMallocManaged allocations
 };
 
 }  // namespace tessera::optix7

@@ -34,6 +34,9 @@ class LaunchTarget final : public api::ContextExtension {
   absl::Status Launch(const LaunchPipeline& pipeline, const v1::Optix7Launch& launch,
                       const std::vector<uint64_t>& dims) {
     pipeline_ = &pipeline;
+    if (absl::StatusOr<HostDeviceMemory*> memory = HostDeviceMemory::Get(); memory.ok()) {
+      (*memory)->MarkManagedWritten();
+    }
     absl::Status status = context_->Launch(0, dims, &launch);
     pipeline_ = nullptr;
     TrimRuns();

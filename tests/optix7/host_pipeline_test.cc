@@ -214,5 +214,61 @@ extern "C" __global__ void __raygen__crash() {
   }
 }
 
+// cudaMallocManaged memory is written and read by the host through its pointers, without
+// cudaMemcpy: launches on worker processes still see the host's writes and the host theirs.
+TEST_F(PipelineTest, ManagedMemoryIsSharedWithWorkersWithoutCopies) {
+  const char* saved = std::getenv("TESSERA_DEVICES");
+  const std::string restore = saved != nullptr ? saved : "";
+  setenv("TESSERA_DEVICES", "local:2", 1);
+  OptixDeviceContext context = CreateContext(false);
+  OptixModule m = CompileModule(kAllKindsSource, context);
+  OptixProgramGroupDesc d = Raygen(m, "__raygen__rg");
+  OptixProgramGroup g = nullptr;
+  ASSERT_EQ(optixProgramGroupCreate(context, &d, 1, nullptr, nullptr, nullptr, &g), OPTIX_SUCCESS);
+  OptixPipelineLinkOptions link{};
+  link.maxTraceDepth = 1;
+  OptixPipeline pipeline = nullptr;
+  ASSERT_EQ(
+      optixPipelineCreate(context, &pipeline_options_, &link, &g, 1, nullptr, nullptr, &pipeline),
+      OPTIX_SUCCESS);
+  struct alignas(OPTIX_SBT_RECORD_ALIGNMENT) Record {
+    unsigned char header[OPTIX_SBT_RECORD_HEADER_SIZE];
+  };
+  Record* record = nullptr;
+  unsigned** params = nullptr;  // struct Params { unsigned int* out; }
+  unsigned* out = nullptr;
+  EXPECT_EQ(cudaMallocManaged(&out, 0), cudaErrorInvalidValue);
+  EXPECT_EQ(cudaMallocManaged(&out, 64, 7), cudaErrorInvalidValue);
+  (void)cudaGetLastError();
+  ASSERT_EQ(cudaMallocManaged(&record, sizeof(Record)), cudaSuccess);
+  ASSERT_EQ(cudaMallocManaged(&params, sizeof(unsigned*)), cudaSuccess);
+  ASSERT_EQ(cudaMallocManaged(&out, 64 * sizeof(unsigned)), cudaSuccess);
+  Record host_record;
+  ASSERT_EQ(optixSbtRecordPackHeader(g, host_record.header), OPTIX_SUCCESS);
+  *record = host_record;  // plain stores, no cudaMemcpy
+  *params = out;
+  for (int i = 0; i < 64; ++i) out[i] = 7;
+  OptixShaderBindingTable sbt{};
+  sbt.raygenRecord = reinterpret_cast<CUdeviceptr>(record);
+  ASSERT_EQ(optixLaunch(pipeline, 0, reinterpret_cast<CUdeviceptr>(params), sizeof(unsigned*), &sbt,
+                        32, 1, 1),
+            OPTIX_SUCCESS)
+      << (log_.empty() ? std::string() : log_.back().message);
+  for (int i = 0; i < 64; ++i) EXPECT_EQ(out[i], i < 32 ? 1u : 7u) << i;  // read in place
+  // The host rewrites part of it; the next launch's programs see it (they overwrite indices
+  // 0..47, the host's 48..63 stay).
+  for (int i = 0; i < 64; ++i) out[i] = 9;
+  ASSERT_EQ(optixLaunch(pipeline, 0, reinterpret_cast<CUdeviceptr>(params), sizeof(unsigned*), &sbt,
+                        48, 1, 1),
+            OPTIX_SUCCESS);
+  for (int i = 0; i < 64; ++i) EXPECT_EQ(out[i], i < 48 ? 1u : 9u) << i;
+  EXPECT_EQ(cudaFree(out), cudaSuccess);
+  if (restore.empty()) {
+    unsetenv("TESSERA_DEVICES");
+  } else {
+    setenv("TESSERA_DEVICES", restore.c_str(), 1);
+  }
+}
+
 }  // namespace
 }  // namespace tessera_test
