@@ -4,7 +4,9 @@
  * the versioned entry points (cuCtxCreate_v2, ...) are the real names and the unversioned
  * spellings are macros.
  *
- * DECLARED, NOT IMPLEMENTED YET (docs/optix7.md): the next part of issue 25. */
+ * Exported by libtessera (api/optix7/cuda_driver.cc). A CUcontext stands for a device and nothing
+ * more: an OptixDeviceContext created with one belongs to its device (docs/optix7.md, "Devices");
+ * memory and streams are the runtime's. */
 #ifndef TESSERA_OPTIX7_CUDA_H_
 #define TESSERA_OPTIX7_CUDA_H_
 

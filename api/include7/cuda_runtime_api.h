@@ -29,11 +29,20 @@ const char* cudaGetErrorString(cudaError_t error);
 const char* cudaGetErrorName(cudaError_t error);
 
 /* ---- Devices --------------------------------------------------------------------------------- */
-/* Devices are Tessera's device list (TESSERA_DEVICES, docs/devices.md). */
+/* One device whose launches are tiled over every Tessera device of TESSERA_DEVICES, or with
+ * TESSERA_CUDA_DEVICES=each one device per Tessera device (docs/optix7.md, "Devices"). The current
+ * device is per host thread (0 until cudaSetDevice); an OptixDeviceContext belongs to the device
+ * current when it was created. */
 cudaError_t cudaGetDeviceCount(int* count);
 cudaError_t cudaSetDevice(int device);
 cudaError_t cudaGetDevice(int* device);
 cudaError_t cudaGetDeviceProperties(struct cudaDeviceProp* prop, int device);
+/* Devices share one address range: any device may reach another's memory (canAccessPeer is 1 for
+ * two different devices). Enabling access makes the current device's launches ship the peer's
+ * allocations too; without it they ship only the device's own (CUDA forbids the access then). */
+cudaError_t cudaDeviceCanAccessPeer(int* canAccessPeer, int device, int peerDevice);
+cudaError_t cudaDeviceEnablePeerAccess(int peerDevice, unsigned int flags);
+cudaError_t cudaDeviceDisablePeerAccess(int peerDevice);
 /* Waits for every stream of the current device. */
 cudaError_t cudaDeviceSynchronize(void);
 cudaError_t cudaDeviceReset(void);
@@ -55,9 +64,11 @@ cudaError_t cudaMemcpyAsync(void* dst, const void* src, size_t count, enum cudaM
                             cudaStream_t stream TESSERA_CUDA_DEFAULT(0));
 cudaError_t cudaMemcpy2D(void* dst, size_t dpitch, const void* src, size_t spitch, size_t width,
                          size_t height, enum cudaMemcpyKind kind);
-/* Between two devices' copies of one allocation: Tessera's devices share one address range,
- * so this is a copy within it. */
+/* Between two devices' allocations: Tessera's devices share one address range, so this is a copy
+ * within it (device ordinals are checked: cudaErrorInvalidDevice). */
 cudaError_t cudaMemcpyPeer(void* dst, int dstDevice, const void* src, int srcDevice, size_t count);
+cudaError_t cudaMemcpyPeerAsync(void* dst, int dstDevice, const void* src, int srcDevice,
+                                size_t count, cudaStream_t stream TESSERA_CUDA_DEFAULT(0));
 cudaError_t cudaMemset(void* devPtr, int value, size_t count);
 cudaError_t cudaMemsetAsync(void* devPtr, int value, size_t count,
                             cudaStream_t stream TESSERA_CUDA_DEFAULT(0));

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstring>
 
+#include "cuda_devices.h"
 #include "host_device_memory.h"
 #include "tessera/detail/mip_levels.h"
 #include "tessera/detail/texture_modes.h"
@@ -212,7 +213,7 @@ bool KeepsDepth(const CudaArray& a) {
 cudaError_t Allocate(size_t bytes, uintptr_t* address) {
   absl::StatusOr<HostDeviceMemory*> m = HostDeviceMemory::Get();
   if (!m.ok()) return cudaErrorMemoryAllocation;
-  absl::StatusOr<uintptr_t> a = (*m)->Allocate(bytes);
+  absl::StatusOr<uintptr_t> a = (*m)->Allocate(bytes, CurrentCudaDevice());
   if (!a.ok()) return cudaErrorMemoryAllocation;
   *address = *a;
   return cudaSuccess;

@@ -1,7 +1,7 @@
 // The CUDA runtime subset of OptiX 7 applications (include7/cuda_runtime_api.h) over Tessera's
-// device memory: one device, all work done in host order (every call has finished when it returns,
-// so streams and events only order what is already ordered), memory in the arena that workers map
-// at the same addresses (docs/device_memory.md).
+// device memory: one device or one per Tessera device (cuda_devices.h), all work done in host order
+// (every call has finished when it returns, so streams and events only order what is already
+// ordered), memory in the arena that workers map at the same addresses (docs/device_memory.md).
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -10,8 +10,10 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "cuda_arrays.h"
+#include "cuda_devices.h"
 #include "cuda_runtime_api.h"
 #include "host_device_memory.h"
 
@@ -78,6 +80,13 @@ Handles& Events() {
   static Handles* h = new Handles;
   return *h;
 }
+// A device ordinal of the current mode (cuda_devices.h).
+bool ValidDevice(int device) {
+  if (device < 0) return false;
+  absl::StatusOr<std::vector<CudaDevice>> devices = CudaDevices();
+  return devices.ok() && device < static_cast<int>(devices->size());
+}
+
 // A stream argument: null (the default stream), CUDA's stand-ins, or a live stream.
 bool ValidStream(cudaStream_t s) {
   return s == nullptr || s == cudaStreamLegacy || s == cudaStreamPerThread || Streams().Has(s);
@@ -123,6 +132,8 @@ const char* cudaGetErrorName(cudaError_t error) {
     TESSERA_CUDA_ERROR_NAME(cudaErrorInvalidResourceHandle)
     TESSERA_CUDA_ERROR_NAME(cudaErrorNotReady)
     TESSERA_CUDA_ERROR_NAME(cudaErrorIllegalAddress)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorPeerAccessAlreadyEnabled)
+    TESSERA_CUDA_ERROR_NAME(cudaErrorPeerAccessNotEnabled)
     TESSERA_CUDA_ERROR_NAME(cudaErrorLaunchFailure)
     TESSERA_CUDA_ERROR_NAME(cudaErrorNotSupported)
     TESSERA_CUDA_ERROR_NAME(cudaErrorUnknown)
@@ -161,6 +172,10 @@ const char* cudaGetErrorString(cudaError_t error) {
       return "invalid resource handle";
     case cudaErrorNotReady:
       return "device not ready";
+    case cudaErrorPeerAccessAlreadyEnabled:
+      return "peer access is already enabled";
+    case cudaErrorPeerAccessNotEnabled:
+      return "peer access has not been enabled";
     default:
       return cudaGetErrorName(error);
   }
@@ -170,26 +185,35 @@ const char* cudaGetErrorString(cudaError_t error) {
 
 cudaError_t cudaGetDeviceCount(int* count) {
   if (count == nullptr) return Result(cudaErrorInvalidValue);
-  *count = 1;  // launches are tiled over every Tessera device (TESSERA_DEVICES)
+  absl::StatusOr<std::vector<tessera::optix7::CudaDevice>> devices = tessera::optix7::CudaDevices();
+  if (!devices.ok() || devices->empty()) return Result(cudaErrorNoDevice);
+  *count = static_cast<int>(devices->size());
   return cudaSuccess;
 }
 
 cudaError_t cudaSetDevice(int device) {
-  return device == 0 ? cudaSuccess : Result(cudaErrorInvalidDevice);
+  if (!tessera::optix7::ValidDevice(device)) return Result(cudaErrorInvalidDevice);
+  tessera::optix7::SetCurrentCudaDevice(device);
+  return cudaSuccess;
 }
 
 cudaError_t cudaGetDevice(int* device) {
   if (device == nullptr) return Result(cudaErrorInvalidValue);
-  *device = 0;
+  *device = tessera::optix7::CurrentCudaDevice();
   return cudaSuccess;
 }
 
 cudaError_t cudaGetDeviceProperties(struct cudaDeviceProp* prop, int device) {
   if (prop == nullptr) return Result(cudaErrorInvalidValue);
-  if (device != 0) return Result(cudaErrorInvalidDevice);
+  absl::StatusOr<std::vector<tessera::optix7::CudaDevice>> devices = tessera::optix7::CudaDevices();
+  if (!devices.ok() || device < 0 || device >= static_cast<int>(devices->size())) {
+    return Result(cudaErrorInvalidDevice);
+  }
+  const tessera::optix7::CudaDevice& d = (*devices)[device];
   std::memset(prop, 0, sizeof(*prop));
-  std::strncpy(prop->name, "Tessera CPU device", sizeof(prop->name) - 1);
+  std::strncpy(prop->name, d.name.c_str(), sizeof(prop->name) - 1);
   HostDeviceMemory* m = tessera::optix7::Memory();
+  // Every device has the whole arena: one address range serves them all.
   prop->totalGlobalMem = m != nullptr ? m->capacity() : 0;
   prop->warpSize = 1;  // a launch index is not a warp lane
   prop->maxThreadsPerBlock = 1;
@@ -198,9 +222,44 @@ cudaError_t cudaGetDeviceProperties(struct cudaDeviceProp* prop, int device) {
   prop->memPitch = prop->totalGlobalMem;
   prop->textureAlignment = tessera::memory::DeviceAllocator::kAlignment;
   prop->texturePitchAlignment = 32;  // what GPUs report; pitched textures need no more here
-  prop->multiProcessorCount = static_cast<int>(std::thread::hardware_concurrency());
+  prop->multiProcessorCount = d.threads;
   prop->canMapHostMemory = 0;
   return cudaSuccess;
+}
+
+cudaError_t cudaDeviceCanAccessPeer(int* canAccessPeer, int device, int peerDevice) {
+  if (canAccessPeer == nullptr) return Result(cudaErrorInvalidValue);
+  if (!tessera::optix7::ValidDevice(device) || !tessera::optix7::ValidDevice(peerDevice)) {
+    return Result(cudaErrorInvalidDevice);
+  }
+  // One address range serves every device, so any may reach any other's memory once enabled;
+  // a device and itself is 0, as in CUDA.
+  *canAccessPeer = device != peerDevice ? 1 : 0;
+  return cudaSuccess;
+}
+
+cudaError_t cudaDeviceEnablePeerAccess(int peerDevice, unsigned int flags) {
+  if (flags != 0) return Result(cudaErrorInvalidValue);
+  const int device = tessera::optix7::CurrentCudaDevice();
+  if (!tessera::optix7::ValidDevice(peerDevice) || peerDevice == device) {
+    return Result(cudaErrorInvalidDevice);
+  }
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr) return Result(cudaErrorInitializationError);
+  // From now on the device's launches ship the peer's allocations too (launch_target.cc).
+  return m->SetPeerAccess(device, peerDevice, true) ? cudaSuccess
+                                                    : Result(cudaErrorPeerAccessAlreadyEnabled);
+}
+
+cudaError_t cudaDeviceDisablePeerAccess(int peerDevice) {
+  const int device = tessera::optix7::CurrentCudaDevice();
+  if (!tessera::optix7::ValidDevice(peerDevice) || peerDevice == device) {
+    return Result(cudaErrorInvalidDevice);
+  }
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr) return Result(cudaErrorInitializationError);
+  return m->SetPeerAccess(device, peerDevice, false) ? cudaSuccess
+                                                     : Result(cudaErrorPeerAccessNotEnabled);
 }
 
 cudaError_t cudaDeviceSynchronize(void) { return cudaSuccess; }  // every call has finished
@@ -230,7 +289,9 @@ cudaError_t cudaMalloc(void** ptr, size_t size) {
   if (size == 0) return cudaSuccess;  // as CUDA: no allocation, a null pointer
   HostDeviceMemory* m = tessera::optix7::Memory();
   if (m == nullptr) return Result(cudaErrorMemoryAllocation);
-  absl::StatusOr<uintptr_t> address = m->Allocate(size);
+  // Owned by the current device: with one CUDA device per Tessera device, only its launches
+  // (and its peers') ship it.
+  absl::StatusOr<uintptr_t> address = m->Allocate(size, tessera::optix7::CurrentCudaDevice());
   if (!address.ok()) return Result(cudaErrorMemoryAllocation);
   *ptr = reinterpret_cast<void*>(*address);
   return cudaSuccess;
@@ -246,7 +307,8 @@ cudaError_t cudaMallocManaged(void** ptr, size_t size, unsigned int flags) {
   if (m == nullptr) return Result(cudaErrorMemoryAllocation);
   // Device memory is host memory here: the host reads and writes it through the pointer, and
   // each launch first takes the host's view of it (HostDeviceMemory::MarkManagedWritten).
-  absl::StatusOr<uintptr_t> address = m->Allocate(size, /*managed=*/true);
+  absl::StatusOr<uintptr_t> address =
+      m->Allocate(size, tessera::optix7::CurrentCudaDevice(), /*managed=*/true);
   if (!address.ok()) return Result(cudaErrorMemoryAllocation);
   *ptr = reinterpret_cast<void*>(*address);
   return cudaSuccess;
@@ -336,6 +398,21 @@ cudaError_t cudaMemcpy2D(void* dst, size_t dpitch, const void* src, size_t spitc
     if (e != cudaSuccess) return e;
   }
   return cudaSuccess;
+}
+
+cudaError_t cudaMemcpyPeer(void* dst, int dstDevice, const void* src, int srcDevice, size_t count) {
+  if (!tessera::optix7::ValidDevice(dstDevice) || !tessera::optix7::ValidDevice(srcDevice)) {
+    return Result(cudaErrorInvalidDevice);
+  }
+  // Both devices' memory lies in the one address range: a copy within it, which the next launch
+  // of a device that may reach `dst` ships (the host's copy is authoritative).
+  return cudaMemcpy(dst, src, count, cudaMemcpyDeviceToDevice);
+}
+
+cudaError_t cudaMemcpyPeerAsync(void* dst, int dstDevice, const void* src, int srcDevice,
+                                size_t count, cudaStream_t stream) {
+  if (!tessera::optix7::ValidStream(stream)) return Result(cudaErrorInvalidResourceHandle);
+  return cudaMemcpyPeer(dst, dstDevice, src, srcDevice, count);  // done in host order
 }
 
 cudaError_t cudaMemset(void* ptr, int value, size_t count) {

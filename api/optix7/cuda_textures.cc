@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "cuda_arrays.h"
+#include "cuda_devices.h"
 #include "host_device_memory.h"
 #include "tessera/detail/texture_fast.h"
 #include "tessera/detail/texture_modes.h"
@@ -209,7 +210,7 @@ cudaError_t CreateTextureObject(cudaTextureObject_t* object, const cudaResourceD
   absl::StatusOr<HostDeviceMemory*> memory = HostDeviceMemory::Get();
   if (!memory.ok()) return cudaErrorInitializationError;
   if (!TextureHandles::Get().Hold(storage)) return cudaErrorInvalidValue;  // freed meanwhile
-  absl::StatusOr<uintptr_t> address = (*memory)->Allocate(sizeof d);
+  absl::StatusOr<uintptr_t> address = (*memory)->Allocate(sizeof d, CurrentCudaDevice());
   if (!address.ok()) {
     TextureHandles::Get().Release(storage);
     return cudaErrorMemoryAllocation;

@@ -8,6 +8,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "call.h"
+#include "cuda_devices.h"
 #include "module_compiler.h"
 #include "optix_host.h"
 #include "tessera/optix7_ext.h"
@@ -87,9 +88,14 @@ extern "C" {
 OptixResult optixDeviceContextCreate(CUcontext fromContext,
                                      const OptixDeviceContextOptions* options,
                                      OptixDeviceContext* context) {
-  // fromContext is not read: Tessera has one CUDA context, and 0 means "the current one" in
-  // OptiX, so any value an application got from cuCtxGetCurrent (or 0) is accepted.
-  (void)fromContext;
+  // fromContext 0 means "the current one" in OptiX: the calling thread's current CUDA device
+  // (cudaSetDevice), which with TESSERA_CUDA_DEVICES=each is the one Tessera device the
+  // context's launches run on. A context from cuCtxCreate or cuCtxGetCurrent names its device.
+  int cuda_device = tessera::optix7::LaunchDeviceForNewContext();
+  if (cuda_device != tessera::optix7::kEveryDevice) {
+    const int of_context = tessera::optix7::CudaDeviceOfContext(fromContext);
+    if (of_context >= 0) cuda_device = of_context;
+  }
   return Call("optixDeviceContextCreate").Run([&](Call& call) -> absl::Status {
     if (absl::Status s = call.NotNull(context, "context"); !s.ok()) return s;
     OptixDeviceContextOptions o{};
@@ -106,7 +112,7 @@ OptixResult optixDeviceContextCreate(CUcontext fromContext,
                                      absl::Hex(static_cast<unsigned>(o.validationMode)),
                                      " is neither OFF nor ALL"));
     }
-    auto created = std::make_shared<DeviceContext>(o, tessera::api::ModuleCacheDir());
+    auto created = std::make_shared<DeviceContext>(o, tessera::api::ModuleCacheDir(), cuda_device);
     tessera::optix7::Register(created, created.get());
     call.set_context(created);
     if (created->validation()) {

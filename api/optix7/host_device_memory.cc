@@ -1,5 +1,8 @@
 #include "host_device_memory.h"
 
+#include <algorithm>
+#include <iterator>
+
 namespace tessera::optix7 {
 
 HostDeviceMemory::HostDeviceMemory(memory::DeviceArena* arena)
@@ -19,7 +22,7 @@ absl::StatusOr<HostDeviceMemory*> HostDeviceMemory::Get() {
   return *memory;
 }
 
-absl::StatusOr<uintptr_t> HostDeviceMemory::Allocate(size_t bytes, bool managed) {
+absl::StatusOr<uintptr_t> HostDeviceMemory::Allocate(size_t bytes, int owner, bool managed) {
   std::lock_guard<std::mutex> lock(mutex_);
   absl::StatusOr<uintptr_t> address = allocator_.Allocate(bytes);
   if (!address.ok()) return address;
@@ -29,6 +32,7 @@ absl::StatusOr<uintptr_t> HostDeviceMemory::Allocate(size_t bytes, bool managed)
     (void)allocator_.Free(*address);
     return s;
   }
+  owners_[*address] = owner;
   return address;
 }
 
@@ -38,6 +42,7 @@ absl::Status HostDeviceMemory::Free(uintptr_t address) {
   if (!freed.ok()) return freed.status();
   ++allocation_generation_;
   managed_.erase(address);
+  owners_.erase(address);
   if (freed->release_end > freed->release_begin) {
     return arena_->Release(freed->release_begin, freed->release_end - freed->release_begin);
   }
@@ -51,7 +56,7 @@ bool HostDeviceMemory::IsAllocated(uintptr_t address, size_t length) const {
 
 bool HostDeviceMemory::InArena(uintptr_t address) const { return arena_->Contains(address, 0); }
 
-void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length, bool by_device) {
+void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length, uint64_t device_writer) {
   if (length == 0) return;
   std::lock_guard<std::mutex> lock(mutex_);
   const uint64_t epoch = ++epoch_;
@@ -60,7 +65,17 @@ void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length, bool by_dev
   for (uintptr_t c = first; c < address + length; c += kChunkBytes) {
     Written& w = written_[c];
     w.any = epoch;
-    if (!by_device) w.host = epoch;
+    if (device_writer == 0) {
+      w.host = epoch;
+      continue;
+    }
+    auto it = std::find_if(w.by_writer.begin(), w.by_writer.end(),
+                           [&](const auto& e) { return e.first == device_writer; });
+    if (it == w.by_writer.end()) {
+      w.by_writer.emplace_back(device_writer, epoch);
+    } else {
+      it->second = epoch;
+    }
   }
 }
 
@@ -79,12 +94,17 @@ uint64_t HostDeviceMemory::epoch() const {
 }
 
 std::vector<std::pair<uintptr_t, uint64_t>> HostDeviceMemory::ChunksWrittenSince(
-    uint64_t since, bool host_only) const {
+    uint64_t since, uint64_t except_writer) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<std::pair<uintptr_t, uint64_t>> chunks;
   if (since >= epoch_) return chunks;
   for (const auto& [chunk, w] : written_) {
-    if ((host_only ? w.host : w.any) > since) chunks.emplace_back(chunk, w.any);
+    bool by_others = except_writer == 0 ? w.any > since : w.host > since;
+    for (const auto& [writer, epoch] : w.by_writer) {
+      if (by_others) break;
+      by_others = writer != except_writer && epoch > since;
+    }
+    if (by_others) chunks.emplace_back(chunk, w.any);
   }
   return chunks;
 }
@@ -97,12 +117,46 @@ std::vector<uintptr_t> HostDeviceMemory::TakeWrittenChunks() {
   return chunks;
 }
 
-std::vector<std::pair<uintptr_t, size_t>> HostDeviceMemory::Allocations() const {
+std::vector<std::pair<uintptr_t, size_t>> HostDeviceMemory::Allocations(int device) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<std::pair<uintptr_t, size_t>> out;
   out.reserve(allocator_.live().size());
-  for (const auto& [address, a] : allocator_.live()) out.emplace_back(address, a.size);
+  const auto peers = peers_.find(device);
+  for (const auto& [address, a] : allocator_.live()) {
+    if (device != kAllDevices) {
+      const auto owner = owners_.find(address);
+      const int o = owner == owners_.end() ? 0 : owner->second;
+      if (o != device &&
+          (peers == peers_.end() ||
+           std::find(peers->second.begin(), peers->second.end(), o) == peers->second.end())) {
+        continue;
+      }
+    }
+    out.emplace_back(address, a.size);
+  }
   return out;
+}
+
+int HostDeviceMemory::OwnerOf(uintptr_t address) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const memory::DeviceAllocator::Allocation* a = allocator_.Find(address, 1);
+  if (a == nullptr) return -1;
+  auto it = owners_.upper_bound(address);
+  return it == owners_.begin() ? -1 : std::prev(it)->second;
+}
+
+bool HostDeviceMemory::SetPeerAccess(int device, int peer, bool enabled) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<int>& peers = peers_[device];
+  auto it = std::find(peers.begin(), peers.end(), peer);
+  if ((it != peers.end()) == enabled) return false;
+  if (enabled) {
+    peers.push_back(peer);
+  } else {
+    peers.erase(it);
+  }
+  ++allocation_generation_;  // what the device's launches ship changed
+  return true;
 }
 
 uint64_t HostDeviceMemory::allocation_generation() const {

@@ -27,9 +27,12 @@ class HostDeviceMemory {
   // cannot be had.
   static absl::StatusOr<HostDeviceMemory*> Get();
 
+  // An allocation of CUDA device `owner` (cudaMalloc's current device). With one CUDA device
+  // (the default) every allocation is device 0's; with one per Tessera device an allocation
+  // ships only to its owner and to devices that enabled peer access to it (Allocations).
   // `managed`: cudaMallocManaged memory, which the host reads and writes through pointers without
   // telling anyone: MarkManagedWritten treats all of it as written before each launch.
-  absl::StatusOr<uintptr_t> Allocate(size_t bytes, bool managed = false);
+  absl::StatusOr<uintptr_t> Allocate(size_t bytes, int owner = 0, bool managed = false);
   absl::Status Free(uintptr_t address);
   // Whether [address, address + length) lies in one live allocation.
   bool IsAllocated(uintptr_t address, size_t length) const;
@@ -37,10 +40,11 @@ class HostDeviceMemory {
   bool InArena(uintptr_t address) const;
 
   // Records a write to [address, address + length): the host's (cudaMemcpy, cudaMemset,
-  // optixAccelBuild), or, with `by_device`, one a launch's programs made on a device (which
-  // reaches the other devices as the bytes written, not as chunks: launch_target.cc). Each call
-  // is a new write epoch.
-  void MarkWritten(uintptr_t address, size_t length, bool by_device = false);
+  // optixAccelBuild), or, with a non-zero `device_writer`, one that programs of a launch target
+  // (launch_target.cc: one OptixDeviceContext's devices) made, which reaches that target's other
+  // devices as the bytes written, not as chunks, and other targets' devices as chunks, as host
+  // writes do. Each call is a new write epoch.
+  void MarkWritten(uintptr_t address, size_t length, uint64_t device_writer = 0);
   // Marks every managed allocation written (by the host): what a launch does first, so that the
   // host's writes through pointers reach devices (chunks whose content did not change travel
   // nowhere: devices are sent what differs from their hashes).
@@ -53,16 +57,27 @@ class HostDeviceMemory {
   }
   // The write epoch of the last MarkWritten (0: none yet).
   uint64_t epoch() const;
-  // The chunks written after epoch `since` (by the host only, with `host_only`), by address,
-  // ascending, with the epoch of their last write of any kind (what their content is as of).
+  // The chunks written after epoch `since`, by address, ascending, with the epoch of their last
+  // write of any kind (what their content is as of). With a non-zero `except_writer` only those
+  // written by someone else: the host or another launch target's programs.
   std::vector<std::pair<uintptr_t, uint64_t>> ChunksWrittenSince(uint64_t since,
-                                                                 bool host_only = false) const;
+                                                                 uint64_t except_writer = 0) const;
   // The chunks written since the last call, by address, ascending (tests).
   std::vector<uintptr_t> TakeWrittenChunks();
 
-  // The live allocations (address, size), by address, and a number that changes whenever they do.
-  std::vector<std::pair<uintptr_t, size_t>> Allocations() const;
+  // The live allocations (address, size), by address, and a number that changes whenever they do
+  // or peer access does. With a `device` (>= 0) only those it may reach: its own and those of
+  // devices it enabled peer access to (CUDA: another device's memory is not for its programs
+  // otherwise, so they need not travel there).
+  static constexpr int kAllDevices = -1;
+  std::vector<std::pair<uintptr_t, size_t>> Allocations(int device = kAllDevices) const;
   uint64_t allocation_generation() const;
+  // The owner of the allocation at `address` (its start or inside it), or -1 when none.
+  int OwnerOf(uintptr_t address) const;
+
+  // cudaDeviceEnablePeerAccess / cudaDeviceDisablePeerAccess of `device` to `peer`'s memory;
+  // false when it already was (not) enabled.
+  bool SetPeerAccess(int device, int peer, bool enabled);
 
   size_t bytes_in_use() const;
   size_t capacity() const { return arena_->size(); }
@@ -76,12 +91,17 @@ class HostDeviceMemory {
   struct Written {
     uint64_t any = 0;   // epoch of the chunk's last write
     uint64_t host = 0;  // epoch of its last host write (0: none)
+    // Epochs of the last write of each launch target whose programs wrote the chunk (few: one
+    // per OptixDeviceContext that launched).
+    std::vector<std::pair<uint64_t, uint64_t>> by_writer;
   };
   std::map<uintptr_t, Written> written_;  // by chunk address
   uint64_t epoch_ = 0;
   uint64_t taken_epoch_ = 0;  // TakeWrittenChunks
   uint64_t allocation_generation_ = 0;
   std::map<uintptr_t, size_t> managed_;  // cudaMallocManaged allocations
+  std::map<uintptr_t, int> owners_;        // by allocation address
+  std::map<int, std::vector<int>> peers_;  // device -> the devices whose memory it may reach
 };
 
 }  // namespace tessera::optix7

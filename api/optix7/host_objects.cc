@@ -64,8 +64,10 @@ Registry& Objects() {
 
 }  // namespace
 
-DeviceContext::DeviceContext(const OptixDeviceContextOptions& options, std::string cache_location)
+DeviceContext::DeviceContext(const OptixDeviceContextOptions& options, std::string cache_location,
+                             int cuda_device)
     : validation_(options.validationMode == OPTIX_DEVICE_CONTEXT_VALIDATION_MODE_ALL),
+      cuda_device_(cuda_device),
       callback_(options.logCallbackFunction),
       callback_data_(options.logCallbackData),
       callback_level_(static_cast<unsigned>(options.logCallbackLevel)) {

@@ -33,8 +33,13 @@ class DeviceContext {
  public:
   static constexpr ObjectKind kKind = ObjectKind::kContext;
 
-  DeviceContext(const OptixDeviceContextOptions& options, std::string cache_location);
+  // `cuda_device`: the CUDA device the context was made on, whose Tessera device alone runs its
+  // launches, or kEveryDevice (cuda_devices.h) to tile them over every device.
+  DeviceContext(const OptixDeviceContextOptions& options, std::string cache_location,
+                int cuda_device);
   ~DeviceContext();
+
+  int cuda_device() const { return cuda_device_; }
 
   // Calls the callback when `level` is within its level. Thread-safe.
   void Log(unsigned level, absl::string_view tag, absl::string_view message) const;
@@ -61,7 +66,7 @@ class DeviceContext {
   absl::Status WithLaunchTarget(F&& f) {
     std::lock_guard<std::mutex> lock(launch_mutex_);
     if (!target_) {
-      absl::StatusOr<LaunchTargetPtr> made = CreateLaunchTarget();
+      absl::StatusOr<LaunchTargetPtr> made = CreateLaunchTarget(cuda_device_);
       if (!made.ok()) return made.status();
       target_ = *std::move(made);
     }
@@ -76,6 +81,7 @@ class DeviceContext {
 
  private:
   const bool validation_;
+  const int cuda_device_;
   mutable std::mutex mutex_;
   OptixLogCallback callback_ ABSL_GUARDED_BY(mutex_) = nullptr;
   void* callback_data_ ABSL_GUARDED_BY(mutex_) = nullptr;

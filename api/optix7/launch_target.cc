@@ -1,6 +1,7 @@
 #include "launch_target.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <deque>
 #include <map>
@@ -11,10 +12,13 @@
 #include "absl/strings/str_format.h"
 #include "context.h"
 #include "context_extension.h"
+#include "cuda_devices.h"
+#include "device_table.h"
 #include "hash.h"
 #include "host_device_memory.h"
 #include "lowering.h"
 #include "status.h"
+#include "system_info.h"
 
 namespace tessera::optix7 {
 
@@ -23,7 +27,9 @@ namespace tessera::optix7 {
 class LaunchTarget final : public api::ContextExtension {
  public:
   api::Context* context() const { return context_; }
-  explicit LaunchTarget(api::Context* context) : context_(context) {
+  // `cuda_device`: the CUDA device whose memory the target's devices hold (kEveryDevice: all).
+  LaunchTarget(api::Context* context, int cuda_device)
+      : context_(context), cuda_device_(cuda_device), writer_(NextWriter()) {
     context_->set_extension(this);
   }
   ~LaunchTarget() override {
@@ -52,6 +58,7 @@ class LaunchTarget final : public api::ContextExtension {
   absl::Status ApplyWritten(const api::DeviceSlot& slot, const v1::BufferRegion& region) override {
     absl::StatusOr<HostDeviceMemory*> memory = HostDeviceMemory::Get();
     if (!memory.ok()) return memory.status();
+    // Every allocation, not only the device's own: a peer's programs may write any it reaches.
     const std::vector<std::pair<uintptr_t, size_t>> allocations = (*memory)->Allocations();
     uint64_t at = 0;
     for (int r = 0; r < region.run_offsets_size(); ++r) {
@@ -76,7 +83,7 @@ class LaunchTarget final : public api::ContextExtension {
         context_->CountReceived(size);
       }
       // Other devices receive these bytes before the next launch (AddMemory).
-      (*memory)->MarkWritten(address, size, /*by_device=*/true);
+      (*memory)->MarkWritten(address, size, writer_);
       runs_.push_back(WrittenRun{++last_run_, slot.sync.session_id, address, size});
     }
     return absl::OkStatus();
@@ -124,7 +131,10 @@ class LaunchTarget final : public api::ContextExtension {
                  api::PreparedDelta* prepared) {
     const api::DeviceSync& sync = slot.sync;
     const uint64_t generation = memory.allocation_generation();
-    const std::vector<std::pair<uintptr_t, size_t>> allocations = memory.Allocations();
+    // Only what the device may reach (with one CUDA device per Tessera device: the CUDA device's
+    // allocations and its peers'), so N devices that each hold a copy of a scene do not each
+    // receive all N copies.
+    const std::vector<std::pair<uintptr_t, size_t>> allocations = memory.Allocations(cuda_device_);
     if (generation != sync.allocation_generation) {
       v1::StateDelta& delta = prepared->delta;
       delta.set_has_allocations(true);
@@ -145,7 +155,8 @@ class LaunchTarget final : public api::ContextExtension {
     // A device that has all of device memory takes what the host wrote since, by chunk, and the
     // bytes other devices' programs wrote, as they were written: a launch that writes 1% of a
     // buffer costs the other devices 1% of it, and one that writes what was there costs nothing.
-    // A new device takes every chunk ever written.
+    // What programs of another target (OptixDeviceContext) wrote comes by chunk, as host writes
+    // do: this target never saw those runs. A new device takes every chunk ever written.
     const bool whole = !sync.memory_synced;
     const uint64_t epoch = memory.epoch();
     const uint64_t cursor = last_run_;
@@ -153,7 +164,7 @@ class LaunchTarget final : public api::ContextExtension {
     std::vector<std::pair<uintptr_t, uintptr_t>> stale;  // pieces whose hash the device lost
     if (whole || epoch != sync.memory_epoch) {
       for (const auto& [chunk, written] :
-           memory.ChunksWrittenSince(whole ? 0 : sync.memory_epoch, /*host_only=*/!whole)) {
+           memory.ChunksWrittenSince(whole ? 0 : sync.memory_epoch, whole ? 0 : writer_)) {
         ForEachPiece(allocations, chunk, chunk + HostDeviceMemory::kChunkBytes,
                      [&](uintptr_t begin, uintptr_t end) {
                        const uint64_t hash = PieceHash(begin, end - begin, written);
@@ -294,18 +305,64 @@ class LaunchTarget final : public api::ContextExtension {
     size_t size = 0;
   };
 
+  // Writers of device memory are told apart by a number never reused in the process (0: the
+  // host), not by address: a target destroyed and another made at its address must not take
+  // the first one's writes for its own.
+  static uint64_t NextWriter() {
+    static std::atomic<uint64_t> next{1};
+    return next++;
+  }
+
   api::Context* context_;
+  const int cuda_device_;
+  const uint64_t writer_;
   const LaunchPipeline* pipeline_ = nullptr;  // during Launch
   std::map<uintptr_t, Cached> hashes_;
   std::deque<WrittenRun> runs_;
   uint64_t last_run_ = 0;
 };
 
-absl::StatusOr<LaunchTargetPtr> CreateLaunchTarget() {
+absl::StatusOr<LaunchTargetPtr> CreateLaunchTarget(int cuda_device) {
   absl::StatusOr<api::Context*> context = api::Context::Create();
   if (!context.ok()) return context.status();
-  return LaunchTargetPtr(new LaunchTarget(*context));
+  if (cuda_device != kEveryDevice) {
+    // One Tessera device only: it is CUDA device `cuda_device` (TESSERA_CUDA_DEVICES=each).
+    if (absl::Status s = (*context)->SetDevices({cuda_device}); !s.ok()) {
+      (*context)->DestroyAll();
+      return absl::FailedPreconditionError(
+          absl::StrCat("CUDA device ", cuda_device, " has no Tessera device: ", s.message(),
+                       " (TESSERA_DEVICES changed since the context was created?)"));
+    }
+  }
+  return LaunchTargetPtr(new LaunchTarget(*context, cuda_device));
 }
+
+namespace {
+
+// Each Tessera device of TESSERA_DEVICES as a CUDA device (cuda_devices.h). Remote workers are
+// not asked for their threads: cudaGetDeviceCount must not wait on the network.
+absl::StatusOr<std::vector<CudaDevice>> ListTesseraDevices() {
+  absl::StatusOr<std::vector<api::DeviceDesc>> devices = api::DevicesFromEnvironment();
+  if (!devices.ok()) return devices.status();
+  std::vector<CudaDevice> out;
+  for (const api::DeviceDesc& d : *devices) {
+    int threads = 1;
+    if (d.type == api::DeviceSpecEntry::Type::kInproc) threads = api::HardwareThreads();
+    if (d.type == api::DeviceSpecEntry::Type::kLocal) {
+      threads = std::max(1, api::HardwareThreads() / std::max(1, d.local_count));
+    }
+    out.push_back({absl::StrCat(d.name, " (", d.address, ")"), threads});
+  }
+  return out;
+}
+
+// Installed when libtessera loads: the CUDA runtime's objects do not link api_core.
+[[maybe_unused]] const bool g_lister_installed = [] {
+  SetTesseraDeviceLister(&ListTesseraDevices);
+  return true;
+}();
+
+}  // namespace
 
 void DestroyLaunchTarget(LaunchTarget* target) { delete target; }
 

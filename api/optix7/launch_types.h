@@ -43,7 +43,9 @@ struct LaunchTargetDeleter {
 void TargetTransferStats(LaunchTarget& target, uint64_t* sent, uint64_t* received);
 using LaunchTargetPtr = std::unique_ptr<LaunchTarget, LaunchTargetDeleter>;
 // The devices are created at the first launch; this fails only when no context can be made.
-absl::StatusOr<LaunchTargetPtr> CreateLaunchTarget();
+// `cuda_device`: kEveryDevice (cuda_devices.h) to tile launches over every Tessera device of
+// TESSERA_DEVICES, else the one Tessera device that is that CUDA device.
+absl::StatusOr<LaunchTargetPtr> CreateLaunchTarget(int cuda_device);
 
 }  // namespace tessera::optix7
 

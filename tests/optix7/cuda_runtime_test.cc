@@ -37,6 +37,58 @@ class CudaRuntimeTest : public ::testing::Test {
   }
 };
 
+// With one CUDA device per Tessera device, a device's launches ship its own allocations and those
+// of the devices it enabled peer access to (launch_target.cc asks Allocations(device)).
+TEST_F(CudaRuntimeTest, ADeviceReachesItsOwnAllocationsAndThoseOfItsPeers) {
+  HostDeviceMemory& m = Memory();
+  auto a = m.Allocate(1000, /*owner=*/5);
+  auto b = m.Allocate(1000, /*owner=*/6);
+  ASSERT_TRUE(a.ok() && b.ok());
+  auto has = [&](int device, uintptr_t address) {
+    for (const auto& [at, size] : m.Allocations(device)) {
+      if (at == address) return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(has(5, *a));
+  EXPECT_FALSE(has(5, *b));
+  EXPECT_TRUE(has(HostDeviceMemory::kAllDevices, *a) && has(HostDeviceMemory::kAllDevices, *b));
+  EXPECT_EQ(m.OwnerOf(*b + 10), 6);
+  const uint64_t generation = m.allocation_generation();
+  ASSERT_TRUE(m.SetPeerAccess(5, 6, true));
+  EXPECT_FALSE(m.SetPeerAccess(5, 6, true));
+  EXPECT_NE(m.allocation_generation(), generation);  // devices take the new list
+  EXPECT_TRUE(has(5, *b));
+  EXPECT_FALSE(has(6, *a));  // access is one way
+  ASSERT_TRUE(m.SetPeerAccess(5, 6, false));
+  EXPECT_FALSE(has(5, *b));
+  EXPECT_TRUE(m.Free(*a).ok());
+  EXPECT_TRUE(m.Free(*b).ok());
+  EXPECT_EQ(m.OwnerOf(*a), -1);
+}
+
+// What programs of one launch target wrote reaches another target's devices by chunk, as host
+// writes do; the writing target's own devices take it as runs instead (launch_target.cc).
+TEST_F(CudaRuntimeTest, ChunksWrittenByAnotherTargetsProgramsAreItsToShip) {
+  HostDeviceMemory& m = Memory();
+  void* p = Malloc(1000);
+  const uint64_t since = m.epoch();
+  m.MarkWritten(Address(p), 100, /*device_writer=*/41);
+  auto chunks = [&](uint64_t except) {
+    std::vector<uintptr_t> out;
+    for (const auto& [chunk, epoch] : m.ChunksWrittenSince(since, except)) out.push_back(chunk);
+    return out;
+  };
+  EXPECT_TRUE(chunks(41).empty());  // the writer's own devices got runs
+  EXPECT_EQ(chunks(42), std::vector<uintptr_t>{m.ChunkOf(Address(p))});
+  EXPECT_EQ(chunks(0), std::vector<uintptr_t>{m.ChunkOf(Address(p))});
+  const uint64_t later = m.epoch();
+  m.MarkWritten(Address(p), 100, 42);  // a later write by another target does not hide 41's
+  EXPECT_EQ(m.ChunksWrittenSince(later, 41).size(), 1u);
+  EXPECT_TRUE(m.ChunksWrittenSince(later, 42).empty());
+  EXPECT_EQ(cudaFree(p), cudaSuccess);
+}
+
 TEST_F(CudaRuntimeTest, AllocationsLieInTheArenaAlignedLikeCudaMallocs) {
   void* a = Malloc(3);
   void* b = Malloc(1000);

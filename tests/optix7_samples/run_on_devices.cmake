@@ -1,18 +1,33 @@
-# cmake -DSAMPLE=exe -DOUT_DIR=dir -DNAME=name -DCHECK=checker [-DARGS=a;b] -P run_on_devices.cmake
-# Runs an OptiX 7 sample on in-process, one-worker and three-worker device sets and requires the
-# same image bits from each (issue 25: deterministic on any device set), then has CHECK
-# (sample_check.cc) check what the image shows. Leaves <OUT_DIR>/<NAME>.<set>.png.
+# cmake -DSAMPLE=exe -DOUT_DIR=dir -DNAME=name -DCHECK=checker [-DARGS=a;b] [-DSETS=s;t]
+#       [-DENV=VAR=value;...] [-DTAG=tag] -P run_on_devices.cmake
+# Runs an OptiX 7 sample on in-process, one-worker and three-worker device sets (or SETS) with ENV
+# set and requires the same image bits from each (issue 25: deterministic on any device set), then
+# has CHECK (sample_check.cc) check what the image shows. Leaves <OUT_DIR>/<NAME>[.<TAG>].<set>.png.
 set(_sets inproc local:1 local:3)
+if(DEFINED SETS AND NOT SETS STREQUAL "")
+  set(_sets ${SETS})
+endif()
+foreach(_assignment IN LISTS ENV)
+  string(FIND "${_assignment}" "=" _eq)
+  string(SUBSTRING "${_assignment}" 0 ${_eq} _var)
+  math(EXPR _eq "${_eq} + 1")
+  string(SUBSTRING "${_assignment}" ${_eq} -1 _value)
+  set(ENV{${_var}} "${_value}")
+endforeach()
+set(_stem ${NAME})
+if(DEFINED TAG AND NOT TAG STREQUAL "")
+  set(_stem ${NAME}.${TAG})
+endif()
 set(_first "")
 file(MAKE_DIRECTORY ${OUT_DIR})
 foreach(_set IN LISTS _sets)
   string(REPLACE ":" "" _tag ${_set})
-  set(_png ${OUT_DIR}/${NAME}.${_tag}.png)
+  set(_png ${OUT_DIR}/${_stem}.${_tag}.png)
   file(REMOVE ${_png})
   set(ENV{TESSERA_DEVICES} ${_set})
   execute_process(COMMAND ${SAMPLE} --out ${_png} ${ARGS}
     RESULT_VARIABLE _rc OUTPUT_VARIABLE _out ERROR_VARIABLE _err TIMEOUT 240)
-  message(STATUS "${NAME} on ${_set}: exit ${_rc}\n${_out}${_err}")
+  message(STATUS "${NAME} on ${_set} (${ENV}): exit ${_rc}\n${_out}${_err}")
   if(NOT _rc EQUAL 0)
     message(FATAL_ERROR "${NAME} failed on TESSERA_DEVICES=${_set} (exit ${_rc})")
   endif()
