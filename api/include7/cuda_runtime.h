@@ -48,4 +48,7 @@ static __inline__ __host__ cudaError_t cudaMallocArray(cudaArray_t* array, size_
 
 #endif /* __cplusplus */
 
+/* Programs: CUDA's cuda_runtime.h brings the device functions (atomics) to a .cu file too. */
+#include "device_atomic_functions.h"
+
 #endif /* TESSERA_OPTIX7_CUDA_RUNTIME_H_ */

@@ -29,30 +29,14 @@
 
 #include <type_traits>
 
+#include "device_atomic_functions.h" /* nvcc's implicit CUDA headers give atomicAdd & co. */
 #include "optix_types.h"
 #include "tessera/optix7_cuda_defines.h"
 #include "tessera/optix7_device_abi.h"
+#include "tessera/optix7_module.h"
 #include "texture_indirect_functions.h" /* nvcc's implicit CUDA headers give tex2D<T> & co. */
 #include "vector_functions.h"
 #include "vector_types.h"
-
-/* ---- Module side of the engine ABI ----------------------------------------------------------- */
-/* The engine's table for this module's programs: set once by tessera_optix7_module_init, before
- * any program runs. Weak definitions, so that every translation unit of a module may include this
- * header and the module still has one of each. */
-extern "C" {
-__attribute__((weak, visibility("default"))) const TesseraOptix7Runtime* tessera_optix7_runtime =
-    nullptr;
-
-__attribute__((weak, visibility("default"))) unsigned int tessera_optix7_module_init(
-    const TesseraOptix7Runtime* runtime, unsigned int abi_version) {
-  if (abi_version != TESSERA_OPTIX7_MODULE_ABI_VERSION || !runtime ||
-      runtime->abi_version != TESSERA_OPTIX7_MODULE_ABI_VERSION)
-    return TESSERA_OPTIX7_MODULE_ABI_VERSION;
-  tessera_optix7_runtime = runtime;
-  return 0;
-}
-}
 
 namespace tessera_optix7 {
 inline const TesseraOptix7Runtime* rt() { return tessera_optix7_runtime; }

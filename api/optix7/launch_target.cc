@@ -19,6 +19,7 @@
 #include "lowering.h"
 #include "status.h"
 #include "system_info.h"
+#include "tessera/detail/atomic_ops.h"
 
 namespace tessera::optix7 {
 
@@ -85,6 +86,9 @@ class LaunchTarget final : public api::ContextExtension {
       // Other devices receive these bytes before the next launch (AddMemory).
       (*memory)->MarkWritten(address, size, writer_);
       runs_.push_back(WrittenRun{++last_run_, slot.sync.session_id, address, size});
+    }
+    for (const v1::DeviceMemoryAtomic& a : region.atomics()) {
+      if (absl::Status s = ApplyAtomic(slot, allocations, **memory, a); !s.ok()) return s;
     }
     return absl::OkStatus();
   }
@@ -183,7 +187,9 @@ class LaunchTarget final : public api::ContextExtension {
         if (run.sequence <= sync.memory_run_cursor) continue;
         // The device's copy of these pieces no longer has the content its hashes say.
         stale.emplace_back(run.address, run.address + run.size);
-        if (run.writer != sync.session_id) ranges.emplace_back(run.address, run.address + run.size);
+        if (run.writer != sync.session_id || run.to_writer) {
+          ranges.emplace_back(run.address, run.address + run.size);
+        }
       }
       // Packed many to a message: scattered writes are many small ranges.
       v1::DeviceMemoryChunk* packed = nullptr;
@@ -269,6 +275,34 @@ class LaunchTarget final : public api::ContextExtension {
     while (!runs_.empty() && runs_.front().sequence <= taken) runs_.pop_front();
   }
 
+  // One address's atomics from one device (docs/device_memory.md, "Atomics across devices"):
+  // op(host value, combined operand), atomically, since an in-process device's programs may be
+  // updating the same value right now. The result goes to every device, the sender included:
+  // its copy holds only its own atomics' effect.
+  absl::Status ApplyAtomic(const api::DeviceSlot& slot,
+                           const std::vector<std::pair<uintptr_t, size_t>>& allocations,
+                           HostDeviceMemory& memory, const v1::DeviceMemoryAtomic& a) {
+    const uint32_t size = atomic_ops::SizeOf(a.op());
+    const std::pair<uintptr_t, size_t>* holding = Holding(allocations, a.address());
+    if (size == 0 || a.address() % size != 0) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "device sent an atomic operation of unknown kind %u or misaligned address 0x%x", a.op(),
+          a.address()));
+    }
+    if (holding == nullptr || holding->first + holding->second - a.address() < size) {
+      return absl::OutOfRangeError(absl::StrFormat(
+          "programs' atomics reached device memory at 0x%x, outside every allocation",
+          a.address()));
+    }
+    void* address = reinterpret_cast<void*>(static_cast<uintptr_t>(a.address()));
+    atomic_ops::Apply(a.op(), address, a.operand(), a.limit());
+    context_->CountReceived(size);
+    memory.MarkWritten(a.address(), size, writer_);
+    runs_.push_back(WrittenRun{++last_run_, slot.sync.session_id, a.address(), size,
+                               /*to_writer=*/true});
+    return absl::OkStatus();
+  }
+
   // The allocation holding `address`, or null.
   static const std::pair<uintptr_t, size_t>* Holding(
       const std::vector<std::pair<uintptr_t, size_t>>& allocations, uint64_t address) {
@@ -297,12 +331,14 @@ class LaunchTarget final : public api::ContextExtension {
     uint64_t hash = 0;
   };
   // Bytes a device's programs wrote, in the order the host applied them, until every device has
-  // them: `writer` is the session of the device that wrote them.
+  // them: `writer` is the session of the device that wrote them, which has them already unless
+  // `to_writer` (the host combined them with other devices' atomics).
   struct WrittenRun {
     uint64_t sequence = 0;
     uint64_t writer = 0;
     uintptr_t address = 0;
     size_t size = 0;
+    bool to_writer = false;
   };
 
   // Writers of device memory are told apart by a number never reused in the process (0: the

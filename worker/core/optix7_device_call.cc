@@ -14,6 +14,7 @@
 #include "absl/strings/str_cat.h"
 #include "call_progress.h"
 #include "device_arena.h"
+#include "optix7_atomics.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
 #include "tessera/scheduler/launch_timing.h"
@@ -91,6 +92,32 @@ void SendRuns(const std::vector<memory::WriteTracker::Run>& runs, bool with_data
     }
   }
   flush();
+}
+
+// Combined atomics per region message: 24 bytes each on the wire, well under its limit.
+constexpr size_t kAtomicsPerRegion = size_t{1} << 16;
+
+// Sends `atomics` (AtomicsToSend) as device-memory regions without runs.
+void SendAtomics(const std::vector<CombinedAtomic>& atomics, const v1::LaunchRequest& request,
+                 uint64_t sequence, const std::function<void(v1::TileResult&&)>& on_result) {
+  for (size_t first = 0; first < atomics.size(); first += kAtomicsPerRegion) {
+    v1::TileResult result;
+    result.set_launch_id(request.launch_id());
+    result.set_tile_index(kFinalTileIndex);
+    result.set_call_sequence(sequence);
+    v1::BufferRegion* region = result.add_regions();
+    region->set_device_memory(true);
+    const size_t last = std::min(atomics.size(), first + kAtomicsPerRegion);
+    region->mutable_atomics()->Reserve(static_cast<int>(last - first));
+    for (size_t i = first; i < last; ++i) {
+      v1::DeviceMemoryAtomic* a = region->add_atomics();
+      a->set_address(atomics[i].address);
+      a->set_op(atomics[i].op);
+      a->set_operand(atomics[i].operand);
+      a->set_limit(atomics[i].limit);
+    }
+    on_result(std::move(result));
+  }
 }
 
 // Chooses each allocation's tracking for the next call (TrackingMode).
@@ -175,6 +202,12 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
     }
   }
 
+  // A device with its own copy of device memory notes its programs' atomics, for the host to
+  // apply to its copy; one that shares the host's memory (in-process) operates on the host's
+  // copy itself, atomically, and notes nothing.
+  const bool note_atomics = tracker != nullptr && !session.shares_host_memory();
+  if (note_atomics) BeginAtomicNotes();
+
   const auto armed = std::chrono::steady_clock::now();
   std::mutex result_mu;
   std::atomic<bool> stop{false};
@@ -221,25 +254,30 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
   const auto traced = std::chrono::steady_clock::now();
   // Collected whatever happened, so that the next call starts with nothing protected.
   std::vector<memory::WriteTracker::Run> runs;
+  std::vector<CombinedAtomic> atomics;
+  if (note_atomics) atomics = AtomicsToSend(EndAtomicNotes(), session.state().allocations);
   if (tracker != nullptr) {
     std::vector<std::pair<uintptr_t, size_t>> faulted;
     runs = tracker->Collect(&faulted);
     UpdateTrackingModes(session.state().allocations, faulted, runs);
+    runs = RunsWithoutAtomics(runs, atomics);
   }
   const auto collected = std::chrono::steady_clock::now();
   if (!failure.ok()) return failure;
   if (cancel.load()) return absl::CancelledError("launch cancelled");
   SendRuns(runs, !session.shares_host_memory(), request, sequence, on_result);
+  SendAtomics(atomics, request, sequence, on_result);
   if (scheduler::LaunchTimingEnabled()) {
     auto ms = [](auto a, auto b) {
       return std::chrono::duration<double, std::milli>(b - a).count();
     };
     std::fprintf(stderr,
                  "tessera: OptiX 7 device call of launch %llu: prepare %.1fms, write tracking "
-                 "set up %.1fms, tiles %.1fms, writes collected %.1fms (%zu runs), sent %.1fms\n",
+                 "set up %.1fms, tiles %.1fms, writes collected %.1fms (%zu runs, %zu atomics), "
+                 "sent %.1fms\n",
                  static_cast<unsigned long long>(request.launch_id()), ms(started, prepared),
                  ms(prepared, armed), ms(armed, traced), ms(traced, collected), runs.size(),
-                 ms(collected, std::chrono::steady_clock::now()));
+                 atomics.size(), ms(collected, std::chrono::steady_clock::now()));
   }
   // The call's end, also when nothing was written: the host counts the call's tiles by it.
   v1::TileResult end;

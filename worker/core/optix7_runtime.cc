@@ -8,6 +8,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "interrupt.h"
+#include "optix7_atomics.h"
 #include "optix7_engine.h"
 #include "optix7_module_init.h"
 #include "optix7_thread.h"
@@ -458,6 +459,8 @@ TesseraOptix7Runtime MakeRuntime() {
   r.tex_footprint_2d = &TexFootprint2D;
   r.tex_footprint_2d_grad = &TexFootprint2DGrad;
   r.tex_footprint_2d_lod = &TexFootprint2DLod;
+  r.atomics_noted = AtomicsNotedFlag();
+  r.note_atomic = &NoteAtomic;
   return r;
 }
 

@@ -104,20 +104,6 @@ inline Int SaturatingCast(Float rounded) {
   return static_cast<Int>(rounded);
 }
 
-// CAS loop for read-modify-write operations the __atomic builtins lack (float add, min/max,
-// wrapping increment). Returns the value seen before the update, as every CUDA atomic does.
-template <typename T, typename Update>
-inline T AtomicUpdate(T* address, Update update) {
-  T old;
-  __atomic_load(address, &old, __ATOMIC_RELAXED);
-  T desired;
-  do {
-    desired = update(old);
-  } while (!__atomic_compare_exchange(address, &old, &desired, /*weak=*/true, __ATOMIC_SEQ_CST,
-                                      __ATOMIC_RELAXED));
-  return old;
-}
-
 }  // namespace cuda_compat_detail
 }  // namespace tessera
 
@@ -404,130 +390,9 @@ inline double max(float a, double b) { return fmax(a, b); }
 inline double max(double a, float b) { return fmax(a, b); }
 
 // ---- Atomics ------------------------------------------------------------------------------------
-// Launch indices run on many CPU threads at once, so these must be real atomics. They are
-// sequentially consistent: on x86-64 that costs nothing over relaxed for read-modify-writes, and
-// it keeps lock-style code correct even where a CUDA program forgot its __threadfence(). Each
-// returns the value stored at `address` before the operation, as in CUDA.
-inline int atomicAdd(int* address, int val) {
-  return __atomic_fetch_add(address, val, __ATOMIC_SEQ_CST);
-}
-inline unsigned int atomicAdd(unsigned int* address, unsigned int val) {
-  return __atomic_fetch_add(address, val, __ATOMIC_SEQ_CST);
-}
-inline unsigned long long atomicAdd(unsigned long long* address, unsigned long long val) {
-  return __atomic_fetch_add(address, val, __ATOMIC_SEQ_CST);
-}
-inline float atomicAdd(float* address, float val) {
-  return tessera::cuda_compat_detail::AtomicUpdate(address, [val](float old) { return old + val; });
-}
-inline double atomicAdd(double* address, double val) {
-  return tessera::cuda_compat_detail::AtomicUpdate(address,
-                                                   [val](double old) { return old + val; });
-}
-inline int atomicSub(int* address, int val) {
-  return __atomic_fetch_sub(address, val, __ATOMIC_SEQ_CST);
-}
-inline unsigned int atomicSub(unsigned int* address, unsigned int val) {
-  return __atomic_fetch_sub(address, val, __ATOMIC_SEQ_CST);
-}
-
-inline int atomicExch(int* address, int val) {
-  return __atomic_exchange_n(address, val, __ATOMIC_SEQ_CST);
-}
-inline unsigned int atomicExch(unsigned int* address, unsigned int val) {
-  return __atomic_exchange_n(address, val, __ATOMIC_SEQ_CST);
-}
-inline unsigned long long atomicExch(unsigned long long* address, unsigned long long val) {
-  return __atomic_exchange_n(address, val, __ATOMIC_SEQ_CST);
-}
-inline float atomicExch(float* address, float val) {
-  float old;
-  __atomic_exchange(address, &val, &old, __ATOMIC_SEQ_CST);
-  return old;
-}
-
-#define TESSERA_CUDA_ATOMIC_MIN_MAX_(T)                           \
-  inline T atomicMin(T* address, T val) {                         \
-    return tessera::cuda_compat_detail::AtomicUpdate(             \
-        address, [val](T old) { return old < val ? old : val; }); \
-  }                                                               \
-  inline T atomicMax(T* address, T val) {                         \
-    return tessera::cuda_compat_detail::AtomicUpdate(             \
-        address, [val](T old) { return old > val ? old : val; }); \
-  }
-TESSERA_CUDA_ATOMIC_MIN_MAX_(int)
-TESSERA_CUDA_ATOMIC_MIN_MAX_(unsigned int)
-TESSERA_CUDA_ATOMIC_MIN_MAX_(long long)
-TESSERA_CUDA_ATOMIC_MIN_MAX_(unsigned long long)
-#undef TESSERA_CUDA_ATOMIC_MIN_MAX_
-
-// Wrapping counters: atomicInc stores (old >= val) ? 0 : old + 1; atomicDec stores
-// (old == 0 || old > val) ? val : old - 1.
-inline unsigned int atomicInc(unsigned int* address, unsigned int val) {
-  return tessera::cuda_compat_detail::AtomicUpdate(
-      address, [val](unsigned int old) { return old >= val ? 0u : old + 1u; });
-}
-inline unsigned int atomicDec(unsigned int* address, unsigned int val) {
-  return tessera::cuda_compat_detail::AtomicUpdate(
-      address, [val](unsigned int old) { return (old == 0u || old > val) ? val : old - 1u; });
-}
-
-// atomicCAS stores val only if the current value equals compare; either way it returns the
-// value it found.
-inline int atomicCAS(int* address, int compare, int val) {
-  __atomic_compare_exchange_n(address, &compare, val, /*weak=*/false, __ATOMIC_SEQ_CST,
-                              __ATOMIC_SEQ_CST);
-  return compare;
-}
-inline unsigned int atomicCAS(unsigned int* address, unsigned int compare, unsigned int val) {
-  __atomic_compare_exchange_n(address, &compare, val, /*weak=*/false, __ATOMIC_SEQ_CST,
-                              __ATOMIC_SEQ_CST);
-  return compare;
-}
-inline unsigned long long atomicCAS(unsigned long long* address, unsigned long long compare,
-                                    unsigned long long val) {
-  __atomic_compare_exchange_n(address, &compare, val, /*weak=*/false, __ATOMIC_SEQ_CST,
-                              __ATOMIC_SEQ_CST);
-  return compare;
-}
-
-#define TESSERA_CUDA_ATOMIC_BITWISE_(T)                        \
-  inline T atomicAnd(T* address, T val) {                      \
-    return __atomic_fetch_and(address, val, __ATOMIC_SEQ_CST); \
-  }                                                            \
-  inline T atomicOr(T* address, T val) {                       \
-    return __atomic_fetch_or(address, val, __ATOMIC_SEQ_CST);  \
-  }                                                            \
-  inline T atomicXor(T* address, T val) {                      \
-    return __atomic_fetch_xor(address, val, __ATOMIC_SEQ_CST); \
-  }
-TESSERA_CUDA_ATOMIC_BITWISE_(int)
-TESSERA_CUDA_ATOMIC_BITWISE_(unsigned int)
-TESSERA_CUDA_ATOMIC_BITWISE_(unsigned long long)
-#undef TESSERA_CUDA_ATOMIC_BITWISE_
-
-// The scoped forms (CUDA 8, sm_60): every scope is the whole process here, as for the fences.
-#define TESSERA_CUDA_ATOMIC_SCOPES_(name)                   \
-  template <typename... A>                                  \
-  inline auto name##_block(A... a)->decltype(name(a...)) {  \
-    return name(a...);                                      \
-  }                                                         \
-  template <typename... A>                                  \
-  inline auto name##_system(A... a)->decltype(name(a...)) { \
-    return name(a...);                                      \
-  }
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicAdd)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicSub)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicExch)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicMin)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicMax)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicInc)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicDec)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicCAS)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicAnd)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicOr)
-TESSERA_CUDA_ATOMIC_SCOPES_(atomicXor)
-#undef TESSERA_CUDA_ATOMIC_SCOPES_
+// Shared with the OptiX 7 root (api/include_common). OptiX 3 buffers merge element by element, so
+// nothing is noted here: an atomic is atomic within a device, not across devices (docs/devices.md).
+#include "tessera/detail/cuda_atomics.h"
 
 // ---- Fences, barriers, memory, time -------------------------------------------------------------
 // Every CUDA fence scope (block, device, system) is the whole process here.

@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 /* Raised whenever the table or the meaning of a query changes; module and engine must agree. */
-#define TESSERA_OPTIX7_MODULE_ABI_VERSION 1u
+#define TESSERA_OPTIX7_MODULE_ABI_VERSION 2u
 
 /* One optixTrace: the ray and traversal arguments as the program passed them. */
 typedef struct TesseraOptix7Trace {
@@ -193,6 +193,17 @@ typedef struct TesseraOptix7Runtime {
   void (*tex_footprint_2d_lod)(unsigned long long tex, unsigned int tex_info, float x, float y,
                                float level, int coarse, unsigned int* single_mip_level,
                                unsigned int out[4]);
+
+  /* ---- Atomics across devices (docs/device_memory.md, "Atomics across devices"). While
+   * *atomics_noted is not 0 (a device call on a device that holds a copy of device memory), every
+   * atomic function calls note_atomic before it operates: `op` its kind
+   * (tessera/detail/atomic_ops.h), `operand` the bits of its operand (32-bit ones in the low
+   * half), `limit` atomicInc's or atomicDec's. The engine combines them per address for the host.
+   * A flag rather than a null function, so that atomics on a device that shares the host's memory
+   * cost one predictable branch. */
+  const unsigned int* atomics_noted;
+  void (*note_atomic)(void* address, unsigned int op, unsigned long long operand,
+                      unsigned int limit);
 } TesseraOptix7Runtime;
 
 /* Exported by every module (defined weakly by optix_device.h): stores `runtime` for the
