@@ -1,9 +1,7 @@
 /* The CUDA runtime header OptiX 7 host code includes: the C API (cuda_runtime_api.h), the vector
  * types and their make_* functions, channel descriptors, and the C++ conveniences of CUDA's
- * cuda_runtime.h (typed cudaMalloc and friends, which forward to the C functions).
- *
- * DECLARED, NOT IMPLEMENTED YET (docs/optix7.md): the runtime functions are the next part of
- * issue 25. */
+ * cuda_runtime.h (typed cudaMalloc and friends, which forward to the C functions). libtessera
+ * exports the functions (api/optix7/cuda_runtime.cc and its siblings; docs/COMPATIBILITY.md). */
 #ifndef TESSERA_OPTIX7_CUDA_RUNTIME_H_
 #define TESSERA_OPTIX7_CUDA_RUNTIME_H_
 

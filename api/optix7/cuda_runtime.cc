@@ -264,6 +264,21 @@ cudaError_t cudaDeviceDisablePeerAccess(int peerDevice) {
 
 cudaError_t cudaDeviceSynchronize(void) { return cudaSuccess; }  // every call has finished
 
+// Frees every cudaMalloc/cudaMallocManaged allocation of the current device, as CUDA destroys the
+// device's context. Arrays and texture objects stay until their own free calls (their handles
+// know who reads them); streams and events are plain handles with nothing on the device.
+cudaError_t cudaDeviceReset(void) {
+  HostDeviceMemory* m = tessera::optix7::Memory();
+  if (m == nullptr) return cudaSuccess;  // nothing was ever allocated
+  const int device = tessera::optix7::CurrentCudaDevice();
+  for (const auto& [address, size] : m->Allocations()) {
+    if (m->OwnerOf(address) != device) continue;
+    if (tessera::optix7::TextureHandles::Get().Owns(address)) continue;
+    (void)m->Free(address);
+  }
+  return cudaSuccess;
+}
+
 cudaError_t cudaDriverGetVersion(int* version) {
   if (version == nullptr) return Result(cudaErrorInvalidValue);
   *version = 12000;

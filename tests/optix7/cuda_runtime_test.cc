@@ -250,3 +250,24 @@ TEST_F(CudaRuntimeTest, HostWritesMarkTheChunksTheyTouch) {
 }
 
 }  // namespace
+
+namespace {
+
+// cudaDeviceReset frees the current device's allocations, as CUDA destroys its context.
+TEST(CudaDeviceResetTest, FreesTheDevicesAllocations) {
+  void* a = nullptr;
+  void* b = nullptr;
+  ASSERT_EQ(cudaMalloc(&a, 1000), cudaSuccess);
+  ASSERT_EQ(cudaMallocManaged(&b, 3000), cudaSuccess);
+  EXPECT_TRUE(Memory().IsAllocated(reinterpret_cast<uintptr_t>(a), 1000));
+  EXPECT_EQ(cudaDeviceReset(), cudaSuccess);
+  EXPECT_FALSE(Memory().IsAllocated(reinterpret_cast<uintptr_t>(a), 1));
+  EXPECT_FALSE(Memory().IsAllocated(reinterpret_cast<uintptr_t>(b), 1));
+  EXPECT_EQ(cudaFree(a), cudaErrorInvalidDevicePointer);  // gone already
+  (void)cudaGetLastError();
+  void* c = nullptr;
+  EXPECT_EQ(cudaMalloc(&c, 16), cudaSuccess);  // the device works on
+  EXPECT_EQ(cudaFree(c), cudaSuccess);
+}
+
+}  // namespace
