@@ -2,10 +2,10 @@
  * as OptiX declares them. Host code calls them through optix_stubs.h (inline functions that call
  * through g_optixFunctionTable, which optixInit fills), exactly as with the SDK.
  *
- * DECLARED, NOT IMPLEMENTED YET: libtessera's implementation is the next part of issue 25
- * (docs/optix7.md). On Tessera, modules are program modules (shared libraries built from the
- * .cu source by the system C++ compiler) where OptiX takes PTX, and device memory is Tessera's
- * shared address range (cuda_runtime_api.h).
+ * libtessera implements them (api/optix7; docs/COMPATIBILITY.md gives each one's status). On
+ * Tessera, modules are program modules (shared libraries built from the .cu source by the system
+ * C++ compiler) where OptiX takes PTX, and device memory is Tessera's shared address range
+ * (cuda_runtime_api.h).
  *
  * Thread-safety: as in OptiX 7 (guide section 3.4): calls on different objects may run
  * concurrently. */
