@@ -44,29 +44,9 @@ inline float3 ToFloat3(const float v[3]) { return make_float3(v[0], v[1], v[2]);
 }  // namespace tessera_optix7
 
 /* ---- CUDA device intrinsics OptiX programs use ----------------------------------------------- */
-/* nvcc provides these to every .cu file; payload and attribute values are 32-bit words, and
- * programs store floats in them bit for bit. */
-
-static __forceinline__ __device__ unsigned int __float_as_uint(float x) {
-  unsigned int y;
-  memcpy(&y, &x, sizeof y);
-  return y;
-}
-static __forceinline__ __device__ float __uint_as_float(unsigned int x) {
-  float y;
-  memcpy(&y, &x, sizeof y);
-  return y;
-}
-static __forceinline__ __device__ int __float_as_int(float x) {
-  int y;
-  memcpy(&y, &x, sizeof y);
-  return y;
-}
-static __forceinline__ __device__ float __int_as_float(int x) {
-  float y;
-  memcpy(&y, &x, sizeof y);
-  return y;
-}
+/* nvcc provides these to every .cu file (__float_as_uint, rsqrtf, __saturatef, __popc, min/max,
+ * ...): the OptiX 3 layer's definitions, shared through api/include_common. */
+#include "tessera/detail/cuda_intrinsics.h"
 
 /* ---- Exception details ----------------------------------------------------------------------- */
 typedef struct OptixInvalidRayExceptionDetails {

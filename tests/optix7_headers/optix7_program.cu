@@ -136,3 +136,16 @@ extern "C" __global__ void __raygen__throws() {
   if (optixGetLaunchIndex().x == 0) optixThrowException(42, 1u, 2u);
   if (optixGetLaunchIndex().x == 1) optixThrowException(43);
 }
+
+// The CUDA intrinsics nvcc gives every .cu file, as SDK helpers (sutil's vec_math.h) and course
+// code use them: reinterpretation, fast math, rounding conversions, integer bit counts, min/max.
+extern "C" __global__ void __raygen__intrinsics() {
+  const uint3 idx = optixGetLaunchIndex();
+  float a = rsqrtf(2.0f) + __saturatef(1.5f) + __fdividef(1.f, 3.f) + __expf(1.f);
+  a += __sinf(a) + __cosf(a) + __logf(a) + __powf(a, 2.f) + __frcp_rn(a) + __fsqrt_rn(a);
+  a += __int_as_float(__float2int_rn(a) & 0) + copysignf(1.f, -2.f) + fminf(a, 2.f);
+  const int bits = __popc(idx.x) + __clz(static_cast<int>(idx.y) + 1) + __ffs(8) + max(1, 2) +
+                   min(3, static_cast<int>(idx.x));
+  params.image[idx.x] =
+      make_uchar4(static_cast<unsigned char>(a), static_cast<unsigned char>(bits), 0, 255);
+}
