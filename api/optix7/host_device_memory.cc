@@ -110,9 +110,11 @@ std::vector<std::pair<uintptr_t, uint64_t>> HostDeviceMemory::ChunksWrittenSince
 }
 
 std::vector<uintptr_t> HostDeviceMemory::TakeWrittenChunks() {
-  std::vector<uintptr_t> chunks;
-  for (const auto& [chunk, epoch] : ChunksWrittenSince(taken_epoch_)) chunks.push_back(chunk);
   std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<uintptr_t> chunks;
+  for (const auto& [chunk, w] : written_) {
+    if (w.any > taken_epoch_) chunks.push_back(chunk);
+  }
   taken_epoch_ = epoch_;
   return chunks;
 }
