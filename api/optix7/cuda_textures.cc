@@ -47,13 +47,23 @@ void DescribeArray(const CudaArray& a, TesseraTextureView* v, unsigned level) {
 
 // The view of a resource: levels, format and what the application's allocation is. `storage` is
 // the allocation the texture must keep (arrays), 0 for memory the application owns.
+// The integer an enum field holds: an application's out-of-range value, which is refused, would be
+// undefined behaviour loaded as the enum.
+template <typename Enum>
+int AsInt(const Enum& e) {
+  static_assert(sizeof(Enum) == sizeof(int), "CUDA's enums are int-sized");
+  int v = 0;
+  std::memcpy(&v, &e, sizeof v);
+  return v;
+}
+
 cudaError_t DescribeResource(const cudaResourceDesc& r, TesseraTextureView* v, TexelFormat* format,
                              uintptr_t* storage) {
   absl::StatusOr<HostDeviceMemory*> memory = HostDeviceMemory::Get();
   if (!memory.ok()) return cudaErrorInitializationError;
   *storage = 0;
   v->level_count = 1;
-  switch (r.resType) {
+  switch (AsInt(r.resType)) {
     case cudaResourceTypeArray: {
       const std::optional<CudaArray> a = TextureHandles::Get().FindArray(r.res.array.array);
       if (!a) return cudaErrorInvalidValue;
@@ -114,7 +124,7 @@ cudaError_t DescribeResource(const cudaResourceDesc& r, TesseraTextureView* v, T
   }
 }
 
-bool ValidAddressMode(cudaTextureAddressMode m) {
+bool ValidAddressMode(int m) {
   return m == cudaAddressModeWrap || m == cudaAddressModeClamp || m == cudaAddressModeMirror ||
          m == cudaAddressModeBorder;
 }
@@ -136,16 +146,18 @@ unsigned WrapOf(cudaTextureAddressMode m) {
 // for what CUDA refuses, cudaErrorNotSupported for what it does and the sampler does not.
 cudaError_t DescribeSampling(const cudaTextureDesc& t, const TexelFormat& format, bool mipmapped,
                              TesseraTextureView* v) {
-  for (cudaTextureAddressMode m : t.addressMode) {
-    if (!ValidAddressMode(m)) return cudaErrorInvalidValue;
+  for (const cudaTextureAddressMode& m : t.addressMode) {
+    if (!ValidAddressMode(AsInt(m))) return cudaErrorInvalidValue;
   }
-  const auto valid_filter = [](cudaTextureFilterMode f) {
+  const auto valid_filter = [](int f) {
     return f == cudaFilterModePoint || f == cudaFilterModeLinear;
   };
-  if (!valid_filter(t.filterMode) || (mipmapped && !valid_filter(t.mipmapFilterMode))) {
+  if (!valid_filter(AsInt(t.filterMode)) ||
+      (mipmapped && !valid_filter(AsInt(t.mipmapFilterMode)))) {
     return cudaErrorInvalidValue;
   }
-  if (t.readMode != cudaReadModeElementType && t.readMode != cudaReadModeNormalizedFloat) {
+  const int read_mode = AsInt(t.readMode);
+  if (read_mode != cudaReadModeElementType && read_mode != cudaReadModeNormalizedFloat) {
     return cudaErrorInvalidValue;
   }
   const bool normalized_read = t.readMode == cudaReadModeNormalizedFloat;

@@ -53,7 +53,9 @@ inline void CountIndex(Counters* c, unsigned i) {
   atomicMax(&c->max_s, static_cast<int>(m));
   atomicMin(&c->min_u, m | 1u);
   atomicMax(&c->max_u, m >> 1);
-  const long long wide = (static_cast<long long>(static_cast<int>(m)) << 20) ^ i;
+  // The shift on the unsigned bits (a negative value's left shift is undefined in C++17).
+  const long long wide = static_cast<long long>(
+      (static_cast<unsigned long long>(static_cast<long long>(static_cast<int>(m))) << 20) ^ i);
   atomicMin(&c->min_ll, wide);
   atomicMax(&c->max_ll, wide);
   atomicMin(&c->min_ull, static_cast<unsigned long long>(m) << 30 | 7u);
