@@ -99,7 +99,7 @@ class HostDeviceMemory {
   uint64_t epoch_ = 0;
   uint64_t taken_epoch_ = 0;  // TakeWrittenChunks
   uint64_t allocation_generation_ = 0;
-  std::map<uintptr_t, size_t> managed_;  // cudaMallocManaged allocations
+  std::map<uintptr_t, size_t> managed_;    // cudaMallocManaged allocations
   std::map<uintptr_t, int> owners_;        // by allocation address
   std::map<int, std::vector<int>> peers_;  // device -> the devices whose memory it may reach
 };
