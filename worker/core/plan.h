@@ -78,6 +78,10 @@ struct GeometryInfo {
   bool filter = false;           // an any-hit program exists: Embree calls our filter per candidate
   std::vector<float> bounds;     // user geometry: 6 floats per primitive
   InstancePlan* plan = nullptr;  // refreshed with every plan
+  // Triangles: the vertices (3 floats each) and indices (3 each) the scene was built from, for
+  // hit points with error bounds (tesseraSpawnPoint) and the watertight test.
+  const float* vertices = nullptr;
+  const uint32_t* indices = nullptr;
 };
 
 // User data of one child of a Group's scene.

@@ -371,6 +371,7 @@ TesseraRuntime MakeRuntime() {
       &RtTraceWithFlags,
       0,  // texture_table_offset, below
       0,  // texture_id_table_offset, below
+      &RtSpawnPoint,
   };
   // Static TLS (initial-exec) sits at the same offset from the thread pointer on every thread.
   r.buffer_table_offset = reinterpret_cast<const char*>(&t_buffer_table) -

@@ -429,6 +429,12 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
       rtcSetGeometryBoundsFunction(geom, &BoundsFromArray, nullptr);
       rtcSetGeometryIntersectFunction(geom, &IntersectUserGeometry);
     }
+    if (info->triangles) {
+      info->vertices =
+          static_cast<const float*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_VERTEX, 0));
+      info->indices =
+          static_cast<const uint32_t*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_INDEX, 0));
+    }
     rtcSetGeometryUserData(geom, info.get());
     rtcSetGeometryBuildQuality(geom, quality);
     rtcCommitGeometry(geom);

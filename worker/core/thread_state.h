@@ -49,6 +49,8 @@ struct Hit {
   bool deferred = false;   // native triangle: attributes come from the intersection program later
   bool back_face = false;  // triangles: hit from the side their winding makes the back
   float barycentrics[2] = {0, 0};  // triangles: weights of the second and third vertex
+  // Triangles (native or built-in): where their vertices are; null for intersection programs.
+  const GeometryInfo* geometry = nullptr;
   RayData object_ray{};
   Xform xform;
   alignas(16) unsigned char attributes[AttributeLayout::kMaxBytes];
@@ -82,6 +84,9 @@ struct IntersectState {
   // Embree's t the kept report's own t was.
   bool reported = false;
   float reported_error = 0, candidate_error = 0;
+  // kFiltered: the native triangle Embree found, and where.
+  const GeometryInfo* geometry = nullptr;
+  float barycentrics[2] = {0, 0};
 };
 
 // A selector whose visit program runs (rtIntersectChild traverses one of its children).
@@ -502,6 +507,8 @@ void EndAnyHitCalls(ThreadState& ts);
 unsigned RtGetPrimitiveIndex();
 unsigned RtTriangleHit();  // 0: not built-in triangles, 1: front face, 2: back face
 void RtTriangleBarycentrics(float* uv);
+// tesseraSpawnPoint (trace.cc).
+void RtSpawnPoint(const float* dir, float* origin);
 
 }  // namespace tessera::worker
 

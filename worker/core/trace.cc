@@ -11,6 +11,7 @@
 #include "interrupt.h"
 #include "tessera/rt.h"
 #include "thread_state.h"
+#include "watertight.h"
 
 namespace tessera::worker {
 namespace {
@@ -196,8 +197,10 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   f.hit.deferred = true;
   CopyWords(&f.hit.object_ray, &ray, sizeof(ray));  // rtTrace stored `ray` word by word
   if (f.flags & kRayFlagTerminateOnFirstHit) f.terminated = true;
-  // Only built-in triangles tell programs their barycentrics and face.
-  if (info->plan->builtin_triangles) SetTriangleHit(f.hit, rh.hit, ray);
+  // Only built-in triangles tell programs their face; barycentrics place the hit point for
+  // tesseraSpawnPoint.
+  SetTriangleHit(f.hit, rh.hit, ray);
+  f.hit.geometry = info;
   CopyXform(f.hit.xform, f.xform);
 }
 
@@ -315,6 +318,7 @@ void Commit(ThreadState& ts, Frame& f, const Hit& c, bool terminate) {
   f.hit.back_face = c.back_face;
   f.hit.barycentrics[0] = c.barycentrics[0];
   f.hit.barycentrics[1] = c.barycentrics[1];
+  f.hit.geometry = c.geometry;
   CopyWords(f.hit.attributes, c.attributes, ts.plan->attribute_bytes);  // just stored by words
   CopyXform(f.hit.xform, f.xform);
   ts.is.committed = true;
@@ -407,8 +411,9 @@ void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
 
 // A candidate hit on built-in triangles of a geometry with an any-hit program (for some ray
 // type). Returns whether Embree should keep it.
-bool FilterBuiltin(ThreadState& ts, Frame& f, const InstancePlan* ip, const RTCRay& ray,
+bool FilterBuiltin(ThreadState& ts, Frame& f, const GeometryInfo* info, const RTCRay& ray,
                    const RTCHit& hit) {
+  const InstancePlan* ip = info->plan;
   const RayData object_ray = FromEmbree(ray, f.ray.ray_type);
   const unsigned material = ip->TriangleMaterial(hit.primID);
   const BoundProgram* ah = nullptr;  // TriangleMaterial checked `material`
@@ -422,6 +427,7 @@ bool FilterBuiltin(ThreadState& ts, Frame& f, const InstancePlan* ip, const RTCR
   c.instance = ip;
   c.primitive = hit.primID;
   SetTriangleHit(c, hit, object_ray);
+  c.geometry = info;
   CopyXform(c.xform, f.xform);
   if (ah == nullptr) {
     c.deferred = true;
@@ -541,6 +547,7 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   f.payload_size = payload_size;
   f.hit.t = ray.tmax;
   f.hit.instance = nullptr;
+  f.hit.geometry = nullptr;
   f.terminated = false;
   f.flags = flags;
   f.time = time;
@@ -662,6 +669,9 @@ int RtReportIntersection(unsigned material) {
   c.instance = inst;
   c.material = material;
   c.primitive = is.primitive;
+  c.geometry = is.geometry;
+  c.barycentrics[0] = is.barycentrics[0];
+  c.barycentrics[1] = is.barycentrics[1];
   StoreAttributes(is_module, isp, c.attributes);
 
   const std::vector<HitGroup>& types = inst->materials[material];
@@ -772,6 +782,7 @@ void IntersectUserGeometry(const RTCIntersectFunctionNArguments* args) {
     auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
     RayData ray = FromEmbree(rh->ray, f.ray.ray_type);
     ray.tmax = std::min(ray.tmax, f.hit.t);
+    ts.is.geometry = nullptr;
     if (RunIntersection(ts, info->plan, args->primID, ray, IntersectMode::kSearch, 0.f)) {
       rh->ray.tfar = f.hit.t;
       rh->hit.geomID = args->geomID;
@@ -809,15 +820,73 @@ void FilterTriangles(const RTCFilterFunctionNArguments* args) {
     auto* ray = reinterpret_cast<RTCRay*>(args->ray);
     auto* hit = reinterpret_cast<RTCHit*>(args->hit);
     if (info->plan->builtin_triangles) {
-      accepted = FilterBuiltin(ts, f, info->plan, *ray, *hit);
+      accepted = FilterBuiltin(ts, f, info, *ray, *hit);
       return;
     }
     RayData r = FromEmbree(*ray, f.ray.ray_type);
     float t = ray->tfar;
     r.tmax = f.hit.t;
+    ts.is.geometry = info;
+    ts.is.barycentrics[0] = hit->u;
+    ts.is.barycentrics[1] = hit->v;
     accepted = RunIntersection(ts, info->plan, hit->primID, r, IntersectMode::kFiltered, t);
   });
   if (!accepted) args->valid[0] = 0;
+}
+
+namespace {
+
+// The world-space hit point of `h` (a hit of frame `f`) with its error bound. Triangles: from
+// the vertices and barycentrics, carried through the hit's transform; otherwise ray.origin +
+// t * ray.direction, bounded as three operations on each component (the intersection program's t
+// is taken as exact: its own error is the program's).
+BoundedPoint HitPoint(const Frame& f, const Hit& h, float normal[3]) {
+  const GeometryInfo* g = h.geometry;
+  if (g != nullptr && g->vertices != nullptr) {
+    const uint32_t* tri = g->indices + 3 * size_t{h.primitive};
+    const float* a = g->vertices + 3 * size_t{tri[0]};
+    const float* b = g->vertices + 3 * size_t{tri[1]};
+    const float* c = g->vertices + 3 * size_t{tri[2]};
+    BoundedPoint p = TrianglePoint(a, b, c, h.barycentrics[0], h.barycentrics[1]);
+    const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const float e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
+    if (!h.xform.active) {
+      for (int k = 0; k < 3; ++k) normal[k] = n[k];
+      return p;
+    }
+    // Normals transform with the inverse transpose: column k of to_object.
+    const Mat& inv = h.xform.to_object;
+    for (int k = 0; k < 3; ++k) {
+      normal[k] = inv[k] * n[0] + inv[4 + k] * n[1] + inv[8 + k] * n[2];
+    }
+    return TransformPoint(h.xform.to_world.data(), p);
+  }
+  BoundedPoint p;
+  for (int k = 0; k < 3; ++k) {
+    const float step = h.t * f.ray.direction[k];
+    p.p[k] = f.ray.origin[k] + step;
+    p.err[k] = Gamma(3) * (std::fabs(f.ray.origin[k]) + std::fabs(step));
+    normal[k] = 0.f;
+  }
+  return p;
+}
+
+}  // namespace
+
+void RtSpawnPoint(const float* dir, float* origin) {
+  InterruptPoint();
+  ThreadState& ts = TS();
+  CheckCall(ts, Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kClosestHit), "tesseraSpawnPoint");
+  const Hit& h = CurrentHit(ts);
+  float n[3];
+  const BoundedPoint p = HitPoint(ts.top(), h, n);
+  if (n[0] == 0.f && n[1] == 0.f && n[2] == 0.f) {
+    // No surface normal (an intersection program's hit): move along `dir` itself.
+    for (int k = 0; k < 3; ++k) n[k] = dir[k];
+  }
+  OffsetRayOrigin(p, n, dir, origin);
 }
 
 }  // namespace tessera::worker

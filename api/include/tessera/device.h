@@ -496,6 +496,19 @@ inline void rtGetTransform(RTtransformkind kind, float matrix[16]) {
   ::tessera::detail::Rt()->get_transform(static_cast<unsigned>(kind), matrix);
 }
 
+// ---- Accuracy (Tessera; tessera/accuracy.h, docs/accuracy.md) -------------------------------
+// The origin for a ray that leaves the current hit in world direction `direction`: the hit point
+// moved past its floating-point error bound to the side `direction` points to, so that the ray
+// cannot hit the surface again and needs no scene_epsilon (trace it with tmin 0). Exact for
+// triangles (native or GeometryTriangles); for an intersection program's hit, the point
+// ray.origin + t * ray.direction moved along `direction` by its error bound. Closest-hit and
+// any-hit programs.
+inline float3 tesseraSpawnPoint(const float3& direction) {
+  float3 origin;
+  ::tessera::detail::Rt()->spawn_point(&direction.x, &origin.x);
+  return origin;
+}
+
 // ---- Exceptions and printing -------------------------------------------------------------------
 inline void rtThrow(unsigned int code) { ::tessera::detail::Rt()->throw_exception(code); }
 inline unsigned int rtGetExceptionCode() { return ::tessera::detail::Rt()->exception_code(); }

@@ -3,6 +3,7 @@
 #ifndef TESSERA_RT_EXT_H_
 #define TESSERA_RT_EXT_H_
 
+#include "tessera/accuracy.h"
 #include "tessera/rt.h"
 
 #ifdef __cplusplus
@@ -58,6 +59,13 @@ RTAPI RTresult tesseraContextGetRaceCount(RTcontext context, RTsize* count);
  * pointer may be null. */
 RTAPI RTresult tesseraContextGetLaunchProgress(RTcontext context, RTsize* tiles_done,
                                                RTsize* tiles_total);
+
+/* The context's speed/accuracy settings for later launches: TESSERA_ACCURACY_* bits
+ * (tessera/accuracy.h, docs/accuracy.md). A context starts with what TESSERA_ACCURACY in the
+ * environment names (none when unset). Unknown bits: RT_ERROR_INVALID_VALUE. An acceleration's
+ * properties "robust", "watertight" and "compact" ("1") ask the same of that one acceleration. */
+RTAPI RTresult tesseraContextSetAccuracy(RTcontext context, unsigned int flags);
+RTAPI RTresult tesseraContextGetAccuracy(RTcontext context, unsigned int* flags);
 
 #ifdef __cplusplus
 }

@@ -13,7 +13,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 9u
+#define TESSERA_MODULE_ABI_VERSION 10u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -93,7 +93,13 @@ typedef struct {
   /* Version 8. */
   unsigned texture_count;
   const TesseraTextureDecl* textures;
+  /* Version 10: TESSERA_MODULE_FLAG_* bits, how the module was compiled. */
+  unsigned flags;
 } TesseraModuleInfo;
+
+/* The module was compiled with fast math (tessera/accuracy.h TESSERA_ACCURACY_FAST_MATH): the
+ * engine flushes denormals to zero on the threads that run it. */
+#define TESSERA_MODULE_FLAG_FAST_MATH 0x1u
 
 /* What the engine keeps on a program's stack while a callable program it called runs: the
  * caller, to make it the running program again, and its module's values if another program of
@@ -179,6 +185,11 @@ typedef struct {
    * null; empty when ids are too sparse for an array: every rtTex* then calls texture_by_id). */
   long long texture_table_offset;
   long long texture_id_table_offset;
+  /* Version 10 (tesseraSpawnPoint): the origin, in world space, for a ray leaving the current hit
+   * in world direction `dir`: the hit point moved past its floating-point error bound to the side
+   * `dir` points to (tessera/accuracy.h, TESSERA_ACCURACY_OFFSET_RAYS). Closest-hit and any-hit
+   * programs. */
+  void (*spawn_point)(const float* dir, float* origin);
 } TesseraRuntime;
 
 /* Exported by every module (defined weakly by tessera/device.h): stores the runtime table and

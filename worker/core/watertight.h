@@ -1,0 +1,169 @@
+// Accuracy kernels shared by the OptiX 3 and OptiX 7 engines (docs/accuracy.md):
+//  - a watertight ray/triangle test (Woop, Benthin, Wald, "Watertight Ray/Triangle Intersection",
+//    JCGT 2013): the ray is sheared so that it runs along +z from the origin, and each edge
+//    function depends only on the edge's two transformed vertices, so two triangles that share an
+//    edge compute the same value for it with opposite signs and a ray cannot pass between them.
+//    Edge functions that come out exactly 0 in float are recomputed in double, as the paper does.
+//  - the floating-point error bound of a triangle hit point and the offset that moves a secondary
+//    ray's origin past it (pbrt-v4 §6.8.4-6.8.6): no self-intersection without a scene_epsilon.
+#ifndef TESSERA_WORKER_CORE_WATERTIGHT_H_
+#define TESSERA_WORKER_CORE_WATERTIGHT_H_
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+// Contracting a*b - c*d into a fused multiply-add would round the two products differently, and
+// the edge function of a shared edge would no longer be exactly the negation of its neighbour's.
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+
+namespace tessera::worker {
+
+// A ray prepared for WatertightHit: the axis it mostly runs along (kz), the other two (kx, ky,
+// swapped for a negative kz component so that the winding is kept), and the shear.
+struct WatertightRay {
+  float org[3];
+  int kx, ky, kz;
+  float sx, sy, sz;
+};
+
+inline WatertightRay PrepareWatertight(const float org[3], const float dir[3]) {
+  WatertightRay r;
+  for (int k = 0; k < 3; ++k) r.org[k] = org[k];
+  const float ax = std::fabs(dir[0]), ay = std::fabs(dir[1]), az = std::fabs(dir[2]);
+  r.kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  r.kx = r.kz == 2 ? 0 : r.kz + 1;
+  r.ky = r.kx == 2 ? 0 : r.kx + 1;
+  if (dir[r.kz] < 0.f) {
+    const int t = r.kx;
+    r.kx = r.ky;
+    r.ky = t;
+  }
+  r.sx = dir[r.kx] / dir[r.kz];
+  r.sy = dir[r.ky] / dir[r.kz];
+  r.sz = 1.f / dir[r.kz];
+  return r;
+}
+
+// A hit of WatertightHit: t and Embree's barycentrics (the hit is (1-u-v)*a + u*b + v*c), and the
+// geometric normal (b - a) x (c - a), unnormalized, as Embree reports it.
+struct TriangleHit {
+  float t, u, v;
+  float ng[3];
+};
+
+// Whether `r` hits triangle (a, b, c) at a t with tmin <= t <= tmax (Embree's closed interval),
+// either face. A degenerate triangle (zero area seen along the ray) is never hit.
+inline bool WatertightHit(const WatertightRay& r, const float* a, const float* b, const float* c,
+                          float tmin, float tmax, TriangleHit* hit) {
+  const float a0 = a[0] - r.org[0], a1 = a[1] - r.org[1], a2 = a[2] - r.org[2];
+  const float b0 = b[0] - r.org[0], b1 = b[1] - r.org[1], b2 = b[2] - r.org[2];
+  const float c0 = c[0] - r.org[0], c1 = c[1] - r.org[1], c2 = c[2] - r.org[2];
+  const float A[3] = {a0, a1, a2}, B[3] = {b0, b1, b2}, C[3] = {c0, c1, c2};
+  const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
+  const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
+  const float cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
+  float u = cx * by - cy * bx;
+  float v = ax * cy - ay * cx;
+  float w = bx * ay - by * ax;
+  if (u == 0.f || v == 0.f || w == 0.f) {
+    // The products of floats are exact in double: the sign is then the true sign of the edge
+    // function of the transformed vertices, the same for both triangles of an edge.
+    u = static_cast<float>(double{cx} * by - double{cy} * bx);
+    v = static_cast<float>(double{ax} * cy - double{ay} * cx);
+    w = static_cast<float>(double{bx} * ay - double{by} * ax);
+  }
+  if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
+  const float det = u + v + w;
+  if (det == 0.f || !std::isfinite(det)) return false;
+  const float az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
+  const float tscaled = u * az + v * bz + w * cz;
+  const float inv = 1.f / det;
+  const float t = tscaled * inv;
+  if (!(t >= tmin && t <= tmax)) return false;  // NaN fails
+  hit->t = t;
+  hit->u = v * inv;
+  hit->v = w * inv;
+  const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const float e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  hit->ng[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  hit->ng[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  hit->ng[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  return true;
+}
+
+// pbrt's gamma(n): a bound on the relative error of n float operations.
+constexpr float Gamma(int n) {
+  constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
+  return (n * eps) / (1 - n * eps);
+}
+
+// A point with a per-component absolute error bound.
+struct BoundedPoint {
+  float p[3];
+  float err[3];
+};
+
+// The hit point (1-u-v)*a + u*b + v*c of a triangle and its error bound (pbrt-v4 §6.8.5: the
+// point lies on the triangle's plane within `err`, whatever error u and v carry).
+inline BoundedPoint TrianglePoint(const float* a, const float* b, const float* c, float u,
+                                  float v) {
+  BoundedPoint out;
+  const float w = 1.f - u - v;
+  for (int k = 0; k < 3; ++k) {
+    out.p[k] = w * a[k] + u * b[k] + v * c[k];
+    out.err[k] = Gamma(7) * (std::fabs(w * a[k]) + std::fabs(u * b[k]) + std::fabs(v * c[k]));
+  }
+  return out;
+}
+
+// `pt` moved by the affine 3x4 row-major matrix `m`, with the error bound carried through
+// (pbrt-v4 Transform::operator()(Point3fi)).
+inline BoundedPoint TransformPoint(const float* m, const BoundedPoint& pt) {
+  BoundedPoint out;
+  for (int r = 0; r < 3; ++r) {
+    const float* row = m + 4 * r;
+    out.p[r] = row[0] * pt.p[0] + row[1] * pt.p[1] + row[2] * pt.p[2] + row[3];
+    out.err[r] = Gamma(3) * (std::fabs(row[0] * pt.p[0]) + std::fabs(row[1] * pt.p[1]) +
+                             std::fabs(row[2] * pt.p[2]) + std::fabs(row[3])) +
+                 (Gamma(3) + 1.f) * (std::fabs(row[0]) * pt.err[0] + std::fabs(row[1]) * pt.err[1] +
+                                     std::fabs(row[2]) * pt.err[2]);
+  }
+  return out;
+}
+
+// The origin for a ray leaving `pt` in direction `dir` from a surface with normal `n` (any
+// length, either orientation): `pt` moved along n, to the side `dir` points to, by the error
+// bound projected on n, each component then rounded away from the point (pbrt-v4
+// OffsetRayOrigin). A ray from there cannot hit the surface `pt` lies on again at t >= 0.
+inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const float dir[3],
+                            float out[3]) {
+  const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(len > 0.f) || !std::isfinite(len)) {
+    for (int k = 0; k < 3; ++k) out[k] = pt.p[k];
+    return;
+  }
+  float nn[3] = {n[0] / len, n[1] / len, n[2] / len};
+  const float d = std::fabs(nn[0]) * pt.err[0] + std::fabs(nn[1]) * pt.err[1] +
+                  std::fabs(nn[2]) * pt.err[2];
+  if (dir[0] * nn[0] + dir[1] * nn[1] + dir[2] * nn[2] < 0.f) {
+    for (float& x : nn) x = -x;
+  }
+  for (int k = 0; k < 3; ++k) {
+    const float offset = d * nn[k];
+    float o = pt.p[k] + offset;
+    if (offset > 0.f) {
+      o = std::nextafter(o, std::numeric_limits<float>::infinity());
+    } else if (offset < 0.f) {
+      o = std::nextafter(o, -std::numeric_limits<float>::infinity());
+    }
+    out[k] = o;
+  }
+}
+
+}  // namespace tessera::worker
+
+#pragma GCC pop_options
+
+#endif  // TESSERA_WORKER_CORE_WATERTIGHT_H_
