@@ -3,6 +3,8 @@
 #include <atomic>
 #include <utility>
 
+#include "accuracy_flags.h"
+
 namespace tessera::optix7 {
 namespace {
 
@@ -68,6 +70,7 @@ DeviceContext::DeviceContext(const OptixDeviceContextOptions& options, std::stri
                              int cuda_device)
     : validation_(options.validationMode == OPTIX_DEVICE_CONTEXT_VALIDATION_MODE_ALL),
       cuda_device_(cuda_device),
+      accuracy_flags_(api::AccuracyFromEnvironment()),
       callback_(options.logCallbackFunction),
       callback_data_(options.logCallbackData),
       callback_level_(static_cast<unsigned>(options.logCallbackLevel)) {

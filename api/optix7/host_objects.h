@@ -7,6 +7,7 @@
 #ifndef TESSERA_API_OPTIX7_HOST_OBJECTS_H_
 #define TESSERA_API_OPTIX7_HOST_OBJECTS_H_
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -47,6 +48,13 @@ class DeviceContext {
 
   bool validation() const { return validation_; }
 
+  // TESSERA_ACCURACY_* bits (tesseraOptixDeviceContextSetAccuracy; initially TESSERA_ACCURACY):
+  // what later launches and module creations use.
+  uint32_t accuracy_flags() const { return accuracy_flags_.load(std::memory_order_relaxed); }
+  void set_accuracy_flags(uint32_t flags) {
+    accuracy_flags_.store(flags, std::memory_order_relaxed);
+  }
+
   // The disk cache: Tessera's module cache directory (api/src/module_compiler.h), which modules
   // this context compiles use. Disabling it is remembered and reported, but modules are still
   // files there: workers load them by path.
@@ -82,6 +90,7 @@ class DeviceContext {
  private:
   const bool validation_;
   const int cuda_device_;
+  std::atomic<uint32_t> accuracy_flags_;
   mutable std::mutex mutex_;
   OptixLogCallback callback_ ABSL_GUARDED_BY(mutex_) = nullptr;
   void* callback_data_ ABSL_GUARDED_BY(mutex_) = nullptr;

@@ -91,6 +91,18 @@ RTresult tesseraContextSetRaceCheck(RTcontext context, int enabled) {
   });
 }
 
+RTresult tesseraContextSetAccuracy(RTcontext context, unsigned int flags) {
+  return Call<Context>(__func__, context, [&](Context& c) { return c.SetAccuracy(flags); });
+}
+
+RTresult tesseraContextGetAccuracy(RTcontext context, unsigned int* flags) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(flags, "flags pointer"));
+    *flags = c.accuracy_flags();
+    return absl::OkStatus();
+  });
+}
+
 RTresult tesseraContextGetRaceCount(RTcontext context, RTsize* count) {
   return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
     TS_RETURN_IF_ERROR(NotNull(count, "count pointer"));

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "absl/strings/str_cat.h"
+#include "accuracy_flags.h"
 #include "program.h"
 #include "status.h"
 #include "system_info.h"
@@ -48,6 +49,7 @@ Context::Context()
       // OptiX default: only stack overflow is enabled (bit for 0x3FC).
       exception_mask_(1u << (RT_EXCEPTION_STACK_OVERFLOW - RT_EXCEPTION_PROGRAM_ID_INVALID)),
       num_threads_(HardwareThreads()),
+      accuracy_flags_(AccuracyFromEnvironment()),
       session_id_(RandomSessionId()) {
   creator_pid_ = CurrentPid();
   Touch();

@@ -105,6 +105,9 @@ class Context : public Object {
   // Whether the application set CPU_NUM_THREADS. Only then does the count travel to devices, so
   // that worker processes otherwise keep the share of the cores they were started with.
   bool num_threads_set() const { return num_threads_set_; }
+  // TESSERA_ACCURACY_* bits: tesseraContextSetAccuracy, initially TESSERA_ACCURACY.
+  uint32_t accuracy_flags() const { return accuracy_flags_; }
+  absl::Status SetAccuracy(uint32_t flags);
 
   absl::Status SetAttribute(RTcontextattribute attribute, RTsize size, const void* value);
   absl::Status GetAttribute(RTcontextattribute attribute, RTsize size, void* value) const;
@@ -236,6 +239,7 @@ class Context : public Object {
   bool user_exceptions_ = false;
   int num_threads_;
   bool num_threads_set_ = false;
+  uint32_t accuracy_flags_;
 
   RTtimeoutcallback timeout_callback_ = nullptr;
   double timeout_polling_seconds_ = 0.0;

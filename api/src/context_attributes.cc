@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
+#include "accuracy_flags.h"
 #include "buffer.h"
 #include "context.h"
 #include "status.h"
@@ -76,6 +77,22 @@ absl::StatusOr<bool> Context::ExceptionEnabled(int exception) const {
     return user_exceptions_ && (exception_mask_ & kAllExceptionBits) == kAllExceptionBits;
   }
   return (exception_mask_ & bit) != 0;
+}
+
+absl::Status Context::SetAccuracy(uint32_t flags) {
+  if (!KnownAccuracy(flags)) {
+    return RtError(RT_ERROR_INVALID_VALUE,
+                   absl::StrCat("accuracy flags 0x", absl::Hex(flags),
+                                " hold bits no TESSERA_ACCURACY_* flag has (known: 0x1F)"));
+  }
+  if (running()) {
+    return RtError(RT_ERROR_INVALID_CONTEXT, "cannot change accuracy settings while a launch runs");
+  }
+  if (flags != accuracy_flags_) {
+    accuracy_flags_ = flags;
+    Touch();
+  }
+  return absl::OkStatus();
 }
 
 absl::Status Context::SetAttribute(RTcontextattribute attribute, RTsize size, const void* value) {

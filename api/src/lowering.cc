@@ -59,6 +59,7 @@ void LowerContext(const Context& c, v1::ContextState* out) {
   // 0 = the device's own thread count (in-process: CPU_NUM_THREADS at creation, which defaults to
   // the hardware threads; a local worker: its share of the cores).
   out->set_num_threads(c.num_threads_set() ? static_cast<uint32_t>(c.num_threads()) : 0);
+  out->set_accuracy_flags(c.accuracy_flags());
 }
 
 // `ordinal`: the device the delta is for.

@@ -162,6 +162,20 @@ inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const floa
   }
 }
 
+// TESSERA_ACCURACY_OFFSET_RAYS: whether a ray a hit program traces from `origin` starts at that
+// program's hit point `hit` (world space), so that it should start at the spawn point instead. A
+// program computes the point as o + t*d of the ray it was hit by, which rounds within a few ulps of
+// `scale` (|o| + |t*d| per component, that ray's): within 4 error bounds plus Gamma(16) * scale
+// counts. A program that moves the origin off the surface itself (by a scene_epsilon along the
+// normal, say) is left alone.
+inline bool StartsAtHit(const BoundedPoint& hit, const float origin[3], const float scale[3]) {
+  for (int k = 0; k < 3; ++k) {
+    const float tolerance = 4.f * hit.err[k] + Gamma(16) * scale[k];
+    if (!(std::fabs(origin[k] - hit.p[k]) <= tolerance)) return false;
+  }
+  return true;
+}
+
 }  // namespace tessera::worker
 
 #pragma GCC pop_options
