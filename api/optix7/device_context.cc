@@ -292,26 +292,25 @@ tesseraOptixDeviceContextGetTransferStats(OptixDeviceContext context,
   });
 }
 
-extern "C" __attribute__((visibility("default"))) OptixResult tesseraOptixDeviceContextSetAccuracy(OptixDeviceContext context,
-                                                           unsigned int flags) {
+extern "C" __attribute__((visibility("default"))) OptixResult tesseraOptixDeviceContextSetAccuracy(
+    OptixDeviceContext context, unsigned int flags) {
   using tessera::optix7::Call;
   using tessera::optix7::DeviceContext;
   return Call(__func__).Run([&](Call& call) -> absl::Status {
     std::shared_ptr<DeviceContext> c;
     if (absl::Status s = call.Lookup(context, "context", &c); !s.ok()) return s;
     if (!tessera::api::KnownAccuracy(flags)) {
-      return OptixError(
-          OPTIX_ERROR_INVALID_VALUE,
-          absl::StrCat("flags 0x", absl::Hex(flags),
-                       " hold bits no TESSERA_ACCURACY_* flag has (known: 0x1F)"));
+      return OptixError(OPTIX_ERROR_INVALID_VALUE,
+                        absl::StrCat("flags 0x", absl::Hex(flags),
+                                     " hold bits no TESSERA_ACCURACY_* flag has (known: 0x1F)"));
     }
     c->set_accuracy_flags(flags);
     return absl::OkStatus();
   });
 }
 
-extern "C" __attribute__((visibility("default"))) OptixResult tesseraOptixDeviceContextGetAccuracy(OptixDeviceContext context,
-                                                           unsigned int* flags) {
+extern "C" __attribute__((visibility("default"))) OptixResult tesseraOptixDeviceContextGetAccuracy(
+    OptixDeviceContext context, unsigned int* flags) {
   using tessera::optix7::Call;
   using tessera::optix7::DeviceContext;
   return Call(__func__).Run([&](Call& call) -> absl::Status {

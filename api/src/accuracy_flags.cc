@@ -17,8 +17,8 @@ struct Named {
   uint32_t flag;
 };
 constexpr Named kNames[] = {
-    {"robust", TESSERA_ACCURACY_ROBUST},       {"watertight", TESSERA_ACCURACY_WATERTIGHT},
-    {"offset", TESSERA_ACCURACY_OFFSET_RAYS},  {"fast_math", TESSERA_ACCURACY_FAST_MATH},
+    {"robust", TESSERA_ACCURACY_ROBUST},      {"watertight", TESSERA_ACCURACY_WATERTIGHT},
+    {"offset", TESSERA_ACCURACY_OFFSET_RAYS}, {"fast_math", TESSERA_ACCURACY_FAST_MATH},
     {"compact", TESSERA_ACCURACY_COMPACT},
 };
 

@@ -290,6 +290,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
   plan->max_depth = std::clamp<uint64_t>(ctx.stack_size / kStackBytesPerTrace, 1, kMaxTraceDepth);
   plan->ray_type_count = ctx.ray_type_count;
   plan->exception_mask = ctx.exception_mask;
+  plan->accuracy_flags = ctx.accuracy_flags;
   plan->user_exceptions = ctx.user_exceptions;
   plan->print_enabled = ctx.print_enabled;
   plan->print_index = ctx.print_index;

@@ -79,9 +79,14 @@ struct GeometryInfo {
   std::vector<float> bounds;     // user geometry: 6 floats per primitive
   InstancePlan* plan = nullptr;  // refreshed with every plan
   // Triangles: the vertices (3 floats each) and indices (3 each) the scene was built from, for
-  // hit points with error bounds (tesseraSpawnPoint) and the watertight test.
+  // hit points with error bounds (tesseraSpawnPoint) and the watertight test: Embree's buffers,
+  // or `own_*` for the watertight test's user geometry.
   const float* vertices = nullptr;
   const uint32_t* indices = nullptr;
+  bool watertight = false;
+  uint64_t vertex_count = 0, triangle_count = 0;  // triangles: what a refit must find again
+  std::vector<float> own_vertices;
+  std::vector<uint32_t> own_indices;
 };
 
 // User data of one child of a Group's scene.
@@ -107,6 +112,11 @@ struct SceneEntry {
   uint64_t build_epoch = 0;
   std::vector<std::unique_ptr<GeometryInfo>> geometries;
   std::vector<std::unique_ptr<ChildInfo>> children;
+  // GeometryGroups: a hash of what a refit keeps (the children, their geometries' kinds and
+  // counts, the acceleration's builder and properties, the accuracy settings), and whether the
+  // acceleration refits ("refit" "1"): a change of data alone then refits this scene in place.
+  size_t layout = 0;
+  bool refit = false;
   std::array<float, 6> bounds{};
   ~SceneEntry();
 };
@@ -170,6 +180,7 @@ struct LaunchPlan {
   size_t max_depth = 8;
   uint32_t ray_type_count = 0;
   uint32_t exception_mask = 0;
+  uint32_t accuracy_flags = 0;  // the context's TESSERA_ACCURACY_* (tessera/accuracy.h)
   bool user_exceptions = false;
   bool print_enabled = false;
   std::array<int32_t, 3> print_index{-1, -1, -1};
@@ -184,9 +195,21 @@ struct LaunchPlan {
   }
 };
 
-// The Embree build quality for an acceleration's builder and properties (docs/programs.md,
-// "Accelerations and Embree"); `has_filter`: an any-hit program will see its candidates.
-RTCBuildQuality BuildQuality(const AccelRec& a, bool has_filter);
+// How a GeometryGroup's scene is built (docs/accuracy.md, "Acceleration knobs").
+struct SceneOptions {
+  RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;  // the scene's; never REFIT
+  bool refit = false;   // geometries take RTC_BUILD_QUALITY_REFIT, the scene RTC_SCENE_FLAG_DYNAMIC
+  bool robust = false;  // RTC_SCENE_FLAG_ROBUST
+  bool watertight = false;  // triangles through the watertight test (watertight.h)
+  bool compact = false;     // RTC_SCENE_FLAG_COMPACT
+  RTCSceneFlags flags() const;
+};
+
+// The options for an acceleration's builder and properties and the context's accuracy flags;
+// `has_filter`: an any-hit program will see its candidates. Invalid property values fail naming
+// the acceleration.
+absl::StatusOr<SceneOptions> OptionsOf(uint64_t accel_id, const AccelRec& a, bool has_filter,
+                                       uint32_t accuracy_flags);
 
 class SceneCache {
  public:
@@ -219,8 +242,11 @@ class SceneCache {
   absl::StatusOr<const SceneEntry*> BuildGeometryGroup(LaunchPlan& plan, uint64_t id);
   absl::Status RunBounds(const LaunchPlan& plan, const BoundProgram& program, uint64_t geometry,
                          std::vector<float>& bounds);
-  // An Embree triangle geometry from GeometryTriangles `id` (not committed).
-  absl::StatusOr<RTCGeometry> BuiltinTriangles(const Replica& r, uint64_t id, const GeometryRec& g);
+  // Makes the Embree geometry of each of `gg`'s children into `entry` (refit: copies their data
+  // again into the geometries `entry` holds).
+  absl::Status MakeGeometries(LaunchPlan& plan, uint64_t id, const GeometryGroupRec& gg,
+                              const AccelRec& accel, const SceneOptions& options, SceneEntry& entry,
+                              bool refit);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
   // A selector has no Embree scene: its entry holds the bounds and height of its children, whose
   // scenes it builds.
@@ -235,9 +261,11 @@ class SceneCache {
   RTCDevice device_;
   const std::atomic<bool>* cancel_ = nullptr;  // during Update only
   std::unordered_map<uint64_t, std::unique_ptr<SceneEntry>> entries_;
-  uint64_t built_ = 0;  // scenes (re)built, for tests and logs
+  uint64_t built_ = 0;     // scenes (re)built, for tests and logs
+  uint64_t refitted_ = 0;  // GeometryGroup scenes refitted in place
  public:
   uint64_t built_count() const { return built_; }
+  uint64_t refitted_count() const { return refitted_; }
 };
 
 // Builds the plan for `replica`: binds every program, then updates the scenes (CANCELLED when

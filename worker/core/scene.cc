@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
+#include <tuple>
 
 #include "absl/hash/hash.h"
 #include "absl/strings/numbers.h"
@@ -14,6 +16,8 @@
 #include "interrupt.h"
 #include "plan.h"
 #include "runtime.h"
+#include "scene_triangles.h"
+#include "tessera/accuracy.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
 
@@ -47,26 +51,6 @@ bool IsEmpty(const Box& b) { return !(b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[
 constexpr float kMaxBoundsExtent = 1.8e18f;
 void ClampToEmbreeRange(float* b) {
   for (int k = 0; k < 6; ++k) b[k] = std::clamp(b[k], -kMaxBoundsExtent, kMaxBoundsExtent);
-}
-
-// A triangle vertex Embree would leave out of the build with its triangles (never hit, without a
-// word): finite but beyond its FLT_LARGE. Vertices cannot be clamped like bounds (the triangle
-// would change), so the launch fails naming it. NaN vertices only make their triangles vanish,
-// as degenerate triangles do in OptiX (so does a vertex with any infinite coordinate). OK
-// otherwise.
-absl::Status CheckVertexInRange(const std::string& what, const float* v, uint32_t vertex) {
-  constexpr float kEmbreeLarge = 1.844e18f;
-  if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-    return absl::OkStatus();
-  }
-  for (int k = 0; k < 3; ++k) {
-    if (std::fabs(v[k]) > kEmbreeLarge) {
-      return absl::OutOfRangeError(absl::StrCat(
-          what, ": vertex ", vertex, " at (", v[0], ", ", v[1], ", ", v[2],
-          ") lies beyond +-1.844e18, which Embree cannot build (scale the scene down)"));
-    }
-  }
-  return absl::OkStatus();
 }
 
 Box TransformBox(const std::array<float, 16>& m, const Box& b) {
@@ -106,73 +90,65 @@ void ChildBounds(const RTCBoundsFunctionArguments* args) {
   *args->bounds_o = RTCBounds{b[0], b[1], b[2], 0.f, b[3], b[4], b[5], 0.f};
 }
 
-// OptiX builder names → Embree build quality (docs/COMPATIBILITY.md "Accelerations").
+}  // namespace
 
-bool TriangleBuilder(const AccelRec& a) {
-  return a.builder == "Sbvh" || a.builder == "TriangleKdTree" || a.builder == "Trbvh" ||
-         a.properties.count("vertex_buffer_name") > 0;
-}
+namespace {
 
-std::string Property(const AccelRec& a, const std::string& name, const std::string& fallback) {
+// An acceleration property that is "1" or "0" (unset: false).
+absl::StatusOr<bool> FlagProperty(uint64_t accel_id, const AccelRec& a, const std::string& name) {
   auto it = a.properties.find(name);
-  return it == a.properties.end() ? fallback : it->second;
-}
-
-const BufferRec* FindBuffer(const Replica& r, const InstanceRec& gi, const GeometryRec& g,
-                            const std::string& name, uint64_t* id) {
-  for (const Scope* s : {&gi.vars, &g.vars}) {
-    auto it = s->find(name);
-    if (it != s->end() && it->second.type == RT_OBJECTTYPE_BUFFER) {
-      *id = it->second.object_id;
-      return r.Find(r.buffers, it->second.object_id);
-    }
-  }
-  return nullptr;
-}
-
-struct TriangleSource {
-  const BufferRec* vertices = nullptr;
-  const BufferRec* indices = nullptr;
-  uint64_t vertex_id = 0, index_id = 0;
-  size_t vertex_stride = 12, index_stride = 12;
-};
-
-// Whether acceleration `accel_id` takes the geometry as native triangles, and from where.
-absl::StatusOr<bool> FindTriangles(const Replica& r, uint64_t accel_id, const AccelRec& a,
-                                   const InstanceRec& gi, const GeometryRec& g, TriangleSource& t) {
-  if (!TriangleBuilder(a)) return false;
-  t.vertices =
-      FindBuffer(r, gi, g, Property(a, "vertex_buffer_name", "vertex_buffer"), &t.vertex_id);
-  t.indices = FindBuffer(r, gi, g, Property(a, "index_buffer_name", "index_buffer"), &t.index_id);
-  if (t.vertices == nullptr || t.indices == nullptr) return false;
-  for (const auto& [name, stride] : {std::pair{"vertex_buffer_stride", &t.vertex_stride},
-                                     std::pair{"index_buffer_stride", &t.index_stride}}) {
-    const std::string text = Property(a, name, "0");
-    if (!absl::SimpleAtoi(text, stride)) {
-      return absl::InvalidArgumentError(absl::StrCat("acceleration #", accel_id, ": property ",
-                                                     name, " is '", text, "', not a byte count"));
-    }
-  }
-  if (t.vertex_stride == 0) t.vertex_stride = t.vertices->element_size;
-  if (t.index_stride == 0) t.index_stride = t.indices->element_size;
-  return t.vertex_stride >= 12 && t.index_stride >= 12;
+  if (it == a.properties.end() || it->second == "0") return false;
+  if (it->second == "1") return true;
+  return absl::InvalidArgumentError(absl::StrCat("acceleration #", accel_id, ": property ", name,
+                                                 " is '", it->second, "', not \"0\" or \"1\""));
 }
 
 }  // namespace
 
-RTCBuildQuality BuildQuality(const AccelRec& a, bool has_filter) {
-  auto refit = a.properties.find("refit");
-  if (refit != a.properties.end() && refit->second != "0") return RTC_BUILD_QUALITY_REFIT;
+RTCSceneFlags SceneOptions::flags() const {
+  int f = RTC_SCENE_FLAG_NONE;
+  if (refit) f |= RTC_SCENE_FLAG_DYNAMIC;
+  if (robust || watertight) f |= RTC_SCENE_FLAG_ROBUST;
+  if (compact) f |= RTC_SCENE_FLAG_COMPACT;
+  return static_cast<RTCSceneFlags>(f);
+}
+
+// OptiX 3 builder names and properties (000_e8b1a455cb84dad5.txt §3.6) → Embree
+// (docs/accuracy.md, "Acceleration knobs").
+absl::StatusOr<SceneOptions> OptionsOf(uint64_t accel_id, const AccelRec& a, bool has_filter,
+                                       uint32_t accuracy_flags) {
+  SceneOptions o;
   const std::string& b = a.builder;
+  // HIGH uses spatial splits, which can report one primitive twice to a filter callback: any-hit
+  // programs must see each candidate once. LOW (Morton codes) builds the same hierarchy whatever
+  // the thread count (scene_test.cc), so ties in t resolve alike on every device set.
+  const RTCBuildQuality high = has_filter ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
   if (b == "Sbvh" || b == "TriangleKdTree" || b == "Trbvh") {
-    // HIGH uses spatial splits, which can report one primitive twice to a filter callback;
-    // any-hit programs must see each candidate once.
-    return has_filter ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+    o.quality = high;
+  } else if (b == "Lbvh" || b == "MedianBvh" || b == "NoAccel") {
+    o.quality = RTC_BUILD_QUALITY_LOW;
   }
-  // MedianBvh, Lbvh and NoAccel too: Embree's LOW quality (Morton) build, run on several threads,
-  // orders primitives differently from run to run, and two hits at exactly the same t would go to
-  // a different primitive from one run, or device, to the next.
-  return RTC_BUILD_QUALITY_MEDIUM;
+  const std::string& refine = Property(a, "refine", "0");
+  int passes = 0;
+  if (!absl::SimpleAtoi(refine, &passes) || passes < 0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "acceleration #", accel_id, ": property refine is '", refine, "', not a count of passes"));
+  }
+  if (passes > 0) {  // refinement improves a fast build: one quality step up
+    o.quality = o.quality == RTC_BUILD_QUALITY_LOW ? RTC_BUILD_QUALITY_MEDIUM : high;
+  }
+  auto refit = a.properties.find("refit");
+  o.refit = refit != a.properties.end() && refit->second != "0";
+  for (const auto& [name, flag, field] :
+       {std::tuple{"robust", TESSERA_ACCURACY_ROBUST, &o.robust},
+        std::tuple{"watertight", TESSERA_ACCURACY_WATERTIGHT, &o.watertight},
+        std::tuple{"compact", TESSERA_ACCURACY_COMPACT, &o.compact}}) {
+    absl::StatusOr<bool> set = FlagProperty(accel_id, a, name);
+    if (!set.ok()) return set.status();
+    *field = *set || (accuracy_flags & flag) != 0;
+  }
+  o.compact |= b == "BvhCompact";
+  return o;
 }
 
 SceneEntry::~SceneEntry() {
@@ -303,9 +279,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
     return absl::FailedPreconditionError(
         absl::StrCat("geometry group #", id, " has no acceleration"));
   }
-  // What the scene depends on: the acceleration's epoch and the geometry layout.
-  size_t stamp = absl::HashOf(gg->acceleration, accel->build_epoch, accel->builder,
-                              accel->properties.size(), gg->children);
+  bool any_filter = false;
   for (uint64_t gid : gg->children) {
     const InstanceRec* gi = r.Find(r.instances, gid);
     const GeometryRec* g = gi ? r.Find(r.geometries, gi->geometry) : nullptr;
@@ -324,8 +298,25 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
                                                         gi->geometry, " of child #", gid,
                                                         " has no intersection program"));
     }
-    stamp = absl::HashOf(stamp, gi->geometry, g->primitive_count, ip->second.has_any_hit,
-                         g->builtin_triangles, g->mesh_stamp);
+    any_filter |= ip->second.has_any_hit;
+  }
+  absl::StatusOr<SceneOptions> options =
+      OptionsOf(gg->acceleration, *accel, any_filter, plan.accuracy_flags);
+  if (!options.ok()) return options.status();
+  // What a refit keeps (layout), and what the scene depends on besides (stamp): the
+  // acceleration's epoch and the triangles' description.
+  size_t layout = absl::HashOf(gg->acceleration, accel->builder, accel->properties, gg->children,
+                               options->quality, options->refit, options->robust,
+                               options->watertight, options->compact);
+  for (uint64_t gid : gg->children) {
+    const InstanceRec& gi = r.instances.at(gid);
+    const GeometryRec& g = r.geometries.at(gi.geometry);
+    layout = absl::HashOf(layout, gi.geometry, g.primitive_count, plan.instances[gid].has_any_hit,
+                          g.builtin_triangles);
+  }
+  size_t stamp = absl::HashOf(layout, accel->build_epoch);
+  for (uint64_t gid : gg->children) {
+    stamp = absl::HashOf(stamp, r.geometries.at(r.instances.at(gid).geometry).mesh_stamp);
   }
   auto& slot = entries_[id];
   if (slot && slot->stamp == stamp) {
@@ -333,90 +324,168 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
     slot->plan_serial = plan.serial;
     return slot.get();
   }
+  const std::string what = absl::StrCat("geometry group #", id);
+  if (slot && slot->refit && options->refit && slot->layout == layout) {
+    // The same geometries with new data: Embree refits the hierarchy in place.
+    for (auto& info : slot->geometries) info->plan = &plan.instances[info->instance_id];
+    absl::Status s = MakeGeometries(plan, id, *gg, *accel, *options, *slot, /*refit=*/true);
+    if (s.ok()) s = Commit(slot->scene, what);
+    if (s.ok()) {
+      slot->stamp = stamp;
+      slot->build_epoch = accel->build_epoch;
+      slot->plan_serial = plan.serial;
+      slot->bounds = slot->geometries.empty() ? EmptyBox() : SceneBounds(slot->scene);
+      ++refitted_;
+      return slot.get();
+    }
+    slot.reset();  // built again from scratch below, which reports a lasting problem
+    if (absl::IsCancelled(s)) return s;
+  }
 
   auto entry = std::make_unique<SceneEntry>();
   entry->stamp = stamp;
+  entry->layout = layout;
+  entry->refit = options->refit;
   entry->plan_serial = plan.serial;
   entry->acceleration = gg->acceleration;
   entry->build_epoch = accel->build_epoch;
   entry->scene = rtcNewScene(device_);
-  bool any_filter = false;
-  for (uint64_t gid : gg->children) any_filter |= plan.instances[gid].has_any_hit;
-  RTCBuildQuality quality = BuildQuality(*accel, any_filter);
-  rtcSetSceneBuildQuality(entry->scene,
-                          quality == RTC_BUILD_QUALITY_REFIT ? RTC_BUILD_QUALITY_MEDIUM : quality);
-  if (quality == RTC_BUILD_QUALITY_REFIT) rtcSetSceneFlags(entry->scene, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(entry->scene, options->quality);
+  // Native triangles with intersection programs: a ray whose hit the program rejects is traced
+  // again with a context filter (trace.cc, TraverseVerified).
+  const int verify = TriangleBuilder(*accel) ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : 0;
+  rtcSetSceneFlags(entry->scene, static_cast<RTCSceneFlags>(options->flags() | verify));
+  if (absl::Status s = MakeGeometries(plan, id, *gg, *accel, *options, *entry, /*refit=*/false);
+      !s.ok()) {
+    return s;
+  }
+  if (absl::Status s = Commit(entry->scene, what); !s.ok()) return s;
+  entry->bounds = entry->geometries.empty() ? EmptyBox() : SceneBounds(entry->scene);
+  ++built_;
+  slot = std::move(entry);
+  return slot.get();
+}
 
-  for (uint64_t gid : gg->children) {
+namespace {
+
+// The bounds of a triangle of the watertight test's user geometry: the box of its vertices, or an
+// empty one (never hit) for a vertex that is not finite, as Embree drops such triangles.
+void WatertightBounds(const RTCBoundsFunctionArguments* args) {
+  const auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
+  const uint32_t* tri = info->indices + 3 * size_t{args->primID};
+  Box b = EmptyBox();
+  bool finite = true;
+  for (int k = 0; k < 3; ++k) {
+    const float* v = info->vertices + 3 * size_t{tri[k]};
+    finite = finite && std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+    Grow(b, v[0], v[1], v[2]);
+  }
+  if (!finite) b = Box{1.f, 1.f, 1.f, -1.f, -1.f, -1.f};
+  *args->bounds_o = RTCBounds{b[0], b[1], b[2], 0.f, b[3], b[4], b[5], 0.f};
+}
+
+// Copies `source` into a new geometry for `info`: Embree's triangles, or the watertight test's
+// user geometry over copies of its own.
+absl::StatusOr<RTCGeometry> NewTriangles(RTCDevice device, const TriangleSource& source,
+                                         bool watertight, GeometryInfo& info) {
+  info.triangles = true;
+  info.watertight = watertight;
+  info.vertex_count = source.vertex_count;
+  info.triangle_count = source.triangle_count;
+  if (watertight) {
+    info.own_vertices.assign(3 * source.vertex_count, 0.f);
+    info.own_indices.assign(3 * source.triangle_count, 0);
+    if (absl::Status s = source.copy(info.own_vertices.data(), info.own_indices.data()); !s.ok()) {
+      return s;
+    }
+    info.vertices = info.own_vertices.data();
+    info.indices = info.own_indices.data();
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(source.triangle_count));
+    rtcSetGeometryBoundsFunction(geom, &WatertightBounds, nullptr);
+    rtcSetGeometryIntersectFunction(geom, &IntersectWatertight);
+    return geom;
+  }
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Embree reads vertices 16 bytes at a time: a buffer of its own, padded, in any layout we get.
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, source.vertex_count));
+  auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, source.triangle_count));
+  if (absl::Status s = source.copy(v, idx); !s.ok()) {
+    rtcReleaseGeometry(geom);
+    return s;
+  }
+  info.vertices = v;
+  info.indices = idx;
+  if (info.filter) rtcSetGeometryIntersectFilterFunction(geom, &FilterTriangles);
+  return geom;
+}
+
+// Copies `source` again into `info`'s arrays, for a refit.
+absl::Status RefillTriangles(RTCGeometry geom, const TriangleSource& source, GeometryInfo& info) {
+  if (!info.triangles || source.vertex_count != info.vertex_count ||
+      source.triangle_count != info.triangle_count) {
+    return absl::FailedPreconditionError("the triangles' counts changed: not a refit");
+  }
+  if (info.watertight) return source.copy(info.own_vertices.data(), info.own_indices.data());
+  absl::Status s =
+      source.copy(const_cast<float*>(info.vertices), const_cast<uint32_t*>(info.indices));
+  rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0);
+  rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0);
+  return s;
+}
+
+}  // namespace
+
+absl::Status SceneCache::MakeGeometries(LaunchPlan& plan, uint64_t id, const GeometryGroupRec& gg,
+                                        const AccelRec& accel, const SceneOptions& options,
+                                        SceneEntry& entry, bool refit) {
+  const Replica& r = *plan.replica;
+  for (size_t child = 0; child < gg.children.size(); ++child) {
+    const uint64_t gid = gg.children[child];
     const InstanceRec& gi = r.instances.at(gid);
     const GeometryRec& g = r.geometries.at(gi.geometry);
     InstancePlan& ip = plan.instances[gid];
+    std::optional<TriangleSource> tris;
+    if (g.builtin_triangles) {
+      absl::StatusOr<TriangleSource> made = BuiltinTriangleSource(r, gi.geometry, g);
+      if (!made.ok()) return made.status();
+      tris = *std::move(made);
+    } else {
+      absl::StatusOr<std::optional<TriangleSource>> found =
+          BufferTriangleSource(r, gg.acceleration, accel, gid, gi, g);
+      if (!found.ok()) return found.status();
+      tris = *std::move(found);
+    }
+    if (!tris && (ip.bounds == nullptr || ip.intersection == nullptr)) {
+      return absl::FailedPreconditionError(absl::StrCat(
+          "geometry #", gi.geometry, " needs an intersection and a bounding box program"));
+    }
+    if (refit) {
+      GeometryInfo& info = *entry.geometries[child];
+      RTCGeometry geom = rtcGetGeometry(entry.scene, static_cast<unsigned>(child));
+      absl::Status s = tris ? RefillTriangles(geom, *tris, info)
+                            : RunBounds(plan, *ip.bounds, gi.geometry, info.bounds);
+      if (!s.ok()) return s;
+      rtcCommitGeometry(geom);
+      continue;
+    }
     auto info = std::make_unique<GeometryInfo>();
     info->instance_id = gid;
     info->plan = &ip;
     info->filter = ip.has_any_hit;
     RTCGeometry geom;
-    TriangleSource tris;
-    absl::StatusOr<bool> triangles =
-        g.builtin_triangles ? false : FindTriangles(r, gg->acceleration, *accel, gi, g, tris);
-    if (!triangles.ok()) return triangles.status();
-    if (g.builtin_triangles) {
-      info->triangles = true;
-      absl::StatusOr<RTCGeometry> made = BuiltinTriangles(r, gi.geometry, g);
+    if (tris) {
+      absl::StatusOr<RTCGeometry> made = NewTriangles(device_, *tris, options.watertight, *info);
       if (!made.ok()) return made.status();
       geom = *made;
-      if (info->filter) rtcSetGeometryIntersectFilterFunction(geom, &FilterTriangles);
-    } else if (*triangles) {
-      info->triangles = true;
-      // An element's last vertex or triangle needs its 12 bytes, not a whole stride.
-      const size_t vbytes = tris.vertices->data.size();
-      const size_t nverts = vbytes < 12 ? 0 : (vbytes - 12) / tris.vertex_stride + 1;
-      // Every primitive is a triangle of the index buffer: one it cannot hold would never be hit.
-      const size_t ntris = g.primitive_count;
-      if (!StridedFits(tris.indices->data.size(), 0, ntris, tris.index_stride, 12)) {
-        return absl::OutOfRangeError(
-            absl::StrCat("geometry instance #", gid, ": ", ntris, " triangles' indices every ",
-                         tris.index_stride, " bytes (acceleration #", gg->acceleration,
-                         ", property index_buffer_stride) do not fit index buffer #", tris.index_id,
-                         " (", tris.indices->data.size(), " bytes)"));
-      }
-      geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* v = static_cast<float*>(
-          rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, nverts));
-      for (size_t i = 0; i < nverts; ++i) {
-        std::memcpy(v + 3 * i, tris.vertices->data.data() + i * tris.vertex_stride, 12);
-      }
-      auto* idx = static_cast<uint32_t*>(
-          rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, ntris));
-      for (size_t i = 0; i < ntris; ++i) {
-        std::memcpy(idx + 3 * i, tris.indices->data.data() + i * tris.index_stride, 12);
-        for (int k = 0; k < 3; ++k) {
-          // Read before the release below frees the index buffer.
-          if (const uint32_t vertex = idx[3 * i + k]; vertex >= nverts) {
-            rtcReleaseGeometry(geom);
-            return absl::OutOfRangeError(absl::StrCat("geometry instance #", gid, ": triangle ", i,
-                                                      " uses vertex ", vertex,
-                                                      " but the vertex buffer holds ", nverts));
-          } else if (absl::Status in_range = CheckVertexInRange(
-                         absl::StrCat("geometry instance #", gid), v + 3 * vertex, vertex);
-                     !in_range.ok()) {
-            rtcReleaseGeometry(geom);
-            return in_range;
-          }
-        }
-      }
-      if (info->filter) rtcSetGeometryIntersectFilterFunction(geom, &FilterTriangles);
     } else {
-      if (ip.bounds == nullptr || ip.intersection == nullptr) {
-        return absl::FailedPreconditionError(absl::StrCat(
-            "geometry #", gi.geometry, " needs an intersection and a bounding box program"));
-      }
       // Bounds rtAccelerationSetData restored for this child are what its program gave when
       // they were saved: the same build without running it (the host checked the fingerprint).
-      const size_t child = entry->geometries.size();
-      if (child < accel->cached_bounds.size() && accel->cached_bounds[child].has_bounds &&
-          accel->cached_bounds[child].primitive_count == g.primitive_count) {
-        info->bounds = accel->cached_bounds[child].bounds;
+      if (child < accel.cached_bounds.size() && accel.cached_bounds[child].has_bounds &&
+          accel.cached_bounds[child].primitive_count == g.primitive_count) {
+        info->bounds = accel.cached_bounds[child].bounds;
       } else {
         // Bounds a program leaves unwritten stay NaN: invalid, so that primitive is never hit.
         info->bounds.assign(size_t{g.primitive_count} * 6, std::numeric_limits<float>::quiet_NaN());
@@ -429,32 +498,20 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
       rtcSetGeometryBoundsFunction(geom, &BoundsFromArray, nullptr);
       rtcSetGeometryIntersectFunction(geom, &IntersectUserGeometry);
     }
-    if (info->triangles) {
-      info->vertices =
-          static_cast<const float*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_VERTEX, 0));
-      info->indices =
-          static_cast<const uint32_t*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_INDEX, 0));
-    }
     rtcSetGeometryUserData(geom, info.get());
-    rtcSetGeometryBuildQuality(geom, quality);
+    rtcSetGeometryBuildQuality(geom, options.refit ? RTC_BUILD_QUALITY_REFIT : options.quality);
     rtcCommitGeometry(geom);
     // Traversal finds a hit's GeometryInfo as geometries[geomID]: ids count from 0 in a new scene.
-    const unsigned geom_id = rtcAttachGeometry(entry->scene, geom);
+    const unsigned geom_id = rtcAttachGeometry(entry.scene, geom);
     rtcReleaseGeometry(geom);
-    if (geom_id != entry->geometries.size()) {
+    if (geom_id != entry.geometries.size()) {
       return absl::InternalError(absl::StrCat("Embree gave geometry group #", id, " geometry id ",
                                               geom_id, " for its geometry ",
-                                              entry->geometries.size()));
+                                              entry.geometries.size()));
     }
-    entry->geometries.push_back(std::move(info));
+    entry.geometries.push_back(std::move(info));
   }
-  if (absl::Status s = Commit(entry->scene, absl::StrCat("geometry group #", id)); !s.ok()) {
-    return s;
-  }
-  entry->bounds = entry->geometries.empty() ? EmptyBox() : SceneBounds(entry->scene);
-  ++built_;
-  slot = std::move(entry);
-  return slot.get();
+  return absl::OkStatus();
 }
 
 namespace {
@@ -512,101 +569,6 @@ absl::Status SceneCache::RunBounds(const LaunchPlan& plan, const BoundProgram& p
   return absl::CancelledError(
       absl::StrCat("launch cancelled while running the bounding box program of geometry #",
                    geometry, " (primitive ", next, " of ", bounds.size() / 6, ")"));
-}
-
-absl::StatusOr<RTCGeometry> SceneCache::BuiltinTriangles(const Replica& r, uint64_t id,
-                                                         const GeometryRec& g) {
-  const v1::TriangleMesh& m = g.mesh;
-  const std::string what = absl::StrCat("geometry triangles #", id);
-  const BufferRec* vb = r.Find(r.buffers, m.vertex_buffer());
-  if (vb == nullptr) {
-    return absl::FailedPreconditionError(
-        absl::StrCat(what, ": vertex buffer #", m.vertex_buffer(), " is unknown"));
-  }
-  const unsigned components = m.vertex_format() == RT_FORMAT_FLOAT3   ? 3
-                              : m.vertex_format() == RT_FORMAT_FLOAT2 ? 2
-                                                                      : 0;
-  if (components == 0) {
-    return absl::InvalidArgumentError(absl::StrCat(what, ": vertex format ", m.vertex_format(),
-                                                   " is not RT_FORMAT_FLOAT3 or RT_FORMAT_FLOAT2"));
-  }
-  const uint64_t vbytes = components * sizeof(float);
-  const uint64_t vstride = m.vertex_stride() != 0 ? m.vertex_stride() : vbytes;
-  const uint64_t nverts = m.vertex_count();
-  if (vstride < vbytes ||
-      !StridedFits(vb->data.size(), m.vertex_offset(), nverts, vstride, vbytes)) {
-    return absl::OutOfRangeError(absl::StrCat(
-        what, ": ", nverts, " vertices every ", vstride, " bytes from byte ", m.vertex_offset(),
-        " do not fit vertex buffer #", m.vertex_buffer(), " (", vb->data.size(), " bytes)"));
-  }
-  const BufferRec* ib = nullptr;
-  uint64_t ibytes = 0, istride = 0;
-  if (m.index_buffer() != 0) {
-    ib = r.Find(r.buffers, m.index_buffer());
-    if (ib == nullptr) {
-      return absl::FailedPreconditionError(
-          absl::StrCat(what, ": index buffer #", m.index_buffer(), " is unknown"));
-    }
-    ibytes = m.index_format() == RT_FORMAT_UNSIGNED_INT3     ? 12
-             : m.index_format() == RT_FORMAT_UNSIGNED_SHORT3 ? 6
-                                                             : 0;
-    if (ibytes == 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(what, ": index format ", m.index_format(),
-                       " is not RT_FORMAT_UNSIGNED_INT3 or RT_FORMAT_UNSIGNED_SHORT3"));
-    }
-    istride = m.index_stride() != 0 ? m.index_stride() : ibytes;
-    if (istride < ibytes ||
-        !StridedFits(ib->data.size(), m.index_offset(), g.primitive_count, istride, ibytes)) {
-      return absl::OutOfRangeError(
-          absl::StrCat(what, ": ", g.primitive_count, " triangles' indices every ", istride,
-                       " bytes from byte ", m.index_offset(), " do not fit index buffer #",
-                       m.index_buffer(), " (", ib->data.size(), " bytes)"));
-    }
-  } else if (g.primitive_count > nverts / 3) {
-    return absl::OutOfRangeError(absl::StrCat(what, ": ", g.primitive_count,
-                                              " triangles without an index buffer need ",
-                                              3 * g.primitive_count, " vertices, not ", nverts));
-  }
-
-  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-  // Embree reads vertices 16 bytes at a time: a buffer of its own, padded, in any layout we get.
-  auto* v = static_cast<float*>(
-      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, nverts));
-  const unsigned char* vsrc = vb->data.data() + m.vertex_offset();
-  for (uint64_t i = 0; i < nverts; ++i) {
-    v[3 * i + 2] = 0.f;
-    std::memcpy(v + 3 * i, vsrc + i * vstride, vbytes);
-  }
-  auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, g.primitive_count));
-  for (uint64_t t = 0; t < g.primitive_count; ++t) {
-    for (unsigned k = 0; k < 3; ++k) {
-      uint32_t vertex = static_cast<uint32_t>(3 * t + k);
-      if (ib != nullptr) {
-        const unsigned char* src = ib->data.data() + m.index_offset() + t * istride;
-        if (ibytes == 12) {
-          std::memcpy(&vertex, src + 4 * k, 4);
-        } else {
-          uint16_t s;
-          std::memcpy(&s, src + 2 * k, 2);
-          vertex = s;
-        }
-      }
-      if (vertex >= nverts) {
-        rtcReleaseGeometry(geom);
-        return absl::OutOfRangeError(absl::StrCat(what, ": triangle ", t, " uses vertex ", vertex,
-                                                  " but there are ", nverts, " vertices"));
-      }
-      if (absl::Status in_range = CheckVertexInRange(what, v + 3 * vertex, vertex);
-          !in_range.ok()) {
-        rtcReleaseGeometry(geom);
-        return in_range;
-      }
-      idx[3 * t + k] = vertex;
-    }
-  }
-  return geom;
 }
 
 absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint64_t id, int depth) {

@@ -19,6 +19,7 @@
 #include "plan.h"
 #include "runtime.h"
 #include "tessera/worker/crash_report.h"
+#include "watertight.h"
 
 namespace tessera::worker {
 
@@ -140,6 +141,13 @@ struct ThreadState {
 
   const LaunchPlan* plan = nullptr;
   uint64_t plan_serial = 0;
+  // The watertight test's ray, prepared once for every triangle it meets (IntersectWatertight):
+  // `watertight_key` is the origin and direction it was prepared for.
+  WatertightRay watertight_ray;
+  float watertight_key[6];
+  // Set while a ray is traced again with every native triangle candidate put to its intersection
+  // program (TraverseVerified, trace.cc).
+  bool verify_triangles = false;
   Index3 index{}, dims{};
   uint64_t index_serial = 0;  // bumps with every launch index this thread runs
   std::vector<Frame> frames;  // frames[0 .. depth) are live; sized once per plan

@@ -9,6 +9,7 @@
 #include "absl/strings/str_format.h"
 #include "callbacks.h"
 #include "interrupt.h"
+#include "tessera/accuracy.h"
 #include "tessera/rt.h"
 #include "thread_state.h"
 #include "watertight.h"
@@ -184,11 +185,14 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   ToEmbree(ray, rh);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
+  if (__builtin_expect(ts.verify_triangles, 0)) ctx.filter = &VerifyTriangles;
   rtcIntersect1(scene.scene, &ctx, &rh);
   RethrowPending(ts);
   if (!geometry_group || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || f.terminated) return;
   const GeometryInfo* info = scene.geometries[rh.hit.geomID].get();
   if (!info->triangles || info->filter || !(rh.ray.tfar < f.hit.t)) return;
+  // Verified, the program has committed the hit already.
+  if (ts.verify_triangles && !info->plan->builtin_triangles) return;
   // A native triangle is the closest so far: its attributes come after traversal.
   f.hit.t = rh.ray.tfar;
   f.hit.instance = info->plan;
@@ -449,8 +453,11 @@ void Guard(ThreadState& ts, F&& f) {
   }
 }
 
-// An rtTrace that cannot run: too deep, an invalid ray, or a ray type the context lacks.
-__attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) {
+// An rtTrace that cannot run: too deep, an invalid ray, or a ray type the context lacks. Returns
+// whether the ray is traced as a miss: an invalid ray when RT_EXCEPTION_INVALID_RAY is disabled
+// (OptiX leaves it undefined; a NaN ray meets nothing on a GPU either). Too deep a trace with
+// RT_EXCEPTION_STACK_OVERFLOW disabled does not run at all.
+__attribute__((noinline)) bool RejectTrace(ThreadState& ts, const RayData& ray) {
   const LaunchPlan& plan = *ts.plan;
   if (static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit) {
     Raise(RT_EXCEPTION_STACK_OVERFLOW,
@@ -458,13 +465,13 @@ __attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) 
                        kNativeStackBudget / 1024,
                        " KiB of native stack it may take for nested calls (programs' local "
                        "variables take it too)"));
-    return;
+    return false;
   }
   if (ts.depth >= plan.max_depth) {
     Raise(RT_EXCEPTION_STACK_OVERFLOW,
           absl::StrCat("rtTrace nested ", ts.depth + 1, " deep exceeds the stack size (",
                        plan.max_depth, " levels; 128 bytes each, at most 1024)"));
-    return;
+    return false;
   }
   if (!ValidRay(ray)) {
     Raise(RT_EXCEPTION_INVALID_RAY,
@@ -472,7 +479,7 @@ __attribute__((noinline)) void RejectTrace(ThreadState& ts, const RayData& ray) 
                           "tmax %g",
                           ray.origin[0], ray.origin[1], ray.origin[2], ray.direction[0],
                           ray.direction[1], ray.direction[2], ray.tmin, ray.tmax));
-    return;
+    return true;
   }
   throw FatalError{absl::InvalidArgumentError(
       absl::StrCat("rtTrace with ray type ", ray.ray_type, " but the context has ",
@@ -488,6 +495,88 @@ __attribute__((noinline)) void RejectRayFlags(const ThreadState& ts, unsigned fl
   throw FatalError{absl::UnimplementedError(absl::StrCat(
       "rtTrace from ", ts.current->name, " with ray flags Tessera does not support:", names,
       " (face culling needs a filter on every built-in triangle; docs/COMPATIBILITY.md)"))};
+}
+
+// The world-space hit point of `h` (a hit of frame `f`) with its error bound. Triangles: from
+// the vertices and barycentrics, carried through the hit's transform; otherwise ray.origin +
+// t * ray.direction, bounded as three operations on each component (the intersection program's t
+// is taken as exact: its own error is the program's).
+BoundedPoint HitPoint(const Frame& f, const Hit& h, float normal[3]) {
+  const GeometryInfo* g = h.geometry;
+  if (g != nullptr && g->vertices != nullptr) {
+    const uint32_t* tri = g->indices + 3 * size_t{h.primitive};
+    const float* a = g->vertices + 3 * size_t{tri[0]};
+    const float* b = g->vertices + 3 * size_t{tri[1]};
+    const float* c = g->vertices + 3 * size_t{tri[2]};
+    BoundedPoint p = TrianglePoint(a, b, c, h.barycentrics[0], h.barycentrics[1]);
+    const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const float e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
+    if (!h.xform.active) {
+      for (int k = 0; k < 3; ++k) normal[k] = n[k];
+      return p;
+    }
+    // Normals transform with the inverse transpose: column k of to_object.
+    const Mat& inv = h.xform.to_object;
+    for (int k = 0; k < 3; ++k) {
+      normal[k] = inv[k] * n[0] + inv[4 + k] * n[1] + inv[8 + k] * n[2];
+    }
+    return TransformPoint(h.xform.to_world.data(), p);
+  }
+  BoundedPoint p;
+  for (int k = 0; k < 3; ++k) {
+    const float step = h.t * f.ray.direction[k];
+    p.p[k] = f.ray.origin[k] + step;
+    p.err[k] = Gamma(3) * (std::fabs(f.ray.origin[k]) + std::fabs(step));
+    normal[k] = 0.f;
+  }
+  return p;
+}
+
+// TESSERA_ACCURACY_OFFSET_RAYS: a ray a closest-hit program traces from its hit point (`caller`'s
+// hit) starts past the point's error bound instead, with tmin 0. Triangle hits only: an
+// intersection program's surface is unknown.
+__attribute__((noinline)) void OffsetFromHit(const Frame& caller, RayData& ray) {
+  const Hit& h = caller.hit;
+  if (h.geometry == nullptr || h.geometry->vertices == nullptr) return;
+  float n[3];
+  const BoundedPoint p = HitPoint(caller, h, n);
+  float scale[3];
+  for (int k = 0; k < 3; ++k) {
+    scale[k] = std::fabs(caller.ray.origin[k]) + std::fabs(h.t * caller.ray.direction[k]);
+  }
+  if (!StartsAtHit(p, ray.origin, scale)) return;
+  OffsetRayOrigin(p, n, ray.direction, ray.origin);
+  ray.tmin = 0.f;
+}
+
+// Traverses the scene `top` (node `node`) with `ray`, committing hits to the top frame.
+inline void Traverse(ThreadState& ts, unsigned long long node, const NodeInfo* top,
+                     const RayData& ray) {
+  if (top->scene != nullptr) {  // a Group or GeometryGroup: no transform to apply
+    IntersectScene(ts, *top->scene, ray, top->type == RT_OBJECTTYPE_GEOMETRY_GROUP);
+  } else {
+    TraverseNode(ts, node, top, ray);
+  }
+}
+
+// Traces the top frame's ray again from the start, with every candidate on a native triangle that
+// has an intersection program put to that program before Embree takes it (VerifyTriangles).
+__attribute__((noinline)) void TraverseVerified(ThreadState& ts, unsigned long long node,
+                                                const NodeInfo* top, const RayData& ray) {
+  Frame& f = ts.top();
+  f.hit.t = ray.tmax;
+  f.hit.instance = nullptr;
+  f.hit.geometry = nullptr;
+  f.terminated = false;
+  f.xform.active = false;
+  struct Verifying {
+    ThreadState& ts;
+    ~Verifying() { ts.verify_triangles = false; }
+  } verifying{ts};
+  ts.verify_triangles = true;
+  Traverse(ts, node, top, ray);
 }
 
 // rtTrace with an OptiX 6 visibility mask and RTrayflags. Geometry has the default mask 0xFF (there
@@ -508,12 +597,17 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   const LaunchPlan& plan = *ts.plan;
   RayData ray;
   CopyWords(&ray, ray_ptr, sizeof(ray));  // the program has just written it
+  bool as_miss = false;
   if (__builtin_expect(ts.depth >= plan.max_depth || !ValidRay(ray) ||
                            ray.ray_type >= plan.ray_type_count ||
                            static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit,
                        0)) {
-    RejectTrace(ts, ray);  // raises, throws, or returns when the exception is disabled
-    return;
+    // Raises, throws, or returns when the exception is disabled.
+    if (!RejectTrace(ts, ray)) return;
+    as_miss = true;
+  } else if (__builtin_expect(plan.accuracy_flags & TESSERA_ACCURACY_OFFSET_RAYS, 0) &&
+             ts.kind == ProgramKind::kClosestHit) {
+    OffsetFromHit(ts.top(), ray);
   }
   if (__builtin_expect(node != ts.last_node_id || ts.last_node == nullptr, 0)) {
     ts.last_node = plan.Node(node);
@@ -534,7 +628,7 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   // Culling every geometry (no visible mask bit; any-hit culled the way the flags ask) leaves the
   // miss program.
   const bool any_hit_disabled = flags & kRayFlagDisableAnyHit;
-  const bool cull_all = (mask & 0xFFu) == 0 ||
+  const bool cull_all = as_miss || (mask & 0xFFu) == 0 ||
                         ((flags & kRayFlagCullDisabledAnyHit) && any_hit_disabled) ||
                         ((flags & kRayFlagCullEnabledAnyHit) && !any_hit_disabled);
 
@@ -554,25 +648,24 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   f.xform.active = false;
   if (__builtin_expect(cull_all, 0)) {
     // Nothing to traverse: the ray misses.
-  } else if (top->scene != nullptr) {  // a Group or GeometryGroup: no transform to apply
-    IntersectScene(ts, *top->scene, ray, top->type == RT_OBJECTTYPE_GEOMETRY_GROUP);
   } else {
-    TraverseNode(ts, node, top, ray);
+    Traverse(ts, node, top, ray);
   }
 
   if (f.hit.instance != nullptr) {
-    if (f.hit.deferred && f.hit.instance->builtin_triangles) {
-      TriangleAttributes(ts, f.hit, f.hit.object_ray);
-    } else if (f.hit.deferred) {
-      Hit& h = f.hit;
-      if (!RunIntersection(ts, h.instance, h.primitive, h.object_ray, IntersectMode::kDeferred,
-                           h.t)) {
-        // The program did not report the hit Embree found (its own test rejected it): shade it
-        // with zeroed attributes and material 0 rather than what an earlier ray left.
-        std::memset(h.attributes, 0, plan.attribute_bytes);
-        h.material = 0;
-      }
+    if (f.hit.deferred && !f.hit.instance->builtin_triangles &&
+        !RunIntersection(ts, f.hit.instance, f.hit.primitive, f.hit.object_ray,
+                         IntersectMode::kDeferred, f.hit.t)) {
+      // The intersection program did not report the triangle Embree found (its own test rejected
+      // it): traversal goes on past it, as the program's hit would in OptiX. The ray is traced
+      // again with every triangle candidate put to the program first.
+      TraverseVerified(ts, node, top, ray);
     }
+    if (f.hit.instance != nullptr && f.hit.deferred && f.hit.instance->builtin_triangles) {
+      TriangleAttributes(ts, f.hit, f.hit.object_ray);
+    }
+  }
+  if (f.hit.instance != nullptr) {
     const auto& groups = f.hit.instance->materials;
     if (f.hit.material < groups.size() && ray.ray_type < groups[f.hit.material].size() &&
         !(flags & kRayFlagDisableClosestHit)) {
@@ -791,6 +884,63 @@ void IntersectUserGeometry(const RTCIntersectFunctionNArguments* args) {
   });
 }
 
+void IntersectWatertight(const RTCIntersectFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  ThreadState& ts = TS();
+  auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
+  auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+  const float key[6] = {rh->ray.org_x, rh->ray.org_y, rh->ray.org_z,
+                        rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z};
+  if (std::memcmp(key, ts.watertight_key, sizeof(key)) != 0) {
+    ts.watertight_ray = PrepareWatertight(key, key + 3);
+    std::memcpy(ts.watertight_key, key, sizeof(key));
+  }
+  const uint32_t* tri = info->indices + 3 * size_t{args->primID};
+  TriangleHit h;
+  if (!WatertightHit(ts.watertight_ray, info->vertices + 3 * size_t{tri[0]},
+                     info->vertices + 3 * size_t{tri[1]}, info->vertices + 3 * size_t{tri[2]},
+                     rh->ray.tnear, rh->ray.tfar, &h)) {
+    return;
+  }
+  RTCHit hit;
+  hit.Ng_x = h.ng[0];
+  hit.Ng_y = h.ng[1];
+  hit.Ng_z = h.ng[2];
+  hit.u = h.u;
+  hit.v = h.v;
+  hit.primID = args->primID;
+  hit.geomID = args->geomID;
+  hit.instID[0] = args->context->instID[0];
+  if (info->filter) {
+    // What Embree does for a native triangle's candidate: the geometry's filter decides.
+    RTCRay candidate = rh->ray;
+    candidate.tfar = h.t;
+    int valid = -1;
+    RTCFilterFunctionNArguments filter{&valid,
+                                       args->geometryUserPtr,
+                                       args->context,
+                                       reinterpret_cast<RTCRayN*>(&candidate),
+                                       reinterpret_cast<RTCHitN*>(&hit),
+                                       1};
+    FilterTriangles(&filter);
+    if (valid == 0) return;
+  } else if (ts.verify_triangles && !info->plan->builtin_triangles) {
+    RTCRay candidate = rh->ray;
+    candidate.tfar = h.t;
+    int valid = -1;
+    RTCFilterFunctionNArguments verify{&valid,
+                                       args->geometryUserPtr,
+                                       args->context,
+                                       reinterpret_cast<RTCRayN*>(&candidate),
+                                       reinterpret_cast<RTCHitN*>(&hit),
+                                       1};
+    VerifyTriangles(&verify);
+    if (valid == 0) return;
+  }
+  rh->ray.tfar = h.t;
+  rh->hit = hit;
+}
+
 void IntersectChild(const RTCIntersectFunctionNArguments* args) {
   if (!args->valid[0]) return;
   ThreadState& ts = TS();
@@ -834,47 +984,6 @@ void FilterTriangles(const RTCFilterFunctionNArguments* args) {
   if (!accepted) args->valid[0] = 0;
 }
 
-namespace {
-
-// The world-space hit point of `h` (a hit of frame `f`) with its error bound. Triangles: from
-// the vertices and barycentrics, carried through the hit's transform; otherwise ray.origin +
-// t * ray.direction, bounded as three operations on each component (the intersection program's t
-// is taken as exact: its own error is the program's).
-BoundedPoint HitPoint(const Frame& f, const Hit& h, float normal[3]) {
-  const GeometryInfo* g = h.geometry;
-  if (g != nullptr && g->vertices != nullptr) {
-    const uint32_t* tri = g->indices + 3 * size_t{h.primitive};
-    const float* a = g->vertices + 3 * size_t{tri[0]};
-    const float* b = g->vertices + 3 * size_t{tri[1]};
-    const float* c = g->vertices + 3 * size_t{tri[2]};
-    BoundedPoint p = TrianglePoint(a, b, c, h.barycentrics[0], h.barycentrics[1]);
-    const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const float e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                        e1[0] * e2[1] - e1[1] * e2[0]};
-    if (!h.xform.active) {
-      for (int k = 0; k < 3; ++k) normal[k] = n[k];
-      return p;
-    }
-    // Normals transform with the inverse transpose: column k of to_object.
-    const Mat& inv = h.xform.to_object;
-    for (int k = 0; k < 3; ++k) {
-      normal[k] = inv[k] * n[0] + inv[4 + k] * n[1] + inv[8 + k] * n[2];
-    }
-    return TransformPoint(h.xform.to_world.data(), p);
-  }
-  BoundedPoint p;
-  for (int k = 0; k < 3; ++k) {
-    const float step = h.t * f.ray.direction[k];
-    p.p[k] = f.ray.origin[k] + step;
-    p.err[k] = Gamma(3) * (std::fabs(f.ray.origin[k]) + std::fabs(step));
-    normal[k] = 0.f;
-  }
-  return p;
-}
-
-}  // namespace
-
 void RtSpawnPoint(const float* dir, float* origin) {
   InterruptPoint();
   ThreadState& ts = TS();
@@ -887,6 +996,14 @@ void RtSpawnPoint(const float* dir, float* origin) {
     for (int k = 0; k < 3; ++k) n[k] = dir[k];
   }
   OffsetRayOrigin(p, n, dir, origin);
+}
+
+void VerifyTriangles(const RTCFilterFunctionNArguments* args) {
+  auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
+  // Candidates with their own filter, built-in triangles and intersection programs' hits need no
+  // second look.
+  if (info == nullptr || !info->triangles || info->filter || info->plan->builtin_triangles) return;
+  FilterTriangles(args);
 }
 
 }  // namespace tessera::worker

@@ -145,8 +145,8 @@ inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const floa
     return;
   }
   float nn[3] = {n[0] / len, n[1] / len, n[2] / len};
-  const float d = std::fabs(nn[0]) * pt.err[0] + std::fabs(nn[1]) * pt.err[1] +
-                  std::fabs(nn[2]) * pt.err[2];
+  const float d =
+      std::fabs(nn[0]) * pt.err[0] + std::fabs(nn[1]) * pt.err[1] + std::fabs(nn[2]) * pt.err[2];
   if (dir[0] * nn[0] + dir[1] * nn[1] + dir[2] * nn[2] < 0.f) {
     for (float& x : nn) x = -x;
   }
