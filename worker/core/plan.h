@@ -117,6 +117,9 @@ struct SceneEntry {
   // acceleration refits ("refit" "1"): a change of data alone then refits this scene in place.
   size_t layout = 0;
   bool refit = false;
+  // Robust or watertight: the traversal takes t == tnear, so rays enter with the float after
+  // their tmin (the default takes t > tnear; trace.cc).
+  bool tnear_inclusive = false;
   std::array<float, 6> bounds{};
   ~SceneEntry();
 };

@@ -346,6 +346,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
   entry->stamp = stamp;
   entry->layout = layout;
   entry->refit = options->refit;
+  entry->tnear_inclusive = options->robust || options->watertight;
   entry->plan_serial = plan.serial;
   entry->acceleration = gg->acceleration;
   entry->build_epoch = accel->build_epoch;
@@ -380,7 +381,17 @@ void WatertightBounds(const RTCBoundsFunctionArguments* args) {
     finite = finite && std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
     Grow(b, v[0], v[1], v[2]);
   }
-  if (!finite) b = Box{1.f, 1.f, 1.f, -1.f, -1.f, -1.f};
+  if (!finite) {
+    b = Box{1.f, 1.f, 1.f, -1.f, -1.f, -1.f};
+  } else {
+    // Embree's box test is not conservative for user geometry, robust or not: rays through a
+    // vertex on a box's face missed it (48 of 1284 through the vertices of a sphere of radius
+    // 1e-6). Four ulps of the box's largest coordinate make it so.
+    float extent = std::numeric_limits<float>::min();
+    for (float x : b) extent = std::max(extent, std::fabs(x));
+    const float pad = extent * 0x1p-21f;
+    for (int k = 0; k < 3; ++k) b[k] -= pad, b[k + 3] += pad;
+  }
   *args->bounds_o = RTCBounds{b[0], b[1], b[2], 0.f, b[3], b[4], b[5], 0.f};
 }
 

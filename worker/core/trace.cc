@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -183,6 +184,9 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   Frame& f = ts.top();
   RTCRayHit rh;
   ToEmbree(ray, rh);
+  if (scene.tnear_inclusive) {
+    rh.ray.tnear = std::nextafter(ray.tmin, std::numeric_limits<float>::infinity());
+  }
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   if (__builtin_expect(ts.verify_triangles, 0)) ctx.filter = &VerifyTriangles;
@@ -190,7 +194,8 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   RethrowPending(ts);
   if (!geometry_group || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || f.terminated) return;
   const GeometryInfo* info = scene.geometries[rh.hit.geomID].get();
-  if (!info->triangles || info->filter || !(rh.ray.tfar < f.hit.t)) return;
+  // Embree found it within the ray, clipped to the closest hit so far: t == tmax counts.
+  if (!info->triangles || info->filter || !(rh.ray.tfar <= f.hit.t)) return;
   // Verified, the program has committed the hit already.
   if (ts.verify_triangles && !info->plan->builtin_triangles) return;
   // A native triangle is the closest so far: its attributes come after traversal.
@@ -551,6 +556,33 @@ __attribute__((noinline)) void OffsetFromHit(const Frame& caller, RayData& ray) 
   ray.tmin = 0.f;
 }
 
+// The watertight test found a triangle whose intersection program rejects the hit with its own,
+// less exact test (a ray through a vertex or an edge): the program is asked again for the hit's
+// attributes with the ray aimed a hair inside the triangle, towards its centroid, so that the
+// watertight test keeps deciding what is hit. Returns whether the program reported.
+__attribute__((noinline)) bool AttributesInside(ThreadState& ts, Hit& h) {
+  const GeometryInfo* g = h.geometry;
+  if (g == nullptr || !g->watertight) return false;
+  const uint32_t* tri = g->indices + 3 * size_t{h.primitive};
+  const float* v[3] = {g->vertices + 3 * size_t{tri[0]}, g->vertices + 3 * size_t{tri[1]},
+                       g->vertices + 3 * size_t{tri[2]}};
+  for (float step : {1e-6f, 1e-4f, 1e-2f}) {
+    const float u = h.barycentrics[0] + (1.f / 3.f - h.barycentrics[0]) * step;
+    const float w = h.barycentrics[1] + (1.f / 3.f - h.barycentrics[1]) * step;
+    RayData nudged = h.object_ray;
+    for (int k = 0; k < 3; ++k) {
+      const float target = (1.f - u - w) * v[0][k] + u * v[1][k] + w * v[2][k];
+      // Scaled so that the program's t comes out near the hit's (which the hit keeps).
+      nudged.direction[k] =
+          h.t > 0.f ? (target - nudged.origin[k]) / h.t : h.object_ray.direction[k];
+    }
+    if (RunIntersection(ts, h.instance, h.primitive, nudged, IntersectMode::kDeferred, h.t)) {
+      return true;
+    }
+  }
+  return false;
+}
+
 // Traverses the scene `top` (node `node`) with `ray`, committing hits to the top frame.
 inline void Traverse(ThreadState& ts, unsigned long long node, const NodeInfo* top,
                      const RayData& ray) {
@@ -655,7 +687,8 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   if (f.hit.instance != nullptr) {
     if (f.hit.deferred && !f.hit.instance->builtin_triangles &&
         !RunIntersection(ts, f.hit.instance, f.hit.primitive, f.hit.object_ray,
-                         IntersectMode::kDeferred, f.hit.t)) {
+                         IntersectMode::kDeferred, f.hit.t) &&
+        !AttributesInside(ts, f.hit)) {
       // The intersection program did not report the triangle Embree found (its own test rejected
       // it): traversal goes on past it, as the program's hit would in OptiX. The ray is traced
       // again with every triangle candidate put to the program first.

@@ -53,8 +53,10 @@ struct TriangleHit {
   float ng[3];
 };
 
-// Whether `r` hits triangle (a, b, c) at a t with tmin <= t <= tmax (Embree's closed interval),
-// either face. A degenerate triangle (zero area seen along the ray) is never hit.
+// Whether `r` hits triangle (a, b, c) at a t with tmin <= t <= tmax, either face. (The OptiX 3
+// engine passes the float after its ray's tmin, as it does to Embree's robust mode, which also
+// takes t == tnear: (tmin, tmax] in every mode.) A degenerate triangle (zero area seen along the
+// ray) is never hit.
 inline bool WatertightHit(const WatertightRay& r, const float* a, const float* b, const float* c,
                           float tmin, float tmax, TriangleHit* hit) {
   const float a0 = a[0] - r.org[0], a1 = a[1] - r.org[1], a2 = a[2] - r.org[2];
@@ -79,8 +81,10 @@ inline bool WatertightHit(const WatertightRay& r, const float* a, const float* b
   if (det == 0.f || !std::isfinite(det)) return false;
   const float az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
   const float tscaled = u * az + v * bz + w * cz;
+  // A division, not a product with 1/det: it is exact where the hit is (t == tmax exactly when
+  // the triangle lies at tmax).
+  const float t = tscaled / det;
   const float inv = 1.f / det;
-  const float t = tscaled * inv;
   if (!(t >= tmin && t <= tmax)) return false;  // NaN fails
   hit->t = t;
   hit->u = v * inv;
