@@ -417,6 +417,7 @@ absl::Status Replica::Apply(const v1::StateDelta& delta) {
   context_.exception_mask = c.exception_mask();
   context_.user_exceptions = c.user_exceptions();
   context_.num_threads = c.num_threads();
+  context_.accuracy_flags = c.accuracy_flags();
   context_.vars = ToScope(c.variables());
 
   for (uint64_t id : delta.removed()) RemoveObject(id);

@@ -130,6 +130,7 @@ struct ContextRec {
   uint32_t exception_mask = 0;
   bool user_exceptions = false;
   uint32_t num_threads = 0;
+  uint32_t accuracy_flags = 0;  // TESSERA_ACCURACY_* (tessera/accuracy.h)
   Scope vars;
 };
 
