@@ -1,5 +1,5 @@
 # tessera_add_program_module(TARGET name SOURCES file.cu ... [INCLUDES dir ...]
-#                            [OUTPUT_DIRECTORY dir])
+#                            [OUTPUT_DIRECTORY dir] [FAST_MATH])
 # Builds an OptiX-style program module (the PTX analogue): a shared library compiled as C++ from
 # .cu sources against the program-side headers in TESSERA_PROGRAM_INCLUDE_DIRS, which
 # rtProgramCreateFromPTXFile(context, "<dir>/name.so", "function", &program) loads. It lands in
@@ -10,11 +10,18 @@
 # the program-side API, and a program's own `#ifdef __CUDACC__` code is compiled), and each
 # include directory's optixu/ searched as well (OptiX SDK projects put include/optixu on the
 # path: `#include <optixu_math_namespace.h>`).
+# FAST_MATH is nvcc's --use_fast_math analogue (docs/fast_math.md): -ffast-math with isnan/isinf
+# kept working (-fno-finite-math-only), and TESSERA_FAST_MATH defined so that the module says so
+# to the engine, which flushes denormals to zero on the threads of launches that run it.
 # Used in Tessera's tree (TesseraHelpers.cmake) and installed with its CMake package.
+
 function(tessera_add_program_module)
-  cmake_parse_arguments(A "" "TARGET;OUTPUT_DIRECTORY" "SOURCES;INCLUDES" ${ARGN})
+  cmake_parse_arguments(A "FAST_MATH" "TARGET;OUTPUT_DIRECTORY" "SOURCES;INCLUDES" ${ARGN})
   if(NOT A_TARGET OR NOT A_SOURCES)
     message(FATAL_ERROR "tessera_add_program_module needs TARGET and SOURCES")
+  endif()
+  if(A_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "tessera_add_program_module(${A_TARGET}): unknown arguments ${A_UNPARSED_ARGUMENTS}")
   endif()
   if(NOT A_OUTPUT_DIRECTORY)
     set(A_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/modules)
@@ -29,6 +36,10 @@ function(tessera_add_program_module)
   target_compile_features(${A_TARGET} PRIVATE cxx_std_17)
   target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 ${TESSERA_PROGRAM_MODULE_OPTIONS})
   target_compile_definitions(${A_TARGET} PRIVATE __CUDACC__)
+  if(A_FAST_MATH)
+    target_compile_options(${A_TARGET} PRIVATE -ffast-math -fno-finite-math-only)
+    target_compile_definitions(${A_TARGET} PRIVATE TESSERA_FAST_MATH=1)
+  endif()
   set(_tessera_optixu_dirs)
   foreach(_tessera_dir IN LISTS TESSERA_PROGRAM_INCLUDE_DIRS)
     list(APPEND _tessera_optixu_dirs ${_tessera_dir}/optixu)
@@ -42,16 +53,19 @@ function(tessera_add_program_module)
 endfunction()
 
 # tessera_add_optix7_program_module(TARGET name SOURCES file.cu ... [INCLUDES dir ...]
-#                                   [OUTPUT_DIRECTORY dir])
+#                                   [OUTPUT_DIRECTORY dir] [FAST_MATH])
 # The same for OptiX 7 programs: the .cu file compiled as C++ with __CUDACC__ defined against the
 # OptiX 7 include root in TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS (optix.h then gives
 # optix_device.h), the g++ line of docs/optix7.md. The engine finds its entry points
 # (__raygen__*, ...) and launch parameters by symbol name. One module per .cu, as OptiX compiles
-# one PTX or OptiX-IR file per .cu.
+# one PTX or OptiX-IR file per .cu. FAST_MATH as above.
 function(tessera_add_optix7_program_module)
-  cmake_parse_arguments(A "" "TARGET;OUTPUT_DIRECTORY" "SOURCES;INCLUDES" ${ARGN})
+  cmake_parse_arguments(A "FAST_MATH" "TARGET;OUTPUT_DIRECTORY" "SOURCES;INCLUDES" ${ARGN})
   if(NOT A_TARGET OR NOT A_SOURCES)
     message(FATAL_ERROR "tessera_add_optix7_program_module needs TARGET and SOURCES")
+  endif()
+  if(A_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "tessera_add_optix7_program_module(${A_TARGET}): unknown arguments ${A_UNPARSED_ARGUMENTS}")
   endif()
   if(NOT A_OUTPUT_DIRECTORY)
     set(A_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/modules)
@@ -61,6 +75,10 @@ function(tessera_add_optix7_program_module)
   target_compile_features(${A_TARGET} PRIVATE cxx_std_17)
   target_compile_options(${A_TARGET} PRIVATE -x c++ -O2 ${TESSERA_OPTIX7_PROGRAM_MODULE_OPTIONS})
   target_compile_definitions(${A_TARGET} PRIVATE __CUDACC__)
+  if(A_FAST_MATH)
+    target_compile_options(${A_TARGET} PRIVATE -ffast-math -fno-finite-math-only)
+    target_compile_definitions(${A_TARGET} PRIVATE TESSERA_FAST_MATH=1)
+  endif()
   target_include_directories(${A_TARGET} PRIVATE ${TESSERA_OPTIX7_PROGRAM_INCLUDE_DIRS}
     ${A_INCLUDES})
   set_target_properties(${A_TARGET} PROPERTIES PREFIX "" SUFFIX ".so"

@@ -19,6 +19,7 @@
 #include "call.h"
 #include "module_compiler.h"
 #include "optix_host.h"
+#include "tessera/accuracy.h"
 
 namespace tessera::optix7 {
 namespace {
@@ -130,6 +131,7 @@ absl::StatusOr<std::shared_ptr<Module>> CreateModule(
   }
   api::ProgramCompileOptions compile;
   compile.optix7 = true;
+  compile.fast_math = (c->accuracy_flags() & TESSERA_ACCURACY_FAST_MATH) != 0;
   const DeviceContext::Cache cache = c->cache();
   if (cache.location_chosen) compile.cache_dir = cache.location;
   auto module = std::make_shared<Module>();

@@ -6,9 +6,15 @@
 #include "program.h"
 #include "program_loader.h"
 #include "scope_api.h"
+#include "tessera/accuracy.h"
 #include "validate.h"
 
 using namespace tessera::api;  // NOLINT: C entry points only
+
+namespace {
+// Source the context compiles gets fast math with TESSERA_ACCURACY_FAST_MATH (docs/fast_math.md).
+bool FastMath(const Context& c) { return (c.accuracy_flags() & TESSERA_ACCURACY_FAST_MATH) != 0; }
+}  // namespace
 
 extern "C" {
 
@@ -18,7 +24,7 @@ RTresult rtProgramCreateFromPTXFile(RTcontext context, const char* filename,
     TS_RETURN_IF_ERROR(NotNull(filename, "file name"));
     TS_RETURN_IF_ERROR(NotNull(program_name, "program name"));
     TS_RETURN_IF_ERROR(NotNull(program, "program pointer"));
-    TS_ASSIGN_OR_RETURN(ModuleRef module, LoadProgramFile(filename, program_name));
+    TS_ASSIGN_OR_RETURN(ModuleRef module, LoadProgramFile(filename, program_name, FastMath(c)));
     *program = ToHandle<RTprogram>(c.Make<Program>(std::move(module.path), std::move(module.hash),
                                                    std::move(module.bytes), program_name));
     return absl::OkStatus();
@@ -31,7 +37,7 @@ RTresult rtProgramCreateFromPTXString(RTcontext context, const char* ptx, const 
     TS_RETURN_IF_ERROR(NotNull(ptx, "source string"));
     TS_RETURN_IF_ERROR(NotNull(program_name, "program name"));
     TS_RETURN_IF_ERROR(NotNull(program, "program pointer"));
-    TS_ASSIGN_OR_RETURN(ModuleRef module, LoadProgramSource(ptx, program_name));
+    TS_ASSIGN_OR_RETURN(ModuleRef module, LoadProgramSource(ptx, program_name, FastMath(c)));
     *program = ToHandle<RTprogram>(c.Make<Program>(std::move(module.path), std::move(module.hash),
                                                    std::move(module.bytes), program_name));
     return absl::OkStatus();

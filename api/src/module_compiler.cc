@@ -46,10 +46,15 @@ std::string CompilerName() {
 // README's line. __CUDACC__ tells the headers (and the program's own, `#ifdef __CUDACC__`) that
 // this is program code, as nvcc does; each include directory's optixu/ is searched too, as OptiX
 // SDK projects put include/optixu on the path (`#include <optixu_math_namespace.h>`). OptiX 7
-// programs have no optixu (docs/optix7.md gives their command).
-std::vector<std::string> CompileFlags(const std::vector<std::string>& include_dirs, bool optix7) {
+// programs have no optixu (docs/optix7.md gives their command). Fast math is nvcc's
+// --use_fast_math analogue with isnan/isinf still answering (docs/fast_math.md).
+std::vector<std::string> CompileFlags(const std::vector<std::string>& include_dirs, bool optix7,
+                                      bool fast_math) {
   std::vector<std::string> flags = {CompilerName(), "-std=c++17", "-O2",
                                     "-shared",      "-fPIC",      "-D__CUDACC__"};
+  if (fast_math) {
+    flags.insert(flags.end(), {"-ffast-math", "-fno-finite-math-only", "-DTESSERA_FAST_MATH=1"});
+  }
   for (const std::string& dir : include_dirs) {
     flags.push_back("-I" + dir);
     std::error_code ec;
@@ -297,7 +302,7 @@ absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
                                                     const ProgramCompileOptions& options) {
   const std::vector<std::string> include_dirs =
       options.optix7 ? Optix7IncludeDirs() : ProgramIncludeDirs();
-  std::vector<std::string> command = CompileFlags(include_dirs, options.optix7);
+  std::vector<std::string> command = CompileFlags(include_dirs, options.optix7, options.fast_math);
   uint64_t key = HashString(source);
   key = HashString(absl::StrJoin(command, "\x1f"), key);
   key ^= HeaderTreeHash(include_dirs);

@@ -33,6 +33,10 @@ struct ProgramCompileOptions {
   // The cache directory, created if missing (an OptiX 7 context's cache location); an error if
   // it cannot be used. Empty: ModuleCacheDir(), or a temporary directory when that cannot be.
   std::string cache_dir;
+  // Fast math (the context's TESSERA_ACCURACY_FAST_MATH, docs/fast_math.md): -ffast-math with
+  // NaN and infinity checks kept (-fno-finite-math-only), and TESSERA_FAST_MATH defined so that
+  // the module says so to the devices. Part of the compile command, so of the cache key.
+  bool fast_math = false;
 };
 
 // A module in the compile cache: its path, its bytes and their SHA-256 (ModuleHash), read once

@@ -150,7 +150,8 @@ absl::StatusOr<ModuleRef> FromModule(const std::string& path, std::string* bytes
 
 }  // namespace
 
-absl::StatusOr<ModuleRef> LoadProgramFile(const std::string& path, const std::string& function) {
+absl::StatusOr<ModuleRef> LoadProgramFile(const std::string& path, const std::string& function,
+                                          bool fast_math) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) {
     if (fs::exists(path, ec)) {
@@ -203,15 +204,20 @@ absl::StatusOr<ModuleRef> LoadProgramFile(const std::string& path, const std::st
                                 "' is neither a program module (.so) nor C++ source "
                                 "(.cu, .cpp, .cc, .cxx)"));
   }
-  TS_ASSIGN_OR_RETURN(CompiledModule module, CompileProgramModule(bytes, path));
+  ProgramCompileOptions options;
+  options.fast_math = fast_math;
+  TS_ASSIGN_OR_RETURN(CompiledModule module, CompileProgramModule(bytes, path, options));
   return FromModule(module.path, &module.bytes, function, path, std::move(module.hash));
 }
 
-absl::StatusOr<ModuleRef> LoadProgramSource(absl::string_view source, const std::string& function) {
+absl::StatusOr<ModuleRef> LoadProgramSource(absl::string_view source, const std::string& function,
+                                            bool fast_math) {
   if (LooksLikePtx(source)) {
     return RtError(RT_ERROR_INVALID_SOURCE, absl::StrCat("the source string is PTX. ", kNoPtx));
   }
-  TS_ASSIGN_OR_RETURN(CompiledModule module, CompileProgramModule(source, ""));
+  ProgramCompileOptions options;
+  options.fast_math = fast_math;
+  TS_ASSIGN_OR_RETURN(CompiledModule module, CompileProgramModule(source, "", options));
   return FromModule(module.path, &module.bytes, function, "", std::move(module.hash));
 }
 

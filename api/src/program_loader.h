@@ -22,10 +22,14 @@ struct ModuleRef {
 
 // `path` is a module (.so, or any ELF shared object) or C++ source (.cu, .cpp, .cc, .cxx).
 // Missing file: RT_ERROR_FILE_NOT_FOUND. Missing function or bad source: RT_ERROR_INVALID_SOURCE.
-absl::StatusOr<ModuleRef> LoadProgramFile(const std::string& path, const std::string& function);
+// `fast_math`: source compiles with fast math (the context's TESSERA_ACCURACY_FAST_MATH); a
+// module is taken as it was built.
+absl::StatusOr<ModuleRef> LoadProgramFile(const std::string& path, const std::string& function,
+                                          bool fast_math = false);
 
 // C++ source text of a program module.
-absl::StatusOr<ModuleRef> LoadProgramSource(absl::string_view source, const std::string& function);
+absl::StatusOr<ModuleRef> LoadProgramSource(absl::string_view source, const std::string& function,
+                                            bool fast_math = false);
 
 }  // namespace tessera::api
 

@@ -22,11 +22,13 @@
 
 #include "absl/strings/str_cat.h"
 #include "call_progress.h"
+#include "float_mode.h"
 #include "optix7_device_call.h"
 #include "optix7_session.h"
 #include "plan.h"
 #include "replica.h"
 #include "runtime.h"
+#include "tessera/accuracy.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/launch_timing.h"
 #include "tessera/scheduler/result_pool.h"
@@ -384,10 +386,16 @@ class InprocDevice : public Device {
     // process started with --threads 1 must not wake TBB threads for the other cores.
     tbb::task_arena arena(threads);
     if (!empty) {  // the all-zero launch only builds accelerations
+      const bool flush_denormals = FlushDenormals();
       arena.execute([&] {
         tbb::parallel_for(size_t{0}, pieces.size(), size_t{1}, [&](size_t i) {
           const unsigned char epoch = epochs.Started();
-          run_piece(pieces[i]);
+          {
+            // Each piece sets its thread's mode and puts it back: arena threads are shared, and
+            // the calling thread (the host's own, in process) takes pieces too.
+            worker::ScopedFloatMode float_mode(flush_denormals);
+            run_piece(pieces[i]);
+          }
           unsigned char after = 0;
           const unsigned char upto = epochs.Finished(epoch, &after);
           send_closed(after, upto);
@@ -446,6 +454,19 @@ class InprocDevice : public Device {
                                  on_result);
   }
 
+  // Whether this call's pieces flush denormals to zero (docs/fast_math.md): the plan binds a
+  // program of a fast-math module, or the context asks for fast math. Looked up once per plan.
+  bool FlushDenormals() {
+    if (plan_->serial != fast_math_serial_) {
+      fast_math_serial_ = plan_->serial;
+      plan_fast_math_ = std::any_of(plan_->programs.begin(), plan_->programs.end(),
+                                    [](const worker::BoundProgram& b) {
+                                      return b.module != nullptr && b.module->fast_math();
+                                    });
+    }
+    return plan_fast_math_ || (replica_.context().accuracy_flags & TESSERA_ACCURACY_FAST_MATH) != 0;
+  }
+
   // How many write epochs a call runs in: one unless results go out while the call traces and
   // several threads would otherwise wait while one sends (a single thread has no one to wait for
   // it). TESSERA_WRITE_EPOCHS sets the number (tests: many epochs in small launches).
@@ -480,6 +501,8 @@ class InprocDevice : public Device {
   const bool timing_ = scheduler::LaunchTimingEnabled();
   uint64_t snapshot_launch_id_ = 0;  // the launch whose start the replica's snapshots record
   uint64_t calls_ = 0;               // calls of that launch run so far
+  uint64_t fast_math_serial_ = 0;    // the plan serial plan_fast_math_ is for (0: none)
+  bool plan_fast_math_ = false;      // a program of plan_ is of a fast-math module
 };
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "absl/strings/escaping.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "float_mode.h"
 #include "interrupt.h"
 #include "module_store.h"
 #include "optix7_module_init.h"
@@ -243,7 +244,14 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
   // A module's static constructors run in dlopen, its registrations in init.
   const std::string loading = absl::StrCat("loading program module ", path);
   CrashContext crash_context(loading.c_str());
-  void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+  void* handle = nullptr;
+  {
+    // A module built with -ffast-math has crtfastmath.o's constructor, which sets FTZ/DAZ on the
+    // thread that loads it: a launch's programs get the mode their launch asks for, the loading
+    // thread (the host's own, for an in-process device) keeps its own.
+    PreservedFloatMode float_mode;
+    handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+  }
   if (handle == nullptr) {
     const char* err = dlerror();
     return absl::NotFoundError(
@@ -267,6 +275,9 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
     module->path_ = file;
     module->handle_ = handle;
     module->optix7_ = true;
+    // A module from before the flags has no TESSERA_OPTIX7_MODULE_FLAGS_SYMBOL: flags 0.
+    const auto* flags = static_cast<const unsigned*>(dlsym(handle, kOptix7ModuleFlagsSymbol));
+    module->fast_math_ = flags != nullptr && (*flags & kOptix7ModuleFlagFastMath) != 0;
     const Module* result = module.get();
     modules_.emplace(hash, std::move(module));
     return result;
@@ -287,6 +298,7 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
   module->path_ = file;
   module->handle_ = handle;
   module->info_ = info;
+  module->fast_math_ = (info->flags & TESSERA_MODULE_FLAG_FAST_MATH) != 0;
   for (unsigned i = 0; i < info->variable_count; ++i) {
     const TesseraVariableDecl& d = info->variables[i];
     ModuleVariable v;

@@ -71,6 +71,10 @@ class Module {
   // cache called with the OptiX 7 engine's table): it has entry functions and a launch-parameter
   // variable, none of the OptiX 3 registry (variables, buffers, textures stay empty).
   bool optix7() const { return optix7_; }
+  // Whether it was compiled with fast math (TESSERA_MODULE_FLAG_FAST_MATH,
+  // TESSERA_OPTIX7_MODULE_FLAG_FAST_MATH): launches that run it flush denormals to zero
+  // (float_mode.h, docs/fast_math.md).
+  bool fast_math() const { return fast_math_; }
   // The module's own global variable `name` and its size in bytes; null if it defines none.
   void* Data(const std::string& name, size_t* size) const;
   // Null if the module itself defines no global function of that name. Cached: every launch
@@ -85,6 +89,7 @@ class Module {
   void* handle_ = nullptr;
   const TesseraModuleInfo* info_ = nullptr;
   bool optix7_ = false;
+  bool fast_math_ = false;
   std::vector<ModuleVariable> variables_;
   std::vector<ModuleBuffer> buffers_;
   std::vector<ModuleTexture> textures_;

@@ -14,6 +14,7 @@
 #include "absl/strings/str_cat.h"
 #include "call_progress.h"
 #include "device_arena.h"
+#include "float_mode.h"
 #include "optix7_atomics.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
@@ -245,10 +246,14 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
     on_result(std::move(state.result));
   };
   if (!empty) {
+    const bool flush_denormals = engine.FlushDenormals();
     tbb::task_arena arena(threads);
     arena.execute([&] {
-      tbb::parallel_for(size_t{0}, pieces.size(), size_t{1},
-                        [&](size_t i) { run_piece(pieces[i]); });
+      tbb::parallel_for(size_t{0}, pieces.size(), size_t{1}, [&](size_t i) {
+        // Each piece sets its thread's mode and puts it back: arena threads are shared.
+        ScopedFloatMode float_mode(flush_denormals);
+        run_piece(pieces[i]);
+      });
     });
   }
   const auto traced = std::chrono::steady_clock::now();

@@ -287,6 +287,8 @@ Optix7Engine::Optix7Engine(RTCDevice device)
 
 Optix7Engine::~Optix7Engine() = default;
 
+bool Optix7Engine::FlushDenormals() const { return launch_ != nullptr && launch_->flush_denormals; }
+
 absl::StatusOr<const Optix7Scene*> Optix7Engine::Scene(uint64_t handle) {
   std::lock_guard<std::mutex> lock(scenes_mu_);
   return scenes_.Get(handle, launch_ != nullptr ? launch_->serial : 0);

@@ -57,6 +57,9 @@ class Optix7Engine {
   bool RunTile(const Index3& origin, const Index3& size, const Index3& dims,
                const std::atomic<bool>& cancel, const std::atomic<bool>& stop, v1::TileResult& out);
 
+  // Whether the prepared launch's tiles run with denormals flushed to zero (a fast-math module
+  // or context, docs/fast_math.md); the caller sets each tracing thread's mode (float_mode.h).
+  bool FlushDenormals() const;
   // The scene of traversable `handle` for the prepared launch. Thread-safe; tracing threads
   // cache the answer per launch, so the lock is taken once per thread, launch and handle.
   absl::StatusOr<const Optix7Scene*> Scene(uint64_t handle);

@@ -59,6 +59,9 @@ struct Optix7Launch {
   // Whether some hit group record has an any-hit program: traces on triangles then need the
   // per-hit filter; without one (and without culling, masks or early termination) they need none.
   bool any_hit = false;
+  // Whether the tiles run with denormals flushed to zero (float_mode.h): a module of the pipeline
+  // was compiled with fast math, or the context asked for it (TESSERA_ACCURACY_FAST_MATH).
+  bool flush_denormals = false;
 
   // How many bytes can be read from `address` to the end of its allocation (0: none).
   uint64_t Readable(uint64_t address) const {

@@ -12,6 +12,10 @@
 namespace tessera::worker {
 
 inline constexpr char kOptix7ModuleInitSymbol[] = "tessera_optix7_module_init";
+// TESSERA_OPTIX7_MODULE_FLAGS_SYMBOL and TESSERA_OPTIX7_MODULE_FLAG_FAST_MATH
+// (tessera/optix7_device_abi.h; optix7_engine.cc checks they agree).
+inline constexpr char kOptix7ModuleFlagsSymbol[] = "tessera_optix7_module_flags";
+inline constexpr unsigned kOptix7ModuleFlagFastMath = 0x1u;
 
 // Hands the OptiX 7 engine's table to the module loaded at `handle` (named `path` in messages):
 // false when it exports no kOptix7ModuleInitSymbol, FAILED_PRECONDITION when it was built against

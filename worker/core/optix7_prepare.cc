@@ -3,16 +3,23 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <string_view>
 
 #include "absl/strings/str_cat.h"
 #include "module.h"
 #include "optix7_engine.h"
 #include "optix7_launch.h"
+#include "optix7_module_init.h"
 #include "optix_types.h"
 #include "sbt_header.h"
+#include "tessera/accuracy.h"
+#include "tessera/optix7_device_abi.h"
 
 namespace tessera::worker {
 namespace {
+
+static_assert(kOptix7ModuleFlagFastMath == TESSERA_OPTIX7_MODULE_FLAG_FAST_MATH);
+static_assert(std::string_view(kOptix7ModuleFlagsSymbol) == TESSERA_OPTIX7_MODULE_FLAGS_SYMBOL);
 
 std::string Hex(uint64_t v) { return absl::StrCat("0x", absl::Hex(v)); }
 
@@ -230,6 +237,11 @@ absl::Status Optix7Engine::Prepare(const Optix7State& state, const v1::Optix7Lau
     l->groups[id] = std::move(*group);
   }
   if (absl::Status s = CopyParams(*l, launch, pipeline.params_name(), modules); !s.ok()) return s;
+  // A fast-math module of the pipeline, or a context that asks for fast math, flushes denormals
+  // on the launch's threads (docs/fast_math.md).
+  l->flush_denormals = (launch.accuracy_flags() & TESSERA_ACCURACY_FAST_MATH) != 0 ||
+                       std::any_of(modules.begin(), modules.end(),
+                                   [](const auto& m) { return m.second->fast_math(); });
 
   if (launch.raygen_record() == 0) {
     return absl::InvalidArgumentError("SBT: no raygen record (raygenRecord is 0)");

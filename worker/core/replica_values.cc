@@ -58,7 +58,8 @@ bool SameContext(const ContextRec& held, const v1::ContextState& c) {
               held.stack_size == c.stack_size() && held.print_enabled == c.print_enabled() &&
               held.print_buffer_size == c.print_buffer_size() &&
               held.exception_mask == c.exception_mask() &&
-              held.user_exceptions == c.user_exceptions() && held.num_threads == c.num_threads();
+              held.user_exceptions == c.user_exceptions() && held.num_threads == c.num_threads() &&
+              held.accuracy_flags == c.accuracy_flags();
   for (int i = 0; i < 3; ++i) {
     same = same &&
            held.print_index[i] == (i < c.print_launch_index_size() ? c.print_launch_index(i) : -1);

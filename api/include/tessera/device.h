@@ -175,6 +175,14 @@ tessera_module_init(const TesseraRuntime* runtime, unsigned abi_version) {
   r.info.variables = r.variables.data();
   r.info.buffer_count = static_cast<unsigned>(r.buffers.size());
   r.info.buffers = r.buffers.data();
+  // How this translation unit was compiled: tessera_add_program_module(... FAST_MATH) and the
+  // host's compile for a context with TESSERA_ACCURACY_FAST_MATH define TESSERA_FAST_MATH; a
+  // module built with plain -ffast-math has __FAST_MATH__ (docs/fast_math.md).
+#if defined(TESSERA_FAST_MATH) || defined(__FAST_MATH__)
+  r.info.flags = TESSERA_MODULE_FLAG_FAST_MATH;
+#else
+  r.info.flags = 0;
+#endif
   return &r.info;
 }
 

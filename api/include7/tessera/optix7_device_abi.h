@@ -213,6 +213,15 @@ typedef unsigned int (*TesseraOptix7ModuleInitFn)(const TesseraOptix7Runtime* ru
                                                   unsigned int abi_version);
 #define TESSERA_OPTIX7_MODULE_INIT_SYMBOL "tessera_optix7_module_init"
 
+/* Exported by every module (defined weakly by optix_device.h, not a part of the table, so a
+ * module without it has flags 0): TESSERA_OPTIX7_MODULE_FLAG_* bits, how the module was
+ * compiled. */
+#define TESSERA_OPTIX7_MODULE_FLAGS_SYMBOL "tessera_optix7_module_flags"
+/* The module was compiled with fast math (tessera/accuracy.h TESSERA_ACCURACY_FAST_MATH,
+ * docs/fast_math.md): the engine flushes denormals to zero on the threads of launches that run
+ * it. */
+#define TESSERA_OPTIX7_MODULE_FLAG_FAST_MATH 0x1u
+
 #ifdef __cplusplus
 }
 #endif

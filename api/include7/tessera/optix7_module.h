@@ -20,6 +20,16 @@ __attribute__((weak, visibility("default"))) unsigned int tessera_optix7_module_
   tessera_optix7_runtime = runtime;
   return 0;
 }
+
+// TESSERA_FAST_MATH comes with tessera_add_optix7_program_module(... FAST_MATH) and the host's
+// compile for a context with TESSERA_ACCURACY_FAST_MATH; plain -ffast-math defines __FAST_MATH__.
+// `extern`: a const variable of C++ is otherwise not exported.
+__attribute__((weak, visibility("default"))) extern const unsigned int tessera_optix7_module_flags =
+#if defined(TESSERA_FAST_MATH) || defined(__FAST_MATH__)
+    TESSERA_OPTIX7_MODULE_FLAG_FAST_MATH;
+#else
+    0;
+#endif
 }
 
 #endif /* TESSERA_OPTIX7_MODULE_H_ */
