@@ -923,4 +923,7 @@ static __forceinline__ __device__ uint4 optixTexFootprint2DLod(unsigned long lon
   return make_uint4(v[0], v[1], v[2], v[3]);
 }
 
+/* ---- Tessera's additions ------------------------------------------------------------------- */
+#include "tessera/optix7_accuracy.h"
+
 #endif /* TESSERA_OPTIX7_OPTIX_DEVICE_H_ */

@@ -11,6 +11,7 @@
 #include "hash.h"
 #include "host_device_memory.h"
 #include "tessera/detail/half.h"
+#include "tessera/optix7_ext.h"
 
 namespace tessera::optix7 {
 namespace {
@@ -274,6 +275,16 @@ absl::StatusOr<Plan> PlanBuild(HostDeviceMemory& m, const OptixAccelBuildOptions
     return absl::InvalidArgumentError(
         absl::StrCat("operation 0x", absl::Hex(options.operation), " is unknown"));
   }
+  // OptixBuildFlags (bits 0-7) and Tessera's per-acceleration accuracy bits (tessera/optix7_ext.h).
+  constexpr unsigned kKnownBuildFlags = 0xFFu | TESSERA_OPTIX_BUILD_FLAG_ROBUST |
+                                        TESSERA_OPTIX_BUILD_FLAG_WATERTIGHT |
+                                        TESSERA_OPTIX_BUILD_FLAG_COMPACT;
+  if ((options.buildFlags & ~kKnownBuildFlags) != 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("buildFlags 0x", absl::Hex(options.buildFlags), " has bits 0x",
+                     absl::Hex(options.buildFlags & ~kKnownBuildFlags),
+                     " that no OptixBuildFlags or TESSERA_OPTIX_BUILD_FLAG_* value has"));
+  }
   const OptixBuildInputType type = inputs[0].type;
   switch (type) {
     case OPTIX_BUILD_INPUT_TYPE_TRIANGLES:
@@ -531,7 +542,11 @@ absl::StatusOr<OptixTraversableHandle> BuildAccel(HostDeviceMemory& memory,
   } else {
     h.input_count = count;
     for (unsigned i = 0; i < count; ++i) {
-      std::memcpy(bytes.data() + h.inputs_offset + i * sizeof(AccelInput), &plan->inputs[i].record,
+      AccelInput record = plan->inputs[i].record;
+      // Workers refit the scene they built of the same buffer instead of building a new one.
+      if (options.operation == OPTIX_BUILD_OPERATION_UPDATE)
+        record.flags |= memory::kAccelInputUpdate;
+      std::memcpy(bytes.data() + h.inputs_offset + i * sizeof(AccelInput), &record,
                   sizeof(AccelInput));
       if (absl::Status s = WriteInput(plan->inputs[i], i, plan->kind, plan->keys, bytes.data());
           !s.ok()) {

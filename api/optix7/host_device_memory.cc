@@ -44,6 +44,11 @@ absl::Status HostDeviceMemory::Free(uintptr_t address) {
   managed_.erase(address);
   owners_.erase(address);
   if (freed->release_end > freed->release_begin) {
+    // Released pages read zeros here from now on, while devices in other processes keep what they
+    // had: a host write, so that an allocation made there again reaches them as the host has it
+    // (otherwise a device that believes it holds the old bytes skips sending back writes equal to
+    // them, and the host keeps its zeros).
+    MarkWrittenLocked(freed->release_begin, freed->release_end - freed->release_begin, 0);
     return arena_->Release(freed->release_begin, freed->release_end - freed->release_begin);
   }
   return absl::OkStatus();
@@ -59,6 +64,10 @@ bool HostDeviceMemory::InArena(uintptr_t address) const { return arena_->Contain
 void HostDeviceMemory::MarkWritten(uintptr_t address, size_t length, uint64_t device_writer) {
   if (length == 0) return;
   std::lock_guard<std::mutex> lock(mutex_);
+  MarkWrittenLocked(address, length, device_writer);
+}
+
+void HostDeviceMemory::MarkWrittenLocked(uintptr_t address, size_t length, uint64_t device_writer) {
   const uint64_t epoch = ++epoch_;
   const uintptr_t base = arena_->base();
   const uintptr_t first = base + (address - base) / kChunkBytes * kChunkBytes;

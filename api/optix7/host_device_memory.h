@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
 #include "device_allocator.h"
 #include "device_arena.h"
@@ -84,6 +85,8 @@ class HostDeviceMemory {
 
  private:
   explicit HostDeviceMemory(memory::DeviceArena* arena);
+  void MarkWrittenLocked(uintptr_t address, size_t length, uint64_t device_writer)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   mutable std::mutex mutex_;
   memory::DeviceArena* arena_;  // the process's (memory::ProcessArena)

@@ -20,9 +20,11 @@ namespace tessera::optix7 {
 
 // Runs one optixLaunch (width x height x depth) synchronously. Arguments are checked by the
 // caller (api/optix7 optixLaunch); errors name what failed (a device, a program, an SBT record).
+// `accuracy_flags`: the context's TESSERA_ACCURACY_* bits, which devices build scenes and trace
+// with (docs/optix7_engine.md, "Speed and accuracy").
 absl::Status Launch(LaunchTarget& target, const LaunchPipeline& pipeline, CUdeviceptr params,
                     size_t params_size, const OptixShaderBindingTable& sbt, unsigned width,
-                    unsigned height, unsigned depth);
+                    unsigned height, unsigned depth, uint32_t accuracy_flags);
 
 }  // namespace tessera::optix7
 

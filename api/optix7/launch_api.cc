@@ -176,7 +176,8 @@ OptixResult optixLaunch(OptixPipeline pipeline, CUstream stream, CUdeviceptr pip
             }
             return p->context->WithLaunchTarget([&](tessera::optix7::LaunchTarget& target) {
               return tessera::optix7::Launch(target, p->launch, pipelineParams, pipelineParamsSize,
-                                             *sbt, width, height, depth);
+                                             *sbt, width, height, depth,
+                                             p->context->accuracy_flags());
             });
           },
           OPTIX_ERROR_LAUNCH_FAILURE);

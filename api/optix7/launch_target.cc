@@ -166,6 +166,20 @@ class LaunchTarget final : public api::ContextExtension {
     const uint64_t cursor = last_run_;
     std::vector<std::pair<uint64_t, uint64_t>> hashes;
     std::vector<std::pair<uintptr_t, uintptr_t>> stale;  // pieces whose hash the device lost
+    if (!whole) {
+      for (const WrittenRun& run : runs_) {
+        if (run.sequence <= sync.memory_run_cursor) continue;
+        // The device's copy of these pieces no longer has the content its hashes say.
+        stale.emplace_back(run.address, run.address + run.size);
+      }
+    }
+    // A piece programs wrote since the device's last delta is sent whatever its hash: the hash is
+    // of the content before those writes (a buffer freed and allocated again reads zeros on the
+    // host, the hash of the zeros the device was sent before the programs wrote there).
+    auto written_since = [&](uintptr_t begin, uintptr_t end) {
+      return std::any_of(stale.begin(), stale.end(),
+                         [&](const auto& r) { return r.first < end && r.second > begin; });
+    };
     if (whole || epoch != sync.memory_epoch) {
       for (const auto& [chunk, written] :
            memory.ChunksWrittenSince(whole ? 0 : sync.memory_epoch, whole ? 0 : writer_)) {
@@ -173,7 +187,8 @@ class LaunchTarget final : public api::ContextExtension {
                      [&](uintptr_t begin, uintptr_t end) {
                        const uint64_t hash = PieceHash(begin, end - begin, written);
                        auto known = sync.memory_hashes.find(begin);
-                       if (!whole && known != sync.memory_hashes.end() && known->second == hash) {
+                       if (!whole && known != sync.memory_hashes.end() && known->second == hash &&
+                           !written_since(begin, end)) {
                          return;
                        }
                        AddBytes(begin, end, hash, prepared);
@@ -185,8 +200,6 @@ class LaunchTarget final : public api::ContextExtension {
       std::vector<std::pair<uintptr_t, uintptr_t>> ranges;
       for (const WrittenRun& run : runs_) {
         if (run.sequence <= sync.memory_run_cursor) continue;
-        // The device's copy of these pieces no longer has the content its hashes say.
-        stale.emplace_back(run.address, run.address + run.size);
         if (run.writer != sync.session_id || run.to_writer) {
           ranges.emplace_back(run.address, run.address + run.size);
         }

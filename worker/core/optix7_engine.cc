@@ -291,7 +291,8 @@ bool Optix7Engine::FlushDenormals() const { return launch_ != nullptr && launch_
 
 absl::StatusOr<const Optix7Scene*> Optix7Engine::Scene(uint64_t handle) {
   std::lock_guard<std::mutex> lock(scenes_mu_);
-  return scenes_.Get(handle, launch_ != nullptr ? launch_->serial : 0);
+  if (launch_ == nullptr) return scenes_.Get(handle, 0, 0);
+  return scenes_.Get(handle, launch_->serial, launch_->accuracy);
 }
 
 bool Optix7Engine::RunTile(const Index3& origin, const Index3& size, const Index3& dims,

@@ -50,6 +50,9 @@ struct Optix7Launch {
   Optix7Engine* engine = nullptr;
   uint32_t max_trace_depth = 0;  // OptixPipelineLinkOptions::maxTraceDepth, at most 31
   uint32_t exception_flags = 0;  // OptixExceptionFlags
+  // TESSERA_ACCURACY_* bits of the launch's context (Optix7Launch.accuracy_flags): how scenes are
+  // built (robust, watertight, compact) and whether closest-hit programs' rays are offset.
+  uint32_t accuracy = 0;
   // Live device memory, address -> size (a copy: the device's state may change after the call).
   std::map<uint64_t, uint64_t> allocations;
   std::unordered_map<uint64_t, Optix7Group> groups;  // the pipeline's, by id

@@ -461,6 +461,7 @@ TesseraOptix7Runtime MakeRuntime() {
   r.tex_footprint_2d_lod = &TexFootprint2DLod;
   r.atomics_noted = AtomicsNotedFlag();
   r.note_atomic = &NoteAtomic;
+  FillAccuracyTable(r);
   return r;
 }
 

@@ -7,6 +7,9 @@
 
 #include "absl/hash/hash.h"
 #include "absl/strings/str_cat.h"
+#include "optix_types.h"
+#include "tessera/accuracy.h"
+#include "tessera/optix7_ext.h"
 
 namespace tessera::worker {
 namespace {
@@ -48,9 +51,33 @@ absl::Status Committed(RTCDevice device, RTCScene scene, const char* what) {
   return absl::OkStatus();
 }
 
-RTCBuildQuality QualityOf(uint32_t build_flags) {
-  constexpr uint32_t kPreferFastBuild = 1u << 3;  // OPTIX_BUILD_FLAG_PREFER_FAST_BUILD
-  return (build_flags & kPreferFastBuild) != 0 ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM;
+// Whether some SBT record of a GAS's inputs asks for one any-hit call per primitive.
+bool RequiresSingleAnyHit(const unsigned char* bytes, const AccelHeader& h) {
+  if (h.kind == AccelKind::kInstances) return false;
+  const auto* inputs = reinterpret_cast<const AccelInput*>(bytes + h.inputs_offset);
+  for (uint32_t i = 0; i < h.input_count; ++i) {
+    for (uint32_t r = 0; r < inputs[i].num_sbt_records; ++r) {
+      uint32_t flags;
+      std::memcpy(&flags, bytes + inputs[i].flags_offset + 4ull * r, sizeof(flags));
+      if (flags & OPTIX_GEOMETRY_FLAG_REQUIRE_SINGLE_ANYHIT_CALL) return true;
+    }
+  }
+  return false;
+}
+
+// PREFER_FAST_TRACE: Embree's high quality (spatial splits), unless some record requires a single
+// any-hit call (a split triangle is offered once per piece); PREFER_FAST_BUILD: low; neither:
+// medium.
+RTCBuildQuality QualityOf(const unsigned char* bytes, const AccelHeader& h) {
+  if (h.build_flags & OPTIX_BUILD_FLAG_PREFER_FAST_BUILD) return RTC_BUILD_QUALITY_LOW;
+  if ((h.build_flags & OPTIX_BUILD_FLAG_PREFER_FAST_TRACE) && !RequiresSingleAnyHit(bytes, h)) {
+    return RTC_BUILD_QUALITY_HIGH;
+  }
+  return RTC_BUILD_QUALITY_MEDIUM;
+}
+
+bool Updatable(const AccelHeader& h) {
+  return h.kind != AccelKind::kInstances && (h.build_flags & OPTIX_BUILD_FLAG_ALLOW_UPDATE) != 0;
 }
 
 Optix7Motion MotionOf(const AccelHeader& h) {
@@ -135,12 +162,14 @@ Optix7Scene::~Optix7Scene() {
   if (scene != nullptr) rtcReleaseScene(scene);
 }
 
-absl::StatusOr<const Optix7Scene*> Optix7SceneCache::Get(uint64_t handle, uint64_t serial) {
+absl::StatusOr<const Optix7Scene*> Optix7SceneCache::Get(uint64_t handle, uint64_t serial,
+                                                         uint32_t accuracy) {
   if (serial == 0 || serial != serial_) {
     this_launch_.clear();
     keys_this_launch_.clear();
     serial_ = serial;
   }
+  accuracy_ = accuracy;
   if (serial != 0) {
     if (auto it = this_launch_.find(handle); it != this_launch_.end()) return it->second;
   }
@@ -149,7 +178,22 @@ absl::StatusOr<const Optix7Scene*> Optix7SceneCache::Get(uint64_t handle, uint64
   return s;
 }
 
-// What identifies the scene of `handle`: a GAS's content hash; for an IAS, its content hash with
+uint32_t Optix7SceneCache::AccuracyOf(const AccelHeader& h) const {
+  uint32_t a = accuracy_ &
+               (TESSERA_ACCURACY_ROBUST | TESSERA_ACCURACY_WATERTIGHT | TESSERA_ACCURACY_COMPACT);
+  if (h.build_flags & TESSERA_OPTIX_BUILD_FLAG_ROBUST) a |= TESSERA_ACCURACY_ROBUST;
+  if (h.build_flags & TESSERA_OPTIX_BUILD_FLAG_WATERTIGHT) a |= TESSERA_ACCURACY_WATERTIGHT;
+  if (h.build_flags & TESSERA_OPTIX_BUILD_FLAG_COMPACT) a |= TESSERA_ACCURACY_COMPACT;
+  if (a & TESSERA_ACCURACY_WATERTIGHT) a |= TESSERA_ACCURACY_ROBUST;
+  return a;
+}
+
+uint64_t Optix7SceneCache::GasKey(uint64_t handle, const AccelHeader& h) const {
+  return absl::HashOf(h.content_hash, h.build_flags, AccuracyOf(h),
+                      Updatable(h) ? handle : uint64_t{0});
+}
+
+// What identifies the scene of `handle`: a GAS's GasKey; for an IAS, its content hash with
 // its children's keys, so that a child rebuilt in place (the IAS's bytes unchanged) gives a new
 // key; for a transform, its handle (programs see it in transform lists), its bytes and its
 // child's key.
@@ -180,7 +224,9 @@ absl::StatusOr<uint64_t> Optix7SceneCache::KeyOf(uint64_t handle, unsigned depth
                        available == 0 ? "not in device memory" : read.status().message()));
     }
     const AccelHeader& h = **read;
-    key = h.content_hash;
+    key = h.kind == AccelKind::kInstances
+              ? absl::HashOf(h.content_hash, h.build_flags, AccuracyOf(h))
+              : GasKey(handle, h);
     if (h.kind == AccelKind::kInstances) {
       const auto* bytes = reinterpret_cast<const unsigned char*>(handle);
       for (uint64_t k = 0; k < h.primitive_count; ++k) {
@@ -295,6 +341,184 @@ absl::Status Optix7SceneCache::BuildInstances(uint64_t handle, unsigned depth, O
   return absl::OkStatus();
 }
 
+absl::Status Optix7SceneCache::BuildPrimitives(const unsigned char* bytes, Optix7Scene& s) {
+  const AccelHeader& h = *s.header;
+  s.time = s.motion;
+  const unsigned keys = s.motion.keys;
+  const RTCBuildQuality quality = Updatable(h) ? RTC_BUILD_QUALITY_REFIT : QualityOf(bytes, h);
+  // Motion triangles stay native in watertight mode: Embree interpolates their vertices.
+  const bool watertight = (s.accuracy & TESSERA_ACCURACY_WATERTIGHT) != 0 &&
+                          h.kind == AccelKind::kTriangles && keys == 1;
+  const auto* inputs = reinterpret_cast<const AccelInput*>(bytes + h.inputs_offset);
+  s.custom_boxes.reserve(h.input_count);
+  uint32_t sbt_base = 0;
+  for (uint32_t i = 0; i < h.input_count; ++i) {
+    const AccelInput& in = inputs[i];
+    s.sbt_bases.push_back(sbt_base);
+    const uint32_t input_base = sbt_base;
+    sbt_base += in.num_sbt_records;
+    if (in.primitive_count == 0) continue;  // nothing to hit
+    RTCGeometry g;
+    std::unique_ptr<Optix7WatertightMesh> mesh;
+    if (watertight) {
+      mesh = std::make_unique<Optix7WatertightMesh>();
+      g = NewWatertightGeometry(device_, bytes, in, mesh.get());
+      if (g == nullptr) return absl::ResourceExhaustedError("Embree could not make a geometry");
+    } else if (h.kind == AccelKind::kTriangles || h.kind == AccelKind::kSpheres) {
+      const bool spheres = h.kind == AccelKind::kSpheres;
+      g = rtcNewGeometry(device_,
+                         spheres ? RTC_GEOMETRY_TYPE_SPHERE_POINT : RTC_GEOMETRY_TYPE_TRIANGLE);
+      rtcSetGeometryTimeStepCount(g, keys);
+      // Copies: Embree reads vertices 16 bytes at a time, past the end of the last.
+      const size_t vertex_bytes = spheres ? 16 : 12;
+      bool allocated = true;
+      for (unsigned k = 0; k < keys; ++k) {
+        void* v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, k,
+                                          spheres ? RTC_FORMAT_FLOAT4 : RTC_FORMAT_FLOAT3,
+                                          vertex_bytes, in.vertex_count);
+        if (v == nullptr) {
+          allocated = false;
+          break;
+        }
+        std::memcpy(v, bytes + in.vertices_offset + vertex_bytes * in.vertex_count * k,
+                    vertex_bytes * in.vertex_count);
+      }
+      if (allocated && !spheres) {
+        void* x = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12,
+                                          in.primitive_count);
+        if (x != nullptr) {
+          std::memcpy(x, bytes + in.indices_offset, 12ull * in.primitive_count);
+        } else {
+          allocated = false;
+        }
+      }
+      if (!allocated) {
+        rtcReleaseGeometry(g);
+        return absl::ResourceExhaustedError("Embree could not allocate vertex buffers");
+      }
+    } else {
+      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+      rtcSetGeometryTimeStepCount(g, keys);
+      rtcSetGeometryUserPrimitiveCount(g, in.primitive_count);
+      s.custom_boxes.push_back(Optix7Scene::Boxes{
+          reinterpret_cast<const float*>(bytes + in.aabbs_offset), in.primitive_count});
+      rtcSetGeometryUserData(g, &s.custom_boxes.back());
+      rtcSetGeometryBoundsFunction(g, &BoundsFromDescriptor, nullptr);
+      rtcSetGeometryIntersectFunction(g, intersect_);
+    }
+    rtcSetGeometryBuildQuality(g, quality);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(s.scene, g);
+    rtcReleaseGeometry(g);
+    if (id != s.input_of_geometry.size()) {
+      return absl::InternalError("Embree numbered geometries out of order");
+    }
+    s.input_of_geometry.push_back(i);
+    s.geometries.push_back(Optix7Scene::Geometry{in, input_base});
+    s.watertight.push_back(std::move(mesh));
+  }
+  s.sbt_bases.push_back(sbt_base);
+  return absl::OkStatus();
+}
+
+Optix7Scene* Optix7SceneCache::Refit(uint64_t handle, const AccelHeader& h, uint64_t key) {
+  const auto* bytes = reinterpret_cast<const unsigned char*>(handle);
+  const auto* inputs = reinterpret_cast<const AccelInput*>(bytes + h.inputs_offset);
+  for (uint32_t i = 0; i < h.input_count; ++i) {
+    if ((inputs[i].flags & memory::kAccelInputUpdate) == 0) return nullptr;  // a build
+  }
+  auto u = updatable_.find(handle);
+  if (u == updatable_.end()) return nullptr;
+  auto it = by_hash_.find(u->second);
+  if (it == by_hash_.end()) return nullptr;
+  Optix7Scene& s = *it->second;
+  // OptiX requires an update's inputs to match the build's but for positions (and boxes); one
+  // that does not is built anew.
+  const AccelHeader& old = *s.header;
+  const Optix7Motion motion = MotionOf(h);
+  if (s.updatable != handle || s.kind != h.kind || old.input_count != h.input_count ||
+      old.build_flags != h.build_flags || s.accuracy != AccuracyOf(h) ||
+      s.motion.keys != motion.keys || s.motion.flags != motion.flags ||
+      s.motion.begin != motion.begin || s.motion.end != motion.end ||
+      s.geometries.size() > h.input_count) {
+    return nullptr;
+  }
+  for (size_t gi = 0; gi < s.geometries.size(); ++gi) {
+    const AccelInput& was = s.geometries[gi].input;
+    const AccelInput& in = inputs[s.input_of_geometry[gi]];
+    if (was.primitive_count != in.primitive_count || was.vertex_count != in.vertex_count ||
+        was.num_sbt_records != in.num_sbt_records) {
+      return nullptr;
+    }
+    if (h.kind == AccelKind::kTriangles) {
+      RTCGeometry g = rtcGetGeometry(s.scene, static_cast<unsigned>(gi));
+      const void* indices = s.watertight[gi] != nullptr
+                                ? static_cast<const void*>(s.watertight[gi]->indices.data())
+                                : rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_INDEX, 0);
+      if (std::memcmp(indices, bytes + in.indices_offset, 12ull * in.primitive_count) != 0) {
+        return nullptr;
+      }
+    }
+  }
+  // The same topology: new positions into the geometries Embree holds, then a refit.
+  for (size_t gi = 0; gi < s.geometries.size(); ++gi) {
+    const uint32_t input = s.input_of_geometry[gi];
+    const AccelInput& in = inputs[input];
+    RTCGeometry g = rtcGetGeometry(s.scene, static_cast<unsigned>(gi));
+    if (s.watertight[gi] != nullptr) {
+      std::memcpy(s.watertight[gi]->vertices.data(), bytes + in.vertices_offset,
+                  12ull * in.vertex_count);
+    } else if (h.kind == AccelKind::kTriangles || h.kind == AccelKind::kSpheres) {
+      const size_t vertex_bytes = h.kind == AccelKind::kSpheres ? 16 : 12;
+      for (unsigned k = 0; k < motion.keys; ++k) {
+        std::memcpy(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, k),
+                    bytes + in.vertices_offset + vertex_bytes * in.vertex_count * k,
+                    vertex_bytes * in.vertex_count);
+        rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, k);
+      }
+    } else {
+      // Custom primitives read their boxes from the descriptor, which an update rewrote in place.
+      auto* boxes = static_cast<Optix7Scene::Boxes*>(rtcGetGeometryUserData(g));
+      boxes->boxes = reinterpret_cast<const float*>(bytes + in.aabbs_offset);
+    }
+    rtcCommitGeometry(g);
+    s.geometries[gi].input = in;
+  }
+  s.header = &h;
+  if (!Committed(device_, s.scene, "a refit OptiX 7 acceleration").ok()) return nullptr;
+  ++s.refits;
+  ++refitted_;
+  // IAS scenes over the refit scene hold its old bounds: forget them (their keys named the
+  // scene's old content, so no launch from now on asks for them), and those over them.
+  std::vector<const Optix7Scene*> stale{&s};
+  for (bool more = true; more;) {
+    more = false;
+    for (auto e = by_hash_.begin(); e != by_hash_.end();) {
+      const Optix7Scene& ias = *e->second;
+      const bool over = ias.kind == AccelKind::kInstances &&
+                        std::any_of(ias.children.begin(), ias.children.end(), [&](const auto* c) {
+                          return std::find(stale.begin(), stale.end(), c) != stale.end();
+                        });
+      if (!over) {
+        ++e;
+        continue;
+      }
+      stale.push_back(&ias);
+      for (auto l = this_launch_.begin(); l != this_launch_.end();) {
+        l = l->second == &ias ? this_launch_.erase(l) : std::next(l);
+      }
+      e = by_hash_.erase(e);
+      more = true;
+    }
+  }
+  std::unique_ptr<Optix7Scene> owned = std::move(by_hash_[u->second]);
+  by_hash_.erase(u->second);
+  u->second = key;
+  Optix7Scene* result = owned.get();
+  by_hash_[key] = std::move(owned);
+  return result;
+}
+
 absl::StatusOr<const Optix7Scene*> Optix7SceneCache::GetAt(uint64_t handle, unsigned depth) {
   if (IsTransformHandle(handle)) {
     return absl::InvalidArgumentError(
@@ -313,92 +537,42 @@ absl::StatusOr<const Optix7Scene*> Optix7SceneCache::GetAt(uint64_t handle, unsi
         absl::StrCat("traversable handle 0x", absl::Hex(handle), ": ", read.status().message()));
   }
   const AccelHeader& h = **read;
-  uint64_t key = h.content_hash;
+  uint64_t key;
   if (h.kind == AccelKind::kInstances) {
     absl::StatusOr<uint64_t> k = KeyOf(handle, depth);
     if (!k.ok()) return k.status();
     key = *k;
+  } else {
+    key = GasKey(handle, h);
   }
   if (auto it = by_hash_.find(key); it != by_hash_.end()) return it->second.get();
+  if (Updatable(h)) {
+    if (Optix7Scene* refit = Refit(handle, h, key); refit != nullptr) return refit;
+  }
 
+  const auto* bytes = reinterpret_cast<const unsigned char*>(handle);
   auto s = std::make_unique<Optix7Scene>();
   s->kind = h.kind;
   s->header = &h;
   s->motion = MotionOf(h);
+  s->accuracy = AccuracyOf(h);
   s->scene = rtcNewScene(device_);
   // Traces that need per-hit decisions on triangles (any-hit programs, culling, masks) pass a
   // filter in their intersect context; the others pass none and pay nothing for it.
-  rtcSetSceneFlags(s->scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-  rtcSetSceneBuildQuality(s->scene, QualityOf(h.build_flags));
-  const auto* bytes = reinterpret_cast<const unsigned char*>(handle);
+  int flags = RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION;
+  if (s->accuracy & TESSERA_ACCURACY_ROBUST) flags |= RTC_SCENE_FLAG_ROBUST;
+  if (s->accuracy & TESSERA_ACCURACY_COMPACT) flags |= RTC_SCENE_FLAG_COMPACT;
+  // Embree refits geometries of REFIT quality in a dynamic scene when only their buffers changed.
+  if (Updatable(h)) {
+    flags |= RTC_SCENE_FLAG_DYNAMIC;
+    s->updatable = handle;
+  }
+  rtcSetSceneFlags(s->scene, static_cast<RTCSceneFlags>(flags));
+  rtcSetSceneBuildQuality(s->scene, QualityOf(bytes, h));
   if (h.kind == AccelKind::kInstances) {
     if (absl::Status st = BuildInstances(handle, depth, *s); !st.ok()) return st;
   } else {
-    s->time = s->motion;
-    const unsigned keys = s->motion.keys;
-    const auto* inputs = reinterpret_cast<const AccelInput*>(bytes + h.inputs_offset);
-    s->custom_boxes.reserve(h.input_count);
-    uint32_t sbt_base = 0;
-    for (uint32_t i = 0; i < h.input_count; ++i) {
-      const AccelInput& in = inputs[i];
-      s->sbt_bases.push_back(sbt_base);
-      const uint32_t input_base = sbt_base;
-      sbt_base += in.num_sbt_records;
-      if (in.primitive_count == 0) continue;  // nothing to hit
-      RTCGeometry g;
-      if (h.kind == AccelKind::kTriangles || h.kind == AccelKind::kSpheres) {
-        const bool spheres = h.kind == AccelKind::kSpheres;
-        g = rtcNewGeometry(device_,
-                           spheres ? RTC_GEOMETRY_TYPE_SPHERE_POINT : RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetGeometryTimeStepCount(g, keys);
-        // Copies: Embree reads vertices 16 bytes at a time, past the end of the last.
-        const size_t vertex_bytes = spheres ? 16 : 12;
-        bool allocated = true;
-        for (unsigned k = 0; k < keys; ++k) {
-          void* v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, k,
-                                            spheres ? RTC_FORMAT_FLOAT4 : RTC_FORMAT_FLOAT3,
-                                            vertex_bytes, in.vertex_count);
-          if (v == nullptr) {
-            allocated = false;
-            break;
-          }
-          std::memcpy(v, bytes + in.vertices_offset + vertex_bytes * in.vertex_count * k,
-                      vertex_bytes * in.vertex_count);
-        }
-        if (allocated && !spheres) {
-          void* x = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12,
-                                            in.primitive_count);
-          if (x != nullptr) {
-            std::memcpy(x, bytes + in.indices_offset, 12ull * in.primitive_count);
-          } else {
-            allocated = false;
-          }
-        }
-        if (!allocated) {
-          rtcReleaseGeometry(g);
-          return absl::ResourceExhaustedError("Embree could not allocate vertex buffers");
-        }
-      } else {
-        g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
-        rtcSetGeometryTimeStepCount(g, keys);
-        rtcSetGeometryUserPrimitiveCount(g, in.primitive_count);
-        s->custom_boxes.push_back(Optix7Scene::Boxes{
-            reinterpret_cast<const float*>(bytes + in.aabbs_offset), in.primitive_count});
-        rtcSetGeometryUserData(g, &s->custom_boxes.back());
-        rtcSetGeometryBoundsFunction(g, &BoundsFromDescriptor, nullptr);
-        rtcSetGeometryIntersectFunction(g, intersect_);
-      }
-      rtcSetGeometryBuildQuality(g, QualityOf(h.build_flags));
-      rtcCommitGeometry(g);
-      const unsigned id = rtcAttachGeometry(s->scene, g);
-      rtcReleaseGeometry(g);
-      if (id != s->input_of_geometry.size()) {
-        return absl::InternalError("Embree numbered geometries out of order");
-      }
-      s->input_of_geometry.push_back(i);
-      s->geometries.push_back(Optix7Scene::Geometry{in, input_base});
-    }
-    s->sbt_bases.push_back(sbt_base);
+    if (absl::Status st = BuildPrimitives(bytes, *s); !st.ok()) return st;
   }
   if (absl::Status st = Committed(device_, s->scene, "an OptiX 7 acceleration"); !st.ok()) {
     return st;
@@ -406,6 +580,7 @@ absl::StatusOr<const Optix7Scene*> Optix7SceneCache::GetAt(uint64_t handle, unsi
   ++built_;
   const Optix7Scene* result = s.get();
   by_hash_[key] = std::move(s);
+  if (Updatable(h)) updatable_[handle] = key;
   return result;
 }
 

@@ -17,6 +17,7 @@
 #include "absl/status/statusor.h"
 #include "accel_format.h"
 #include "optix7_transforms.h"
+#include "optix7_watertight.h"
 
 namespace tessera::worker {
 
@@ -59,6 +60,15 @@ struct Optix7Scene {
   std::vector<Boxes> custom_boxes;
   // The descriptor the scene was built from, in device memory (valid while the memory is).
   const memory::AccelHeader* header = nullptr;
+  // TESSERA_ACCURACY_ROBUST, _WATERTIGHT and _COMPACT bits it was built with: the launch's
+  // context flags and the acceleration's TESSERA_OPTIX_BUILD_FLAG_* bits (AccuracyOf).
+  uint32_t accuracy = 0;
+  // Watertight mode: the triangles each such user geometry holds (by geomID; null for others).
+  std::vector<std::unique_ptr<Optix7WatertightMesh>> watertight;
+  // A GAS built with OPTIX_BUILD_FLAG_ALLOW_UPDATE: the buffer it was built for (0 otherwise),
+  // whose OPTIX_BUILD_OPERATION_UPDATE refits this scene in place, and how often it was.
+  uint64_t updatable = 0;
+  unsigned refits = 0;
 
   // What the engine needs at a hit, copied out of the descriptor so that tracing reads no
   // descriptor fields. GAS: per Embree geometry, its build input and the SBT geometry-AS index of
@@ -113,9 +123,13 @@ class Optix7SceneCache {
   // answers are remembered by handle. INVALID_ARGUMENT for a handle that is no descriptor, a
   // transform that is not in device memory or has invalid motion options, a graph deeper than
   // kMaxGraphDepth or with a cycle.
-  absl::StatusOr<const Optix7Scene*> Get(uint64_t handle, uint64_t serial = 0);
+  // `accuracy`: the launch's TESSERA_ACCURACY_* bits; scenes are keyed by what they were built
+  // with, so launches of other settings get scenes of their own.
+  absl::StatusOr<const Optix7Scene*> Get(uint64_t handle, uint64_t serial = 0,
+                                         uint32_t accuracy = 0);
 
   size_t built() const { return built_; }
+  size_t refitted() const { return refitted_; }
 
   // Instances and transforms on one path from a trace's root to a GAS, at most (a transform list
   // longer than OptiX's limit of traversable graph depth 31 is refused when a scene is built).
@@ -125,6 +139,15 @@ class Optix7SceneCache {
   absl::StatusOr<const Optix7Scene*> GetAt(uint64_t handle, unsigned depth);
   absl::StatusOr<uint64_t> KeyOf(uint64_t handle, unsigned depth);
   absl::Status BuildInstances(uint64_t handle, unsigned depth, Optix7Scene& s);
+  absl::Status BuildPrimitives(const unsigned char* bytes, Optix7Scene& s);
+  // The ROBUST/WATERTIGHT/COMPACT bits a scene of `h` gets under the current launch.
+  uint32_t AccuracyOf(const memory::AccelHeader& h) const;
+  // A GAS's key: its content, build flags and accuracy, and for ALLOW_UPDATE its buffer.
+  uint64_t GasKey(uint64_t handle, const memory::AccelHeader& h) const;
+  // An OPTIX_BUILD_OPERATION_UPDATE of `handle` whose previous scene this cache holds with the
+  // same counts and indices: refits that scene in place (Embree REFIT quality), files it under
+  // `key` and forgets every IAS scene built over it. Null when it cannot (then a build follows).
+  Optix7Scene* Refit(uint64_t handle, const memory::AccelHeader& h, uint64_t key);
 
   RTCDevice device_;
   RTCIntersectFunctionN intersect_;
@@ -134,7 +157,11 @@ class Optix7SceneCache {
   uint64_t serial_ = 0;
   std::unordered_map<uint64_t, const Optix7Scene*> this_launch_;  // by handle, for serial_
   std::unordered_map<uint64_t, uint64_t> keys_this_launch_;       // by handle, for serial_
+  uint32_t accuracy_ = 0;                                         // of the launch of serial_
+  // ALLOW_UPDATE GASes: the key of the scene last built or refit for each buffer.
+  std::unordered_map<uint64_t, uint64_t> updatable_;
   size_t built_ = 0;
+  size_t refitted_ = 0;
 };
 
 }  // namespace tessera::worker

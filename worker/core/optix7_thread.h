@@ -180,6 +180,11 @@ int Optix7ReportIntersection(float hit_t, unsigned int hit_kind, unsigned int nu
 void Optix7IgnoreIntersection();
 void Optix7TerminateRay();
 
+// Accuracy (optix7_accuracy.cc): the table's tesseraOptixGetSpawnPoint entry, and
+// TESSERA_ACCURACY_OFFSET_RAYS: a ray the running closest-hit program traces from its triangle
+// hit's point (StartsAtHit, watertight.h) starts at the spawn point instead, with tmin 0.
+void FillAccuracyTable(TesseraOptix7Runtime& r);
+void OffsetSpawnedRay(const Optix7Thread& ts, TesseraOptix7Trace& ray);
 // Forgets what a launch index left half done (an exception or an interrupt unwound it).
 void ResetOptix7Nesting(Optix7Thread& ts);
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -14,6 +15,7 @@
 #include "optix7_engine.h"
 #include "optix7_thread.h"
 #include "optix_types.h"
+#include "tessera/accuracy.h"
 
 namespace tessera::worker {
 namespace {
@@ -257,6 +259,13 @@ void FilterTriangle(const RTCFilterFunctionNArguments* args) {
     Locate(*c, RTCHitN_instID(args->hit, n, 0, 0), RTCHitN_geomID(args->hit, n, 0),
            RTCHitN_primID(args->hit, n, 0), h);
     h.t = RTCRayN_tfar(args->ray, n, 0);
+    // Embree's tnear is below tmin (EmbreeTnear): what its rounding puts before tmin is no hit;
+    // what it puts past tmax (a reciprocal's ulp) is at tmax.
+    if (!(h.t >= f.ray.tmin)) {
+      args->valid[0] = 0;
+      return;
+    }
+    h.t = std::min(h.t, f.ray.tmax);
     bool keep = Visible(f, h) && Face(f, h, RTCHitN_u(args->hit, n, 0), RTCHitN_v(args->hit, n, 0));
     if (keep) {
       const AnyHit decision = DecideAnyHit(f, h);
@@ -334,6 +343,31 @@ void IntersectCustom(const RTCIntersectFunctionNArguments* args) {
   f.embree = nullptr;
 }
 
+// Embree's tnear for a trace from tmin: Embree counts hits after tnear, OptiX from tmin on ("any
+// reported hits with hitT outside of this range are ignored": [tmin, tmax] closed), so the float
+// before it; hits that land before tmin are refused by the filter or by IntersectClosed. Embree
+// refuses a negative tnear, so from tmin 0 a native triangle at exactly t = 0 (the ray's origin
+// on it) is not hit; watertight triangles and intersection programs are.
+float EmbreeTnear(float tmin) { return tmin > 0.f ? std::nextafter(tmin, 0.f) : 0.f; }
+
+// rtcIntersect1 over OptiX's closed [tmin, tmax]. Without the filter, a triangle hit whose t
+// rounds below tmin is traversed again from tmin itself (Embree's open end, rare); a t past tmax
+// by rounding is tmax.
+void IntersectClosed(RTCScene scene, RTCIntersectContext* context, RTCRayHit& rh, float tmin,
+                     bool filtered, const Optix7Frame& f) {
+  const float tfar = rh.ray.tfar;
+  rtcIntersect1(scene, context, &rh);
+  if (filtered || f.pending || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+  if (!(rh.ray.tfar >= tmin)) {
+    rh.ray.tnear = tmin;
+    rh.ray.tfar = tfar;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, context, &rh);
+  }
+  if (rh.ray.tfar > tfar) rh.ray.tfar = tfar;
+}
+
 void RethrowPending(Optix7Frame& f) {
   if (f.pending) {
     std::exception_ptr p = f.pending;
@@ -355,13 +389,6 @@ bool NeedsFilter(const Optix7Thread& ts, const Optix7Frame& f) {
 }
 
 bool Finite(float v) { return std::isfinite(v); }
-
-bool HasNaN(const TesseraOptix7Trace& r) {
-  for (int i = 0; i < 3; ++i) {
-    if (std::isnan(r.origin[i]) || std::isnan(r.direction[i])) return true;
-  }
-  return std::isnan(r.tmin) || std::isnan(r.tmax);
-}
 
 // OPTIX_EXCEPTION_CODE_INVALID_RAY's condition (guide 11.14): an inf or NaN argument, or a
 // negative tmin. tmax may be infinite.
@@ -468,7 +495,7 @@ void IntersectNode(const RTCIntersectFunctionNArguments* args) {
     nested.scene = &child;
     nested.scene_handle = node.child_handle;
     nested.path = &path;
-    rtcIntersect1(child.scene, &nested.rtc, &rh);
+    IntersectClosed(child.scene, &nested.rtc, rh, f.ray.tmin, c->rtc.filter != nullptr, f);
     if (f.pending || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
     Resolve(nested, rh, c->rtc.filter != nullptr);
     outer->ray.tfar = rh.ray.tfar;
@@ -566,6 +593,7 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
   }
   Optix7Frame& f = ts.frames[ts.depth];
   f.ray = *ray;
+  if (ts.launch->accuracy & TESSERA_ACCURACY_OFFSET_RAYS) OffsetSpawnedRay(ts, f.ray);
   // Guide 10, "Limits": the bits past these widths are ignored.
   f.ray.sbt_offset &= 0xFu;
   f.ray.sbt_stride &= 0xFu;
@@ -578,10 +606,11 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
   f.has_committed = f.terminated = false;
   f.pending = nullptr;
   f.root_handle = ray->handle;
-  // A null handle traces nothing (OptiX allows it: every ray misses); so does a ray with a NaN,
-  // which Embree's result would not be defined for, when the DEBUG exception is off, and a ray
-  // at a time when the root has vanished (its motion flags).
-  const bool traverse = ray->handle != 0 && !HasNaN(f.ray);
+  // A null handle traces nothing (OptiX allows it: every ray misses); neither does an invalid ray
+  // (an infinite or NaN origin, direction, tmin or time, a NaN tmax, a negative tmin: what the
+  // DEBUG exception reports) when the DEBUG exception is off, whose Embree result would not be
+  // defined: it misses, as does a ray at a time when the root has vanished (its motion flags).
+  const bool traverse = ray->handle != 0 && ValidRay(f.ray);
   f.root = traverse ? SceneOf(ts, ray->handle, "optixTrace") : nullptr;
   if (f.root != nullptr && f.root->motion.Vanished(f.ray.ray_time)) f.root = nullptr;
   struct Pop {
@@ -598,7 +627,7 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
     rh.ray.org_x = f.ray.origin[0];
     rh.ray.org_y = f.ray.origin[1];
     rh.ray.org_z = f.ray.origin[2];
-    rh.ray.tnear = f.ray.tmin;
+    rh.ray.tnear = EmbreeTnear(f.ray.tmin);
     rh.ray.dir_x = f.ray.direction[0];
     rh.ray.dir_y = f.ray.direction[1];
     rh.ray.dir_z = f.ray.direction[2];
@@ -616,7 +645,7 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
     c.scene = f.root;
     c.scene_handle = ray->handle;
     c.path = nullptr;
-    rtcIntersect1(f.root->scene, &c.rtc, &rh);
+    IntersectClosed(f.root->scene, &c.rtc, rh, f.ray.tmin, filtered, f);
     RethrowPending(f);
     Resolve(c, rh, filtered);
   }
@@ -631,8 +660,11 @@ int Optix7ReportIntersection(float hit_t, unsigned int hit_kind, unsigned int nu
   CheckKind(ts, KindBit(Optix7Kind::kIntersection), "optixReportIntersection");
   Optix7Frame& f = *ts.ctx.frame;
   RTCRayHit* rh = f.embree;
-  // Guide 11.4: a hit outside [tmin, tmax] (tmax: the closest accepted so far) is not reported.
-  if (f.terminated || !(hit_t >= rh->ray.tnear && hit_t <= rh->ray.tfar)) return 0;
+  // Guide 11.4: a hit outside [tmin, tmax] (tmax: the closest accepted so far) is not reported;
+  // nor is a NaN or infinite one (tmax may be infinite), which no program may see.
+  if (f.terminated || !(hit_t >= f.ray.tmin && hit_t <= rh->ray.tfar) || !std::isfinite(hit_t)) {
+    return 0;
+  }
   Optix7Hit& h = *ts.ctx.hit;
   h.t = hit_t;
   h.hit_kind = hit_kind & 0x7Fu;  // the lowest 7 bits are the program's

@@ -63,8 +63,11 @@ struct AccelInput {
   uint64_t aabbs_offset;
   uint64_t flags_offset;
   uint64_t sbt_index_offsets_offset;
-  uint64_t reserved;
+  uint64_t flags;  // kAccelInput* bits (0 in descriptors of Tessera before them)
 };
+// The input was written by OPTIX_BUILD_OPERATION_UPDATE: a worker that built the scene of the
+// same buffer (ALLOW_UPDATE, the same counts and indices) refits it in place.
+inline constexpr uint64_t kAccelInputUpdate = 1;
 static_assert(sizeof(AccelInput) == 64);
 
 // An IAS holds its instances as OptiX lays them out (OptixInstance, 80 bytes), copied from the

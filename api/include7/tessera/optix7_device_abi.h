@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 /* Raised whenever the table or the meaning of a query changes; module and engine must agree. */
-#define TESSERA_OPTIX7_MODULE_ABI_VERSION 2u
+#define TESSERA_OPTIX7_MODULE_ABI_VERSION 3u
 
 /* One optixTrace: the ray and traversal arguments as the program passed them. */
 typedef struct TesseraOptix7Trace {
@@ -204,6 +204,9 @@ typedef struct TesseraOptix7Runtime {
   const unsigned int* atomics_noted;
   void (*note_atomic)(void* address, unsigned int op, unsigned long long operand,
                       unsigned int limit);
+  /* ---- Accuracy (version 3; tessera/optix7_accuracy.h): the world-space origin for a ray that
+   * leaves the current hit in world direction `direction` (tesseraOptixGetSpawnPoint). */
+  void (*spawn_point)(const float direction[3], float out[3]);
 } TesseraOptix7Runtime;
 
 /* Exported by every module (defined weakly by optix_device.h): stores `runtime` for the
