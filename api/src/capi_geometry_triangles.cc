@@ -55,6 +55,20 @@ RTresult rtGeometryTrianglesGetContext(RTgeometrytriangles geometrytriangles, RT
   return GetContextCall<GeometryTriangles>(__func__, geometrytriangles, context);
 }
 
+RTresult rtGeometryTrianglesSetBuildFlags(RTgeometrytriangles geometrytriangles,
+                                          RTgeometrybuildflags build_flags) {
+  return Call<GeometryTriangles>(
+      __func__, geometrytriangles, [&](GeometryTriangles&) -> absl::Status {
+        const unsigned bits = static_cast<unsigned>(build_flags);
+        if ((bits & ~unsigned{RT_GEOMETRY_BUILD_FLAG_RELEASE_BUFFERS}) != 0) {
+          return RtError(RT_ERROR_INVALID_VALUE,
+                         absl::StrCat("build flags 0x", absl::Hex(bits),
+                                      " hold bits OptiX 6 does not define (RT_GEOMETRY_BUILD_FLAG_"
+                                      "NONE 0x0, RELEASE_BUFFERS 0x10)"));
+        }
+        return absl::OkStatus();  // buffers are kept either way (rt.h)
+      });
+}
 RTresult rtGeometryTrianglesSetPrimitiveIndexOffset(RTgeometrytriangles geometrytriangles,
                                                     unsigned int index_offset) {
   return Call<GeometryTriangles>(__func__, geometrytriangles,

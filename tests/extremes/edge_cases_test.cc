@@ -188,6 +188,25 @@ TEST_P(EdgeCases, VertexBeyondEmbreeRangeFailsNamingIt) {
   }
 }
 
+// OptiX 6's rtGeometryTrianglesSetBuildFlags: NONE and RELEASE_BUFFERS are taken (Tessera keeps
+// the buffers either way, and the triangles are traced as before); other bits are refused by name.
+TEST_F(ExtremesScene, GeometryTrianglesBuildFlags) {
+  Build(UnitSquareAtZ1(), MeshKind::kGeometryTriangles, Placement{}, 0);
+  RTgeometrytriangles triangles = nullptr;
+  Ok(rtGeometryTrianglesCreate(ctx_, &triangles));
+  EXPECT_EQ(rtGeometryTrianglesSetBuildFlags(triangles, RT_GEOMETRY_BUILD_FLAG_NONE), RT_SUCCESS);
+  EXPECT_EQ(rtGeometryTrianglesSetBuildFlags(triangles, RT_GEOMETRY_BUILD_FLAG_RELEASE_BUFFERS),
+            RT_SUCCESS);
+  const RTresult bad =
+      rtGeometryTrianglesSetBuildFlags(triangles, static_cast<RTgeometrybuildflags>(0x3));
+  EXPECT_EQ(bad, RT_ERROR_INVALID_VALUE);
+  EXPECT_NE(Error(bad).find("build flags 0x3"), std::string::npos) << Error(bad);
+  EXPECT_EQ(rtGeometryTrianglesSetBuildFlags(nullptr, RT_GEOMETRY_BUILD_FLAG_NONE),
+            RT_ERROR_INVALID_VALUE);
+  rtGeometryTrianglesDestroy(triangles);
+  EXPECT_TRUE(Trace({Along(0.3f, 0.2f, 0.f, 2.f)})[0].hit);
+}
+
 INSTANTIATE_TEST_SUITE_P(Meshes, EdgeCases,
                          ::testing::Values(MeshKind::kGeometryTriangles,
                                            MeshKind::kApplicationMesh),

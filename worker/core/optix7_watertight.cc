@@ -14,16 +14,21 @@ const float* Vertex(const Optix7WatertightMesh& m, uint32_t index) {
   return m.vertices.data() + 3 * size_t{index};
 }
 
-// A triangle's box, each side moved out by one float step: conservative whatever Embree's box
-// tests round, so that robust traversal reaches every triangle the watertight test would hit.
+// A triangle's box, padded so that Embree's traversal reaches every triangle the watertight test
+// would hit (PadWatertightBounds says why).
 void WatertightBounds(const RTCBoundsFunctionArguments* args) {
   const auto& m = *static_cast<const Optix7WatertightMesh*>(args->geometryUserPtr);
   const uint32_t* tri = m.indices.data() + 3 * size_t{args->primID};
   float lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {
     const float a = Vertex(m, tri[0])[k], b = Vertex(m, tri[1])[k], c = Vertex(m, tri[2])[k];
-    lo[k] = std::nextafter(std::min({a, b, c}), -std::numeric_limits<float>::infinity());
-    hi[k] = std::nextafter(std::max({a, b, c}), std::numeric_limits<float>::infinity());
+    lo[k] = std::min({a, b, c});
+    hi[k] = std::max({a, b, c});
+  }
+  if (std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2])) {
+    PadWatertightBounds(lo, hi);
+  } else {  // a NaN or infinite vertex: never hit, as Embree drops such native triangles
+    for (int k = 0; k < 3; ++k) lo[k] = 1.f, hi[k] = -1.f;
   }
   args->bounds_o->lower_x = lo[0];
   args->bounds_o->lower_y = lo[1];

@@ -20,6 +20,7 @@
 #include "tessera/accuracy.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
+#include "watertight.h"
 
 namespace tessera::worker {
 namespace {
@@ -384,13 +385,7 @@ void WatertightBounds(const RTCBoundsFunctionArguments* args) {
   if (!finite) {
     b = Box{1.f, 1.f, 1.f, -1.f, -1.f, -1.f};
   } else {
-    // Embree's box test is not conservative for user geometry, robust or not: rays through a
-    // vertex on a box's face missed it (48 of 1284 through the vertices of a sphere of radius
-    // 1e-6). Four ulps of the box's largest coordinate make it so.
-    float extent = std::numeric_limits<float>::min();
-    for (float x : b) extent = std::max(extent, std::fabs(x));
-    const float pad = extent * 0x1p-21f;
-    for (int k = 0; k < 3; ++k) b[k] -= pad, b[k + 3] += pad;
+    PadWatertightBounds(&b[0], &b[3]);
   }
   *args->bounds_o = RTCBounds{b[0], b[1], b[2], 0.f, b[3], b[4], b[5], 0.f};
 }

@@ -457,6 +457,16 @@ RTAPI RTresult rtGeometryTrianglesDestroy(RTgeometrytriangles geometrytriangles)
 RTAPI RTresult rtGeometryTrianglesValidate(RTgeometrytriangles geometrytriangles);
 RTAPI RTresult rtGeometryTrianglesGetContext(RTgeometrytriangles geometrytriangles,
                                              RTcontext* context);
+/* OptiX 6 build flags of GeometryTriangles. */
+typedef enum {
+  RT_GEOMETRY_BUILD_FLAG_NONE = 0x00,
+  RT_GEOMETRY_BUILD_FLAG_RELEASE_BUFFERS = 0x10
+} RTgeometrybuildflags;
+/* RELEASE_BUFFERS lets OptiX free the device copies of the vertex and index buffers after the
+ * build; Tessera keeps them (tesseraSpawnPoint and refits read them) and accepts the flag. Other
+ * bits: RT_ERROR_INVALID_VALUE. */
+RTAPI RTresult rtGeometryTrianglesSetBuildFlags(RTgeometrytriangles geometrytriangles,
+                                                RTgeometrybuildflags build_flags);
 RTAPI RTresult rtGeometryTrianglesSetPrimitiveIndexOffset(RTgeometrytriangles geometrytriangles,
                                                           unsigned int index_offset);
 RTAPI RTresult rtGeometryTrianglesGetPrimitiveIndexOffset(RTgeometrytriangles geometrytriangles,
