@@ -207,6 +207,57 @@ TEST_F(ExtremesScene, GeometryTrianglesBuildFlags) {
   EXPECT_TRUE(Trace({Along(0.3f, 0.2f, 0.f, 2.f)})[0].hit);
 }
 
+// An acceleration with "refit" "1" whose vertices move (the acceleration marked dirty) is
+// refitted in place: every ray hits what a fresh build of the moved vertices hits, at the same t,
+// by default and in watertight mode, on an in-process device and on a worker process.
+TEST_P(EdgeCases, RefitFollowsMovedVertices) {
+  const meshgen::Mesh sphere = meshgen::Icosphere(3);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 400; ++i) {
+    const float a = 0.1f * i, b = 0.037f * i;
+    Ray r;
+    r.origin = {0.1f, -0.05f, 0.02f};
+    r.direction = {std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b)};
+    rays.push_back(r);
+  }
+  Placement moved;
+  moved.scale = 1.5;
+  moved.offset = {0.2, 0.0, -0.1};
+  for (const char* devices : {"inproc", "local:1"}) {
+    for (uint32_t flags : {0u, unsigned{TESSERA_ACCURACY_WATERTIGHT}}) {
+      Build(sphere, GetParam(), moved, flags, false, "Bvh", {}, devices);
+      const std::vector<RayResult> fresh = Trace(rays);
+      Build(sphere, GetParam(), Placement{}, flags, false, "Bvh", {{"refit", "1"}}, devices);
+      const std::vector<RayResult> before = Trace(rays);
+      // Move the vertices in place, as an animation does, and mark the acceleration dirty.
+      const std::vector<float> v = meshgen::Placed(sphere, moved.scale, moved.offset);
+      RTvariable top = ContextVar("top_object");
+      RTobject object = nullptr;
+      Ok(rtVariableGetObject(top, &object));
+      RTgeometrygroup group = static_cast<RTgeometrygroup>(object);
+      RTacceleration accel = nullptr;
+      Ok(rtGeometryGroupGetAcceleration(group, &accel));
+      RTbuffer vb = vertex_buffer();
+      void* p = nullptr;
+      Ok(rtBufferMap(vb, &p));
+      std::memcpy(p, v.data(), v.size() * sizeof(float));
+      Ok(rtBufferUnmap(vb));
+      Ok(rtAccelerationMarkDirty(accel));
+      const std::vector<RayResult> after = Trace(rays);
+      size_t differ = 0, moved_hits = 0;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        differ += (after[i].hit != fresh[i].hit || after[i].t != fresh[i].t ||
+                   after[i].primitive != fresh[i].primitive)
+                      ? 1
+                      : 0;
+        moved_hits += after[i].t != before[i].t ? 1 : 0;
+      }
+      EXPECT_EQ(differ, 0u) << devices << (flags ? " watertight" : " default");
+      EXPECT_GT(moved_hits, rays.size() / 2) << devices << ": the hits moved with the vertices";
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Meshes, EdgeCases,
                          ::testing::Values(MeshKind::kGeometryTriangles,
                                            MeshKind::kApplicationMesh),

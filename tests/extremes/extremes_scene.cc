@@ -33,6 +33,7 @@ void ExtremesScene::Build(const meshgen::Mesh& mesh, MeshKind kind, const Placem
   Ok(rtBufferMap(vb, &p));
   std::memcpy(p, stored_.data(), stored_.size() * sizeof(float));
   Ok(rtBufferUnmap(vb));
+  vertex_buffer_ = vb;
   Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &ib));
   Ok(rtBufferSetFormat(
       ib, kind == MeshKind::kGeometryTriangles ? RT_FORMAT_UNSIGNED_INT3 : RT_FORMAT_INT3));

@@ -49,9 +49,12 @@ class ExtremesScene : public RtFixture {
                                float epsilon = 1e-4f);
   // The vertices as the device holds them (world space when baked, object space otherwise).
   const std::vector<float>& stored() const { return stored_; }
+  // The vertex buffer Build made (refit tests move its vertices).
+  RTbuffer vertex_buffer() const { return vertex_buffer_; }
 
  private:
   std::vector<float> stored_;
+  RTbuffer vertex_buffer_ = nullptr;
 };
 
 }  // namespace tessera::testing
