@@ -13,6 +13,15 @@
 #include "texture_views.h"
 
 namespace tessera::worker {
+
+Mat MulMat(const Mat& a, const Mat& b) {
+  Mat c{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) c[i * 4 + j] += a[i * 4 + k] * b[k * 4 + j];
+  return c;
+}
+
 namespace {
 
 // Bytes of OptiX stack one nested rtTrace costs; the context's stack size divided by this is the
@@ -392,6 +401,7 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
         if (!ahb.ok()) return ahb.status();
         groups[rt] = HitGroup{*chb, *ahb};
         ip.has_any_hit = ip.has_any_hit || *ahb != nullptr;
+        if (*ahb != nullptr) ip.any_hit_types |= uint64_t{1} << std::min(rt, 63u);
       }
       ip.materials.push_back(std::move(groups));
     }
