@@ -108,6 +108,22 @@ RT_PROGRAM void mesh_intersect(int prim) {
   }
 }
 
+// mesh_intersect with the half x < 0 (object space) cut out: Embree's triangles find hits there
+// that the program rejects, and the ray is traced again with every candidate put to it.
+RT_PROGRAM void cutout_intersect(int prim) {
+  const int3 v = index_buffer[prim];
+  const float3 p0 = vertex_buffer[v.x], p1 = vertex_buffer[v.y], p2 = vertex_buffer[v.z];
+  float3 n;
+  float t, beta, gamma;
+  if (!intersect_triangle(ray, p0, p1, p2, n, t, beta, gamma)) return;
+  if (ray.origin.x + t * ray.direction.x < 0.f) return;
+  if (rtPotentialIntersection(t)) {
+    is_point = rtTransformPoint(RT_OBJECT_TO_WORLD, make_float3(1.f, 2.f, 3.f));
+    primitive = float(prim);
+    rtReportIntersection(0);
+  }
+}
+
 RT_PROGRAM void mesh_bounds(int prim, float result[6]) {
   const int3 v = index_buffer[prim];
   const float3 p0 = vertex_buffer[v.x], p1 = vertex_buffer[v.y], p2 = vertex_buffer[v.z];

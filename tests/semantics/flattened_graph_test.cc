@@ -64,7 +64,7 @@ class FlattenedGraphTest : public OnDevicesFixture {
     return Leaf(g, tag, "Bvh");
   }
   // A square of side 2 at z = 0 around (x, y) as two native triangles (Trbvh).
-  RTgeometrygroup Square(float x, float y, float tag) {
+  RTgeometrygroup Square(float x, float y, float tag, const char* intersect = "mesh_intersect") {
     RTbuffer vertices = nullptr, indices = nullptr;
     Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &vertices));
     Ok(rtBufferSetFormat(vertices, RT_FORMAT_FLOAT3));
@@ -72,9 +72,10 @@ class FlattenedGraphTest : public OnDevicesFixture {
     Ok(rtBufferCreate(ctx_, RT_BUFFER_INPUT, &indices));
     Ok(rtBufferSetFormat(indices, RT_FORMAT_INT3));
     Ok(rtBufferSetSize1D(indices, 2));
-    // Corners off the rays' grid (0.5 apart), so that no ray meets the shared edge.
-    const float quad[12] = {x - 1.1f, y - 1.1f, 0, x + 0.9f, y - 1.1f, 0,
-                            x + 0.9f, y + 0.9f, 0, x - 1.1f, y + 0.9f, 0};
+    // Corners off the rays' grid (0.5 apart, at quarters), so that no ray meets an edge, the
+    // diagonal the two triangles share included.
+    const float quad[12] = {x - 1.1f, y - 1.05f, 0, x + 0.9f, y - 1.05f, 0,
+                            x + 0.9f, y + 0.95f, 0, x - 1.1f, y + 0.95f, 0};
     const int triangles[6] = {0, 1, 2, 0, 2, 3};
     void* p = nullptr;
     Ok(rtBufferMap(vertices, &p));
@@ -86,7 +87,7 @@ class FlattenedGraphTest : public OnDevicesFixture {
     RTgeometry g = nullptr;
     Ok(rtGeometryCreate(ctx_, &g));
     Ok(rtGeometrySetPrimitiveCount(g, 2));
-    Ok(rtGeometrySetIntersectionProgram(g, Program(kModule, "mesh_intersect")));
+    Ok(rtGeometrySetIntersectionProgram(g, Program(kModule, intersect)));
     Ok(rtGeometrySetBoundingBoxProgram(g, Program(kModule, "mesh_bounds")));
     RTvariable v = nullptr;
     Ok(rtGeometryDeclareVariable(g, "vertex_buffer", &v));
@@ -155,7 +156,7 @@ class FlattenedGraphTest : public OnDevicesFixture {
     const float* p = &all[(kW * kH + y * kW + x) * 4];
     return {p[0], p[1], p[2], p[3]};
   }
-  // Launch index x of the ray through world x (rays start at -7.75, 0.5 apart).
+  // Launch index x of the ray through world x (rays start at -7.75, 0.5 apart: x is a quarter).
   static size_t Column(float x) { return static_cast<size_t>((x + 7.75f) / 0.5f); }
 
   std::vector<RTbuffer> outputs_;
@@ -176,9 +177,9 @@ TEST_P(FlattenedGraphTest, NestedGroupsWithSeveralChildren) {
       Group({Move(middle, 0.f, 0.5f, -1.f), Move(Move(ball, 2.f, 0.f, 0.f), 0.f, -1.f, 0.f)});
   const std::vector<float> out = Same(top);
   // The doubled sphere sits at x = 4.5, y = 0.5: its closest hit sees the whole chain.
-  const Float4 hit = HitAt(out, Column(4.5f), 4);
+  const Float4 hit = HitAt(out, Column(4.25f), 4);
   EXPECT_EQ(hit[1], 1.f);
-  const Float4 origin = PointAt(out, Column(4.5f), 4);
+  const Float4 origin = PointAt(out, Column(4.25f), 4);
   EXPECT_EQ(origin[0], 4.5f);
   EXPECT_EQ(origin[1], 0.5f);
   EXPECT_EQ(origin[2], 0.f);  // moved +1 inside, -1 above
@@ -200,10 +201,10 @@ TEST_P(FlattenedGraphTest, SharedSubgraphs) {
   RTgroup top = Group({Move(pair, -4.f, 0.f, 0.f), Move(pair, 4.f, 0.f, 2.f), ball,
                        Group({Move(Group({pair}), 0.f, 1.f, 0.f)})});
   const std::vector<float> out = Same(top);
-  EXPECT_EQ(HitAt(out, Column(-5.f), 3)[1], 3.f);
-  EXPECT_EQ(PointAt(out, Column(-5.f), 3)[0], -5.f);
-  EXPECT_EQ(PointAt(out, Column(5.f), 3)[2], 2.f);
-  EXPECT_EQ(PointAt(out, Column(1.f), 5)[1], 1.f);
+  EXPECT_EQ(HitAt(out, Column(-5.25f), 3)[1], 3.f);
+  EXPECT_EQ(PointAt(out, Column(-5.25f), 3)[0], -5.f);
+  EXPECT_EQ(PointAt(out, Column(5.25f), 3)[2], 2.f);
+  EXPECT_EQ(PointAt(out, Column(1.25f), 5)[1], 1.f);
 }
 
 // rtTransformSetMatrix between launches moves what is below, flattened or not.
@@ -212,15 +213,15 @@ TEST_P(FlattenedGraphTest, TransformsChangedBetweenLaunches) {
   RTtransform inner = Move(square, -4.f, 0.f, 0.f);
   RTgroup top = Group({Move(Group({inner}), 0.f, 0.f, 1.f)});
   const std::vector<float> before = Same(top);
-  EXPECT_EQ(HitAt(before, Column(-4.f), 4)[1], 4.f);
-  EXPECT_EQ(HitAt(before, Column(4.f), 4)[1], -1.f);
+  EXPECT_EQ(HitAt(before, Column(-4.25f), 4)[1], 4.f);
+  EXPECT_EQ(HitAt(before, Column(4.25f), 4)[1], -1.f);
   const float moved[16] = {1, 0, 0, 4, 0, 1, 0, 0, 0, 0, 1, 2, 0, 0, 0, 1};
   Ok(rtTransformSetMatrix(inner, 0, moved, nullptr));
   const std::vector<float> after = Same(top);
-  EXPECT_EQ(HitAt(after, Column(-4.f), 4)[1], -1.f);
-  EXPECT_EQ(HitAt(after, Column(4.f), 4)[1], 4.f);
-  EXPECT_EQ(PointAt(after, Column(4.f), 4)[2], 3.f);
-  EXPECT_EQ(HitAt(after, Column(4.f), 4)[0], 23.f);  // from z = -20 to z = 3
+  EXPECT_EQ(HitAt(after, Column(-4.25f), 4)[1], -1.f);
+  EXPECT_EQ(HitAt(after, Column(4.25f), 4)[1], 4.f);
+  EXPECT_EQ(PointAt(after, Column(4.25f), 4)[2], 3.f);
+  EXPECT_EQ(HitAt(after, Column(4.25f), 4)[0], 23.f);  // from z = -20 to z = 3
 }
 
 // A Transform above a flattened Group composes with the instances' transforms; a Selector in a
@@ -237,12 +238,28 @@ TEST_P(FlattenedGraphTest, TransformAboveAndSelectorInTheChain) {
                          Move(Group({ball}), 0.f, 1.f, 0.f)});
   RTtransform top = Transform(group, {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1});
   const std::vector<float> out = Same(top);
-  EXPECT_EQ(HitAt(out, Column(-6.f), 4)[1], 5.f);  // through the selector
-  EXPECT_EQ(PointAt(out, Column(-6.f), 4)[2], 2.f);
-  EXPECT_EQ(HitAt(out, Column(6.f), 4)[1], 6.f);
-  EXPECT_EQ(PointAt(out, Column(6.f), 4)[3], 2.f);  // the scale above
-  EXPECT_EQ(HitAt(out, Column(0.f), 7)[1], 5.f);
-  EXPECT_EQ(PointAt(out, Column(0.f), 7)[1], 2.f);
+  EXPECT_EQ(HitAt(out, Column(-6.25f), 4)[1], 5.f);  // through the selector
+  EXPECT_EQ(PointAt(out, Column(-6.25f), 4)[2], 2.f);
+  EXPECT_EQ(HitAt(out, Column(6.25f), 4)[1], 6.f);
+  EXPECT_EQ(PointAt(out, Column(6.25f), 4)[3], 2.f);  // the scale above
+  EXPECT_EQ(HitAt(out, Column(0.25f), 7)[1], 5.f);
+  EXPECT_EQ(PointAt(out, Column(0.25f), 7)[1], 2.f);
+}
+
+// Native triangles whose intersection program rejects what Embree found: the ray is traced again
+// with a context filter, which reaches the triangles inside the instances, in their space.
+TEST_P(FlattenedGraphTest, IntersectionProgramsRejectingNativeTriangles) {
+  RTgeometrygroup cut = Square(0.f, 0.f, 7.f, "cutout_intersect");
+  RTgeometrygroup behind = Square(0.f, 0.f, 8.f);
+  RTgroup top = Group(
+      {Move(Group({Move(cut, 0.5f, 0.f, 0.f)}), 2.f, 0.f, 0.f), Move(behind, 2.5f, 0.f, 1.f)});
+  const std::vector<float> out = Same(top);
+  EXPECT_EQ(HitAt(out, Column(1.75f), 4)[1], 8.f);  // object x = -0.75: cut out
+  EXPECT_EQ(HitAt(out, Column(3.25f), 4)[1], 7.f);
+  EXPECT_EQ(PointAt(out, Column(3.25f), 4)[0], 2.5f);
+  // Any-hit programs meet only what the intersection program reports.
+  EXPECT_EQ(HitAt(out, Column(1.75f), 4)[3], 1.f);
+  EXPECT_EQ(HitAt(out, Column(3.25f), 4)[3], 2.f);
 }
 
 INSTANTIATE_TEST_SUITE_P(Devices, FlattenedGraphTest, ::testing::Values("inproc", "local:2"),

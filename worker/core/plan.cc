@@ -32,6 +32,35 @@ constexpr uint64_t kStackBytesPerTrace = 128;
 // times more per level) and a frame per thread (a stack size of 2^40 asked for 2^33 frames).
 constexpr uint64_t kMaxTraceDepth = 1024;
 
+// Whether `program`'s code is a bare return, as g++ compiles an empty function at -O1 and above
+// (`ret`, `rep ret`), at -O0 (a frame set up and torn down), and with CET's `endbr64` first.
+// Calling it can change nothing, so an empty any-hit program is dropped when it is bound: the
+// geometry then needs no filter callback and keeps the builder's full quality (bench/specialize).
+// Whether `code` begins with `pattern`, read byte by byte: no byte past the first that differs
+// (a one-byte function may end its mapping).
+template <size_t N>
+bool Starts(const unsigned char* code, const unsigned char (&pattern)[N]) {
+  for (size_t i = 0; i < N; ++i) {
+    if (code[i] != pattern[i]) return false;
+  }
+  return true;
+}
+
+bool EmptyFunction(const BoundProgram* program) {
+#if !defined(__x86_64__)
+  return false;  // the patterns below are x86-64 code
+#endif
+  if (program == nullptr || program->function == nullptr) return false;
+  const auto* code = static_cast<const unsigned char*>(program->function);
+  static constexpr unsigned char kEndbr64[] = {0xf3, 0x0f, 0x1e, 0xfa};
+  if (Starts(code, kEndbr64)) code += sizeof(kEndbr64);
+  static constexpr unsigned char kRet[] = {0xc3};
+  static constexpr unsigned char kRepRet[] = {0xf3, 0xc3};
+  // push %rbp; mov %rsp,%rbp; nop; pop %rbp; ret
+  static constexpr unsigned char kFrame[] = {0x55, 0x48, 0x89, 0xe5, 0x90, 0x5d, 0xc3};
+  return Starts(code, kRet) || Starts(code, kRepRet) || Starts(code, kFrame);
+}
+
 void CollectRoots(const Scope& scope, std::vector<uint64_t>& roots) {
   for (const auto& [name, v] : scope) {
     if (v.object_id != 0 &&
@@ -399,9 +428,10 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
         if (!chb.ok()) return chb.status();
         auto ahb = bind(ProgramKind::kAnyHit, ah, {&gi.vars, &m->vars, context_scope});
         if (!ahb.ok()) return ahb.status();
-        groups[rt] = HitGroup{*chb, *ahb};
-        ip.has_any_hit = ip.has_any_hit || *ahb != nullptr;
-        if (*ahb != nullptr) ip.any_hit_types |= uint64_t{1} << std::min(rt, 63u);
+        const BoundProgram* any_hit = EmptyFunction(*ahb) ? nullptr : *ahb;
+        groups[rt] = HitGroup{*chb, any_hit};
+        ip.has_any_hit = ip.has_any_hit || any_hit != nullptr;
+        if (any_hit != nullptr) ip.any_hit_types |= uint64_t{1} << std::min(rt, 63u);
       }
       ip.materials.push_back(std::move(groups));
     }
