@@ -143,6 +143,9 @@ struct SceneEntry {
   // Groups: by Embree geometry id, the GeometryGroup a geometry instances (scene null for a
   // child traversed through IntersectChild); empty when the scene holds no instances.
   std::vector<FlatInstance> instances;
+  // A Group flattened into one instance and nothing else: traversal transforms the ray and traces
+  // the GeometryGroup's scene itself (IntersectSingleInstance, trace.cc).
+  bool single_instance = false;
   // GeometryGroups: a hash of what a refit keeps (the children, their geometries' kinds and
   // counts, the acceleration's builder and properties, the accuracy settings), and whether the
   // acceleration refits ("refit" "1"): a change of data alone then refits this scene in place.

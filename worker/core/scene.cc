@@ -798,6 +798,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
     entry->children.push_back(std::move(info));
   }
   if (leaves.empty()) entry->instances.clear();  // IntersectScene: no instances to look up
+  entry->single_instance = entry->instances.size() == 1 && entry->children.empty();
   if (absl::Status s = Commit(entry->scene, absl::StrCat("group #", id)); !s.ok()) return s;
   entry->bounds = EmptyBox();
   for (const Box& b : bounds) {

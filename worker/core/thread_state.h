@@ -70,9 +70,10 @@ struct TraceContext {
   // this ray type returns at once.
   uint64_t any_hit_bit = 0;
   // Scenes with instances (flattened Groups): the instance whose composed transform the frame's
-  // xform holds (RTC_INVALID_GEOMETRY_ID: `base`, the transform above the scene).
+  // xform holds (RTC_INVALID_GEOMETRY_ID: *base, the transform above the scene), and that
+  // transform, kept aside while an instance's is in the frame.
   unsigned current = RTC_INVALID_GEOMETRY_ID;
-  Xform base;
+  Xform* base = nullptr;
 };
 inline TraceContext& ContextOf(RTCIntersectContext* c) {
   return *reinterpret_cast<TraceContext*>(c);

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <new>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -174,14 +175,15 @@ inline void SetTriangleHit(Hit& h, const RTCHit& e, const RayData& ray) {
 // The transform of instance `inst` of `ctx.scene` below ctx.base, into `out`.
 void ComposeInstance(const TraceContext& ctx, unsigned inst, Xform& out) {
   const Xform& x = ctx.scene->instances[inst].xform;
-  if (!ctx.base.active) {
+  const Xform& base = *ctx.base;
+  if (!base.active) {
     CopyXform(out, x);
   } else if (!x.active) {
-    CopyXform(out, ctx.base);
+    CopyXform(out, base);
   } else {
     out.active = true;
-    out.to_world = MulMat(ctx.base.to_world, x.to_world);
-    out.to_object = MulMat(x.to_object, ctx.base.to_object);
+    out.to_world = MulMat(base.to_world, x.to_world);
+    out.to_object = MulMat(x.to_object, base.to_object);
   }
 }
 
@@ -190,7 +192,7 @@ void ComposeInstance(const TraceContext& ctx, unsigned inst, Xform& out) {
 __attribute__((noinline)) void SelectInstanceSlow(Frame& f, TraceContext& ctx, unsigned inst) {
   ctx.current = inst;
   if (inst == RTC_INVALID_GEOMETRY_ID) {
-    CopyXform(f.xform, ctx.base);
+    CopyXform(f.xform, *ctx.base);
   } else {
     ComposeInstance(ctx, inst, f.xform);
   }
@@ -203,7 +205,43 @@ inline void SelectInstance(Frame& f, RTCIntersectContext* context) {
 }
 
 void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
+                    bool geometry_group);
+inline bool ValidRay(const RayData& r);
+
+// A flattened Group of one instance and nothing else: the ray moves into the GeometryGroup's
+// space here, as TraverseNode moves it below a Transform, and traces the GeometryGroup's scene,
+// sparing Embree's instance level.
+__attribute__((noinline)) void IntersectSingleInstance(ThreadState& ts, const SceneEntry& scene,
+                                                       const RayData& ray) {
+  const FlatInstance& instance = scene.instances.front();
+  if (!instance.xform.active) {
+    IntersectScene(ts, *instance.scene, ray, true);
+    return;
+  }
+  const RayData object_ray = ToObject(ray, instance.xform.to_object);
+  if (!ValidRay(object_ray)) {
+    Raise(RT_EXCEPTION_INVALID_RAY, "the ray is invalid in the space of a flattened transform");
+    return;  // the exception is disabled: nothing below the transform is hit
+  }
+  Frame& f = ts.top();
+  Xform saved;
+  CopyXform(saved, f.xform);
+  if (!saved.active) {
+    CopyXform(f.xform, instance.xform);
+  } else {
+    f.xform.to_world = MulMat(saved.to_world, instance.xform.to_world);
+    f.xform.to_object = MulMat(instance.xform.to_object, saved.to_object);
+  }
+  IntersectScene(ts, *instance.scene, object_ray, true);
+  CopyXform(f.xform, saved);
+}
+
+void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
                     bool geometry_group) {
+  if (__builtin_expect(scene.single_instance, 0)) {
+    IntersectSingleInstance(ts, scene, ray);
+    return;
+  }
   Frame& f = ts.top();
   RTCRayHit rh;
   ToEmbree(ray, rh);
@@ -216,9 +254,12 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   ctx.scene = &scene;
   ctx.any_hit_bit = AnyHitBit(ray.ray_type, f.flags & kRayFlagDisableAnyHit);
   const bool instanced = !scene.instances.empty();
-  if (instanced) CopyXform(ctx.base, f.xform);
+  // Storage for the transform above a scene with instances, filled only for one: an Xform
+  // itself would write its two identity matrices on every trace.
+  alignas(Xform) unsigned char base_storage[sizeof(Xform)];
+  if (instanced) ctx.base = new (base_storage) Xform(f.xform);
   rtcIntersect1(scene.scene, &ctx.embree, &rh);
-  if (ctx.current != RTC_INVALID_GEOMETRY_ID) CopyXform(f.xform, ctx.base);
+  if (ctx.current != RTC_INVALID_GEOMETRY_ID) CopyXform(f.xform, *ctx.base);
   RethrowPending(ts);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || f.terminated) return;
   const unsigned inst = rh.hit.instID[0];
