@@ -33,6 +33,7 @@ struct Options {
   int rounds = 9;
   std::string module = TESSERA_BENCH_MODULE_DIR "/bench_specialize.so";
   bool check = false;
+  std::string only;  // variants whose group is this (all when empty)
 };
 
 struct Variant {
@@ -264,13 +265,19 @@ int Run(const Options& o) {
   Scene scene(o);
   std::printf("heightfield of %u triangles, launch %ux%u on '%s', %d rounds (load average %.2f)\n",
               2 * o.grid * o.grid, o.size, o.size, o.devices.c_str(), o.rounds, LoadAverage());
-  for (Variant& v : scene.variants()) scene.Launch(v);  // ship state, build accelerations
+  std::vector<Variant*> chosen;
+  for (Variant& v : scene.variants()) {
+    if (o.only.empty() || v.group == o.only) chosen.push_back(&v);
+  }
+  if (chosen.empty()) throw BenchError("--only " + o.only + ": no such group of variants");
+  for (Variant* v : chosen) scene.Launch(*v);  // ship state, build accelerations
   for (int r = 0; r < o.rounds; ++r) {  // rounds alternate variants: drift in load hits all alike
-    for (Variant& v : scene.variants()) v.seconds.push_back(scene.Launch(v));
+    for (Variant* v : chosen) v->seconds.push_back(scene.Launch(*v));
   }
   double baseline = 0.0;
   std::string group;
-  for (Variant& v : scene.variants()) {
+  for (Variant* chosen_variant : chosen) {
+    Variant& v = *chosen_variant;
     const double median = Median(v.seconds);
     if (v.group != group) {
       group = v.group;
@@ -296,6 +303,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   app.add_option("--module", o.module, "the bench_specialize program module");
   app.add_flag("--check", o.check, "render 64x64 and compare every variant's image");
+  app.add_option("--only", o.only, "one group of variants: levels, any-hit or geometry");
   CLI11_PARSE(app, argc, argv);
   try {
     return o.check ? tessera::bench::RunCheck(o) : tessera::bench::Run(o);
