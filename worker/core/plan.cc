@@ -24,18 +24,6 @@ Mat MulMat(const Mat& a, const Mat& b) {
 
 namespace {
 
-// Bytes of OptiX stack one nested rtTrace costs; the context's stack size divided by this is the
-// deepest trace allowed (default 1024 bytes: 8 levels). See docs/COMPATIBILITY.md.
-constexpr uint64_t kStackBytesPerTrace = 128;
-// The deepest nesting a device allows whatever the stack size: every level also takes native
-// stack (a release build ran out of a thread's 8 MiB near 12,000 levels; sanitizers take several
-// times more per level) and a frame per thread (a stack size of 2^40 asked for 2^33 frames).
-constexpr uint64_t kMaxTraceDepth = 1024;
-
-// Whether `program`'s code is a bare return, as g++ compiles an empty function at -O1 and above
-// (`ret`, `rep ret`), at -O0 (a frame set up and torn down), and with CET's `endbr64` first.
-// Calling it can change nothing, so an empty any-hit program is dropped when it is bound: the
-// geometry then needs no filter callback and keeps the builder's full quality (bench/specialize).
 // Whether `code` begins with `pattern`, read byte by byte: no byte past the first that differs
 // (a one-byte function may end its mapping).
 template <size_t N>
@@ -46,12 +34,12 @@ bool Starts(const unsigned char* code, const unsigned char (&pattern)[N]) {
   return true;
 }
 
-bool EmptyFunction(const BoundProgram* program) {
-#if !defined(__x86_64__)
-  return false;  // the patterns below are x86-64 code
-#endif
-  if (program == nullptr || program->function == nullptr) return false;
-  const auto* code = static_cast<const unsigned char*>(program->function);
+}  // namespace
+
+bool EmptyProgramCode(const void* function) {
+#if defined(__x86_64__)
+  if (function == nullptr) return false;
+  const auto* code = static_cast<const unsigned char*>(function);
   static constexpr unsigned char kEndbr64[] = {0xf3, 0x0f, 0x1e, 0xfa};
   if (Starts(code, kEndbr64)) code += sizeof(kEndbr64);
   static constexpr unsigned char kRet[] = {0xc3};
@@ -59,7 +47,21 @@ bool EmptyFunction(const BoundProgram* program) {
   // push %rbp; mov %rsp,%rbp; nop; pop %rbp; ret
   static constexpr unsigned char kFrame[] = {0x55, 0x48, 0x89, 0xe5, 0x90, 0x5d, 0xc3};
   return Starts(code, kRet) || Starts(code, kRepRet) || Starts(code, kFrame);
+#else
+  (void)function;
+  return false;  // the patterns are x86-64 code
+#endif
 }
+
+namespace {
+
+// Bytes of OptiX stack one nested rtTrace costs; the context's stack size divided by this is the
+// deepest trace allowed (default 1024 bytes: 8 levels). See docs/COMPATIBILITY.md.
+constexpr uint64_t kStackBytesPerTrace = 128;
+// The deepest nesting a device allows whatever the stack size: every level also takes native
+// stack (a release build ran out of a thread's 8 MiB near 12,000 levels; sanitizers take several
+// times more per level) and a frame per thread (a stack size of 2^40 asked for 2^33 frames).
+constexpr uint64_t kMaxTraceDepth = 1024;
 
 void CollectRoots(const Scope& scope, std::vector<uint64_t>& roots) {
   for (const auto& [name, v] : scope) {
@@ -428,7 +430,10 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
         if (!chb.ok()) return chb.status();
         auto ahb = bind(ProgramKind::kAnyHit, ah, {&gi.vars, &m->vars, context_scope});
         if (!ahb.ok()) return ahb.status();
-        const BoundProgram* any_hit = EmptyFunction(*ahb) ? nullptr : *ahb;
+        // Calling an empty any-hit program can change nothing: leaving it out spares the
+        // geometry its filter callback and keeps its builder's full quality.
+        const BoundProgram* any_hit =
+            *ahb != nullptr && EmptyProgramCode((*ahb)->function) ? nullptr : *ahb;
         groups[rt] = HitGroup{*chb, any_hit};
         ip.has_any_hit = ip.has_any_hit || any_hit != nullptr;
         if (any_hit != nullptr) ip.any_hit_types |= uint64_t{1} << std::min(rt, 63u);

@@ -35,6 +35,11 @@ struct Xform {
 // composed either way gives the same bits.
 Mat MulMat(const Mat& a, const Mat& b);
 
+// Whether a program's machine code is a bare return, as g++ compiles an empty function at -O1 and
+// above (`ret`, `rep ret`) and at -O0 (a frame set up and torn down), after CET's `endbr64` or
+// not; false on other architectures. An empty any-hit program is dropped when the plan binds it.
+bool EmptyProgramCode(const void* function);
+
 struct HitGroup {
   const BoundProgram* closest_hit = nullptr;
   const BoundProgram* any_hit = nullptr;
