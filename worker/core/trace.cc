@@ -224,16 +224,17 @@ __attribute__((noinline)) void IntersectSingleInstance(ThreadState& ts, const Sc
     return;  // the exception is disabled: nothing below the transform is hit
   }
   Frame& f = ts.top();
-  Xform saved;
-  CopyXform(saved, f.xform);
-  if (!saved.active) {
+  if (!f.xform.active) {
     CopyXform(f.xform, instance.xform);
-  } else {
-    f.xform.to_world = MulMat(saved.to_world, instance.xform.to_world);
-    f.xform.to_object = MulMat(instance.xform.to_object, saved.to_object);
+    IntersectScene(ts, *instance.scene, object_ray, true);
+    f.xform.active = false;  // identity again: readers of an inactive transform skip its matrices
+    return;
   }
+  const Xform saved = f.xform;
+  f.xform.to_world = MulMat(saved.to_world, instance.xform.to_world);
+  f.xform.to_object = MulMat(instance.xform.to_object, saved.to_object);
   IntersectScene(ts, *instance.scene, object_ray, true);
-  CopyXform(f.xform, saved);
+  f.xform = saved;
 }
 
 void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
