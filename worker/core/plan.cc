@@ -13,6 +13,46 @@
 #include "texture_views.h"
 
 namespace tessera::worker {
+
+Mat MulMat(const Mat& a, const Mat& b) {
+  Mat c{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) c[i * 4 + j] += a[i * 4 + k] * b[k * 4 + j];
+  return c;
+}
+
+namespace {
+
+// Whether `code` begins with `pattern`, read byte by byte: no byte past the first that differs
+// (a one-byte function may end its mapping).
+template <size_t N>
+bool Starts(const unsigned char* code, const unsigned char (&pattern)[N]) {
+  for (size_t i = 0; i < N; ++i) {
+    if (code[i] != pattern[i]) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool EmptyProgramCode(const void* function) {
+#if defined(__x86_64__)
+  if (function == nullptr) return false;
+  const auto* code = static_cast<const unsigned char*>(function);
+  static constexpr unsigned char kEndbr64[] = {0xf3, 0x0f, 0x1e, 0xfa};
+  if (Starts(code, kEndbr64)) code += sizeof(kEndbr64);
+  static constexpr unsigned char kRet[] = {0xc3};
+  static constexpr unsigned char kRepRet[] = {0xf3, 0xc3};
+  // push %rbp; mov %rsp,%rbp; nop; pop %rbp; ret
+  static constexpr unsigned char kFrame[] = {0x55, 0x48, 0x89, 0xe5, 0x90, 0x5d, 0xc3};
+  return Starts(code, kRet) || Starts(code, kRepRet) || Starts(code, kFrame);
+#else
+  (void)function;
+  return false;  // the patterns are x86-64 code
+#endif
+}
+
 namespace {
 
 // Bytes of OptiX stack one nested rtTrace costs; the context's stack size divided by this is the
@@ -390,8 +430,13 @@ absl::StatusOr<std::unique_ptr<LaunchPlan>> MakePlan(const Replica& replica, Sce
         if (!chb.ok()) return chb.status();
         auto ahb = bind(ProgramKind::kAnyHit, ah, {&gi.vars, &m->vars, context_scope});
         if (!ahb.ok()) return ahb.status();
-        groups[rt] = HitGroup{*chb, *ahb};
-        ip.has_any_hit = ip.has_any_hit || *ahb != nullptr;
+        // Calling an empty any-hit program can change nothing: leaving it out spares the
+        // geometry its filter callback and keeps its builder's full quality.
+        const BoundProgram* any_hit =
+            *ahb != nullptr && EmptyProgramCode((*ahb)->function) ? nullptr : *ahb;
+        groups[rt] = HitGroup{*chb, any_hit};
+        ip.has_any_hit = ip.has_any_hit || any_hit != nullptr;
+        if (any_hit != nullptr) ip.any_hit_types |= uint64_t{1} << std::min(rt, 63u);
       }
       ip.materials.push_back(std::move(groups));
     }

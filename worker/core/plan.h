@@ -21,6 +21,25 @@
 
 namespace tessera::worker {
 
+// A row-major 4x4 matrix, as OptiX gives transforms.
+using Mat = std::array<float, 16>;
+inline constexpr Mat kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+// A transform from object to world space and back; identity unless `active`.
+struct Xform {
+  bool active = false;
+  Mat to_world = kIdentity, to_object = kIdentity;
+};
+
+// a * b, row-major. One definition (plan.cc) for traversal and flattening, so that a chain
+// composed either way gives the same bits.
+Mat MulMat(const Mat& a, const Mat& b);
+
+// Whether a program's machine code is a bare return, as g++ compiles an empty function at -O1 and
+// above (`ret`, `rep ret`) and at -O0 (a frame set up and torn down), after CET's `endbr64` or
+// not; false on other architectures. An empty any-hit program is dropped when the plan binds it.
+bool EmptyProgramCode(const void* function);
+
 struct HitGroup {
   const BoundProgram* closest_hit = nullptr;
   const BoundProgram* any_hit = nullptr;
@@ -33,6 +52,9 @@ struct InstancePlan {
   // [material index][ray type]; ray types past a material's end have no programs.
   std::vector<std::vector<HitGroup>> materials;
   bool has_any_hit = false;
+  // Bit min(ray type, 63) of the ray types some material gives an any-hit program: a filter
+  // callback returns at once for the others (AnyHitBit, trace.cc).
+  uint64_t any_hit_types = 0;
   // Built-in triangles (GeometryTriangles): Embree intersects them; the attribute program, if
   // any, computes a hit's attributes from its barycentrics.
   bool builtin_triangles = false;
@@ -74,8 +96,10 @@ inline unsigned InstancePlan::TriangleMaterial(unsigned primitive) const {
 // User data of one Embree geometry in a GeometryGroup's scene.
 struct GeometryInfo {
   uint64_t instance_id = 0;
-  bool triangles = false;        // native Embree triangles; the intersection program only reports
-  bool filter = false;           // an any-hit program exists: Embree calls our filter per candidate
+  bool triangles = false;  // native Embree triangles; the intersection program only reports
+  // An any-hit program exists for some ray type: Embree calls our filter per candidate, which
+  // returns at once for ray types without one (plan->any_hit_types).
+  bool filter = false;
   std::vector<float> bounds;     // user geometry: 6 floats per primitive
   InstancePlan* plan = nullptr;  // refreshed with every plan
   // Triangles: the vertices (3 floats each) and indices (3 each) the scene was built from, for
@@ -97,6 +121,15 @@ struct ChildInfo {
   const NodeInfo* node = nullptr;  // the child in the plan that last checked the scene
 };
 
+struct SceneEntry;
+// A GeometryGroup a Group's scene holds as an Embree instance (a flattened chain of Groups and
+// Transforms): its scene, and the chain's composed transform (inactive when the chain has no
+// Transform).
+struct FlatInstance {
+  const SceneEntry* scene = nullptr;
+  Xform xform;
+};
+
 struct SceneEntry {
   RTCScene scene = nullptr;
   uint64_t stamp = 0;
@@ -112,6 +145,12 @@ struct SceneEntry {
   uint64_t build_epoch = 0;
   std::vector<std::unique_ptr<GeometryInfo>> geometries;
   std::vector<std::unique_ptr<ChildInfo>> children;
+  // Groups: by Embree geometry id, the GeometryGroup a geometry instances (scene null for a
+  // child traversed through IntersectChild); empty when the scene holds no instances.
+  std::vector<FlatInstance> instances;
+  // A Group flattened into one instance and nothing else: traversal transforms the ray and traces
+  // the GeometryGroup's scene itself (IntersectSingleInstance, trace.cc).
+  bool single_instance = false;
   // GeometryGroups: a hash of what a refit keeps (the children, their geometries' kinds and
   // counts, the acceleration's builder and properties, the accuracy settings), and whether the
   // acceleration refits ("refit" "1"): a change of data alone then refits this scene in place.
@@ -251,6 +290,18 @@ class SceneCache {
                               const AccelRec& accel, const SceneOptions& options, SceneEntry& entry,
                               bool refit);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
+  // Flattening a Group's children into Embree instances (scene.cc, "Flattened groups").
+  struct FlatLeaf {
+    const SceneEntry* scene;
+    Xform xform;
+  };
+  // The GeometryGroups below `ref` through Groups and affine Transforms alone (counted once per
+  // path, saturating past kMaxFlatInstances), or SIZE_MAX when something else lies below.
+  size_t FlatLeafCount(const LaunchPlan& plan, NodeRef ref);
+  // Appends the leaves below `ref`, `above` the transform from `ref`'s space to the Group's.
+  // False when a GeometryGroup's tnear rule differs from *tnear (-1: not chosen yet).
+  bool Flatten(const LaunchPlan& plan, NodeRef ref, const Xform& above, std::vector<FlatLeaf>& out,
+               int* tnear);
   // A selector has no Embree scene: its entry holds the bounds and height of its children, whose
   // scenes it builds.
   absl::StatusOr<const SceneEntry*> BuildSelector(LaunchPlan& plan, uint64_t id, int depth);
@@ -264,8 +315,11 @@ class SceneCache {
   RTCDevice device_;
   const std::atomic<bool>* cancel_ = nullptr;  // during Update only
   std::unordered_map<uint64_t, std::unique_ptr<SceneEntry>> entries_;
-  uint64_t built_ = 0;     // scenes (re)built, for tests and logs
-  uint64_t refitted_ = 0;  // GeometryGroup scenes refitted in place
+  uint64_t built_ = 0;        // scenes (re)built, for tests and logs
+  uint64_t refitted_ = 0;     // GeometryGroup scenes refitted in place
+  uint64_t flat_serial_ = 0;  // the plan whose counts flat_counts_ holds
+  std::unordered_map<uint64_t, size_t> flat_counts_;
+
  public:
   uint64_t built_count() const { return built_; }
   uint64_t refitted_count() const { return refitted_; }

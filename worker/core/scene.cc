@@ -1,7 +1,9 @@
-// Embree scenes for GeometryGroups and Groups. Groups hold their children as one-primitive user
-// geometries whose callback traverses the child, so graphs deeper than Debian Embree's single
-// instance level work; GeometryGroups use native triangles where the acceleration names vertex
-// and index buffers and user geometry (intersection programs) otherwise.
+// Embree scenes for GeometryGroups and Groups. Groups hold the GeometryGroups below chains of
+// Groups and Transforms as Embree instances with the chain's composed transform (flattened), and
+// other children as one-primitive user geometries whose callback traverses the child, so graphs
+// deeper than Debian Embree's single instance level work; GeometryGroups use native triangles
+// where the acceleration names vertex and index buffers and user geometry (intersection
+// programs) otherwise.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -577,6 +579,104 @@ absl::Status SceneCache::RunBounds(const LaunchPlan& plan, const BoundProgram& p
                    geometry, " (primitive ", next, " of ", bounds.size() / 6, ")"));
 }
 
+// Flattened groups. A Group's child whose subgraph holds only Groups, affine Transforms and
+// GeometryGroups becomes Embree instances (Debian's Embree has one instance level) of the
+// GeometryGroups' scenes, each with the transform the chain composes, so that traversal runs in
+// Embree instead of a callback and a nested scene per level. The plan rebuilds a Group's scene
+// when a transform or GeometryGroup below it changes (the stamp hashes every leaf), so a chain
+// is static between launches. Other children (Selectors, projective matrices, subgraphs of more
+// than kMaxFlatLeavesPerChild paths) stay one-primitive user geometries traversed by
+// IntersectChild.
+namespace {
+constexpr size_t kMaxFlatLeavesPerChild = 4096;
+constexpr size_t kMaxFlatInstances = 65536;
+constexpr size_t kNotFlat = SIZE_MAX;
+
+// Embree instances take affine matrices. Entries are bounded too: TraverseNode raises
+// RT_EXCEPTION_INVALID_RAY for a ray a degenerate inverse moves out of Embree's range, which
+// Embree's own transform of the ray cannot do, so such transforms keep that path.
+bool Flattenable(const Mat& m) {
+  constexpr float kMaxEntry = 1e8f;
+  for (float x : m) {
+    if (!(std::fabs(x) <= kMaxEntry)) return false;
+  }
+  return m[12] == 0.f && m[13] == 0.f && m[14] == 0.f && m[15] == 1.f;
+}
+}  // namespace
+
+size_t SceneCache::FlatLeafCount(const LaunchPlan& plan, NodeRef ref) {
+  if (flat_serial_ != plan.serial) {
+    flat_counts_.clear();
+    flat_serial_ = plan.serial;
+  }
+  if (auto it = flat_counts_.find(ref.id); it != flat_counts_.end()) return it->second;
+  const Replica& r = *plan.replica;
+  size_t n = kNotFlat;
+  if (ref.type == RT_OBJECTTYPE_GEOMETRY_GROUP) {
+    n = 1;
+  } else if (ref.type == RT_OBJECTTYPE_TRANSFORM) {
+    const TransformRec* t = r.Find(r.transforms, ref.id);
+    if (t != nullptr && t->child.id != 0 && Flattenable(t->matrix) && Flattenable(t->inverse)) {
+      n = FlatLeafCount(plan, t->child);
+    }
+  } else if (ref.type == RT_OBJECTTYPE_GROUP) {
+    if (const GroupRec* g = r.Find(r.groups, ref.id); g != nullptr) {
+      n = 0;
+      for (const NodeRef& c : g->children) {
+        const size_t k = FlatLeafCount(plan, c);
+        if (k == kNotFlat) {
+          n = kNotFlat;
+          break;
+        }
+        n = std::min(n + k, kMaxFlatInstances + 1);  // a shared subgraph's paths multiply
+      }
+    }
+  }
+  flat_counts_[ref.id] = n;
+  return n;
+}
+
+bool SceneCache::Flatten(const LaunchPlan& plan, NodeRef ref, const Xform& above,
+                         std::vector<FlatLeaf>& out, int* tnear) {
+  const Replica& r = *plan.replica;
+  switch (ref.type) {
+    case RT_OBJECTTYPE_GEOMETRY_GROUP: {
+      const SceneEntry* e = Find(ref.id);
+      if (e == nullptr || e->scene == nullptr || e->plan_serial != plan.serial) return false;
+      if (e->geometries.empty()) return true;  // nothing to hit
+      // The traced ray's tnear is set once per scene (IntersectScene).
+      if (*tnear >= 0 && *tnear != int{e->tnear_inclusive}) return false;
+      // Embree drops an instance whose box reaches past its range (ClampToEmbreeRange); the
+      // per-level path clamps a child's box instead.
+      if (above.active) {
+        const Box b = TransformBox(above.to_world, e->bounds);
+        for (float x : b) {
+          if (!(std::fabs(x) <= kMaxBoundsExtent)) return false;
+        }
+      }
+      *tnear = e->tnear_inclusive;
+      out.push_back(FlatLeaf{e, above});
+      return true;
+    }
+    case RT_OBJECTTYPE_TRANSFORM: {
+      const TransformRec& t = r.transforms.at(ref.id);
+      // Composed as traversal composes (TraverseNode): from the top down.
+      Xform x;
+      x.active = true;
+      x.to_world = above.active ? MulMat(above.to_world, t.matrix) : t.matrix;
+      x.to_object = above.active ? MulMat(t.inverse, above.to_object) : t.inverse;
+      return Flatten(plan, t.child, x, out, tnear);
+    }
+    case RT_OBJECTTYPE_GROUP:
+      for (const NodeRef& c : r.groups.at(ref.id).children) {
+        if (!Flatten(plan, c, above, out, tnear)) return false;
+      }
+      return true;
+    default:
+      return false;
+  }
+}
+
 absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint64_t id, int depth) {
   const Replica& r = *plan.replica;
   const GroupRec* group = r.Find(r.groups, id);
@@ -585,9 +685,20 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
   if (accel == nullptr) {
     return absl::FailedPreconditionError(absl::StrCat("group #", id, " has no acceleration"));
   }
+  // Acceleration property "flatten" "0" keeps every child behind IntersectChild (the path
+  // flattening replaces, for comparisons: bench/specialize, flattened_graph_test).
+  bool may_flatten = true;
+  if (auto it = accel->properties.find("flatten"); it != accel->properties.end()) {
+    if (it->second != "0" && it->second != "1") {
+      return absl::InvalidArgumentError(absl::StrCat("acceleration #", group->acceleration,
+                                                     ": property flatten is '", it->second,
+                                                     "', not \"0\" or \"1\""));
+    }
+    may_flatten = it->second == "1";
+  }
   std::vector<Box> bounds;
   int height = 0;
-  size_t stamp = absl::HashOf(group->acceleration, accel->build_epoch);
+  size_t stamp = absl::HashOf(group->acceleration, accel->build_epoch, may_flatten);
   for (const NodeRef& child : group->children) {
     int child_height = 0;
     absl::StatusOr<Box> b = Bounds(plan, child, depth + 1, &child_height);
@@ -597,8 +708,40 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
     stamp = absl::HashOf(stamp, child.id, child.type, (*b)[0], (*b)[1], (*b)[2], (*b)[3], (*b)[4],
                          (*b)[5]);
   }
+  // Which children become instances: leaves[first[i] .. first[i + 1]) for child i, or none
+  // (flat[i] false). The traced ray's tnear is one per scene: GeometryGroups that take t == tnear
+  // (robust, watertight) are instanced only with others that do, and only when every child is.
+  std::vector<FlatLeaf> leaves;
+  std::vector<size_t> first(group->children.size() + 1, 0);
+  std::vector<bool> flat(group->children.size(), false);
+  int tnear = -1;
+  for (int pass = 0; pass < 2; ++pass) {
+    leaves.clear();
+    bool all = true;
+    for (size_t i = 0; i < group->children.size(); ++i) {
+      first[i] = leaves.size();
+      const size_t n = FlatLeafCount(plan, group->children[i]);
+      flat[i] = may_flatten && n <= kMaxFlatLeavesPerChild &&
+                leaves.size() + n <= kMaxFlatInstances &&
+                Flatten(plan, group->children[i], Xform{}, leaves, &tnear);
+      if (!flat[i]) leaves.resize(first[i]);
+      all = all && flat[i];
+    }
+    first[group->children.size()] = leaves.size();
+    if (all || tnear != 1) break;
+    tnear = 0;  // a child traversed by IntersectChild must see the ray's own tnear
+  }
+  for (size_t i = 0; i < group->children.size(); ++i) {
+    stamp = absl::HashOf(stamp, bool{flat[i]}, first[i]);
+  }
+  for (const FlatLeaf& leaf : leaves) {
+    stamp = absl::HashOf(stamp, reinterpret_cast<uintptr_t>(leaf.scene),
+                         reinterpret_cast<uintptr_t>(leaf.scene->scene), leaf.scene->stamp,
+                         leaf.xform.active, leaf.xform.to_world, leaf.xform.to_object);
+  }
   // A child rebuilt elsewhere changes its bounds or leaves them; traversal looks the child's
-  // scene up at trace time, so equal bounds need no rebuild here.
+  // scene up at trace time, so equal bounds need no rebuild here (instanced GeometryGroups are
+  // in the stamp).
   auto& slot = entries_[id];
   if (slot && slot->stamp == stamp) {
     slot->plan_serial = plan.serial;
@@ -610,9 +753,33 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
   entry->stamp = stamp;
   entry->plan_serial = plan.serial;
   entry->height = height;
+  entry->tnear_inclusive = tnear == 1;
   entry->scene = rtcNewScene(device_);
   rtcSetSceneBuildQuality(entry->scene, RTC_BUILD_QUALITY_MEDIUM);
+  auto attach = [&](RTCGeometry geom, FlatInstance instance) -> absl::Status {
+    rtcCommitGeometry(geom);
+    const unsigned geom_id = rtcAttachGeometry(entry->scene, geom);
+    rtcReleaseGeometry(geom);
+    // Traversal finds an instance as instances[instID]: ids count from 0 in a new scene.
+    if (geom_id != entry->instances.size()) {
+      return absl::InternalError(absl::StrCat("Embree gave group #", id, " geometry id ", geom_id,
+                                              " for its geometry ", entry->instances.size()));
+    }
+    entry->instances.push_back(std::move(instance));
+    return absl::OkStatus();
+  };
   for (size_t i = 0; i < group->children.size(); ++i) {
+    if (flat[i]) {
+      for (size_t k = first[i]; k < first[i + 1]; ++k) {
+        const FlatLeaf& leaf = leaves[k];
+        RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(geom, leaf.scene->scene);
+        // The first three rows of the row-major 4x4: Embree's 3x4 row-major layout.
+        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, leaf.xform.to_world.data());
+        if (absl::Status s = attach(geom, FlatInstance{leaf.scene, leaf.xform}); !s.ok()) return s;
+      }
+      continue;
+    }
     auto info = std::make_unique<ChildInfo>();
     info->child = group->children[i];
     info->bounds = IsEmpty(bounds[i]) ? Box{1.f, 1.f, 1.f, -1.f, -1.f, -1.f} : bounds[i];
@@ -622,11 +789,11 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGroup(LaunchPlan& plan, uint6
     rtcSetGeometryUserData(geom, info.get());
     rtcSetGeometryBoundsFunction(geom, &ChildBounds, nullptr);
     rtcSetGeometryIntersectFunction(geom, &IntersectChild);
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(entry->scene, geom);
-    rtcReleaseGeometry(geom);
+    if (absl::Status s = attach(geom, FlatInstance{}); !s.ok()) return s;
     entry->children.push_back(std::move(info));
   }
+  if (leaves.empty()) entry->instances.clear();  // IntersectScene: no instances to look up
+  entry->single_instance = entry->instances.size() == 1 && entry->children.empty();
   if (absl::Status s = Commit(entry->scene, absl::StrCat("group #", id)); !s.ok()) return s;
   entry->bounds = EmptyBox();
   for (const Box& b : bounds) {

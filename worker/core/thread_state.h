@@ -33,15 +33,6 @@ struct RayData {
 };
 static_assert(sizeof(RayData) == 36, "optix::Ray layout");
 
-using Mat = std::array<float, 16>;
-inline constexpr Mat kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-
-// A transform from object to world space and back; identity unless `active`.
-struct Xform {
-  bool active = false;
-  Mat to_world = kIdentity, to_object = kIdentity;
-};
-
 struct Hit {
   float t = 0;
   const InstancePlan* instance = nullptr;
@@ -69,6 +60,29 @@ struct Frame {
   // The payload before a program with several payload variables ran (ChoosePayload).
   std::vector<unsigned char> payload_before;
 };
+
+// What IntersectScene passes Embree as the intersect context, which Embree hands to every
+// callback of the traversal (instanced scenes' included) as args->context.
+struct TraceContext {
+  RTCIntersectContext embree;  // first: callbacks cast args->context back
+  const SceneEntry* scene = nullptr;
+  // AnyHitBit of the traced ray: a filter callback on a geometry without an any-hit program for
+  // this ray type returns at once.
+  uint64_t any_hit_bit = 0;
+  // Scenes with instances (flattened Groups): the instance whose composed transform the frame's
+  // xform holds (RTC_INVALID_GEOMETRY_ID: *base, the transform above the scene), and that
+  // transform, kept aside while an instance's is in the frame.
+  unsigned current = RTC_INVALID_GEOMETRY_ID;
+  Xform* base = nullptr;
+};
+inline TraceContext& ContextOf(RTCIntersectContext* c) {
+  return *reinterpret_cast<TraceContext*>(c);
+}
+
+// The any_hit_types bit of ray type `type`; none when the ray disables any-hit programs.
+inline uint64_t AnyHitBit(unsigned type, bool disabled) {
+  return disabled ? 0 : uint64_t{1} << std::min(type, 63u);
+}
 
 enum class IntersectMode { kSearch, kFiltered, kDeferred };
 

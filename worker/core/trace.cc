@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <new>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -31,14 +32,6 @@ constexpr unsigned kRayFlagCullEnabledAnyHit = 1u << 7;
 constexpr unsigned kRayFlagsKnown = (1u << 8) - 1;
 constexpr unsigned kRayFlagsRejected =
     kRayFlagCullBackFacing | kRayFlagCullFrontFacing | ~kRayFlagsKnown;
-
-Mat Mul(const Mat& a, const Mat& b) {
-  Mat c{};
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-      for (int k = 0; k < 4; ++k) c[i * 4 + j] += a[i * 4 + k] * b[k * 4 + j];
-  return c;
-}
 
 RayData ToObject(const RayData& r, const Mat& inv) {
   RayData o;
@@ -179,23 +172,112 @@ inline void SetTriangleHit(Hit& h, const RTCHit& e, const RayData& ray) {
       e.Ng_x * ray.direction[0] + e.Ng_y * ray.direction[1] + e.Ng_z * ray.direction[2] > 0.f;
 }
 
+// The transform of instance `inst` of `ctx.scene` below ctx.base, into `out`.
+void ComposeInstance(const TraceContext& ctx, unsigned inst, Xform& out) {
+  const Xform& x = ctx.scene->instances[inst].xform;
+  const Xform& base = *ctx.base;
+  if (!base.active) {
+    CopyXform(out, x);
+  } else if (!x.active) {
+    CopyXform(out, base);
+  } else {
+    out.active = true;
+    out.to_world = MulMat(base.to_world, x.to_world);
+    out.to_object = MulMat(x.to_object, base.to_object);
+  }
+}
+
+// Makes the frame's transform that of the instance a callback runs in (args->context->instID[0]):
+// programs read it (rtTransform*), and hits keep it.
+__attribute__((noinline)) void SelectInstanceSlow(Frame& f, TraceContext& ctx, unsigned inst) {
+  ctx.current = inst;
+  if (inst == RTC_INVALID_GEOMETRY_ID) {
+    CopyXform(f.xform, *ctx.base);
+  } else {
+    ComposeInstance(ctx, inst, f.xform);
+  }
+}
+inline void SelectInstance(Frame& f, RTCIntersectContext* context) {
+  TraceContext& ctx = ContextOf(context);
+  if (__builtin_expect(context->instID[0] != ctx.current, 0)) {
+    SelectInstanceSlow(f, ctx, context->instID[0]);
+  }
+}
+
+void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
+                    bool geometry_group);
+inline bool ValidRay(const RayData& r);
+
+// A flattened Group of one instance and nothing else: the ray moves into the GeometryGroup's
+// space here, as TraverseNode moves it below a Transform, and traces the GeometryGroup's scene,
+// sparing Embree's instance level.
+__attribute__((noinline)) void IntersectSingleInstance(ThreadState& ts, const SceneEntry& scene,
+                                                       const RayData& ray) {
+  const FlatInstance& instance = scene.instances.front();
+  if (!instance.xform.active) {
+    IntersectScene(ts, *instance.scene, ray, true);
+    return;
+  }
+  const RayData object_ray = ToObject(ray, instance.xform.to_object);
+  if (!ValidRay(object_ray)) {
+    Raise(RT_EXCEPTION_INVALID_RAY, "the ray is invalid in the space of a flattened transform");
+    return;  // the exception is disabled: nothing below the transform is hit
+  }
+  Frame& f = ts.top();
+  if (!f.xform.active) {
+    CopyXform(f.xform, instance.xform);
+    IntersectScene(ts, *instance.scene, object_ray, true);
+    f.xform.active = false;  // identity again: readers of an inactive transform skip its matrices
+    return;
+  }
+  const Xform saved = f.xform;
+  f.xform.to_world = MulMat(saved.to_world, instance.xform.to_world);
+  f.xform.to_object = MulMat(instance.xform.to_object, saved.to_object);
+  IntersectScene(ts, *instance.scene, object_ray, true);
+  f.xform = saved;
+}
+
 void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
                     bool geometry_group) {
+  if (__builtin_expect(scene.single_instance, 0)) {
+    IntersectSingleInstance(ts, scene, ray);
+    return;
+  }
   Frame& f = ts.top();
   RTCRayHit rh;
   ToEmbree(ray, rh);
   if (scene.tnear_inclusive) {
     rh.ray.tnear = std::nextafter(ray.tmin, std::numeric_limits<float>::infinity());
   }
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  if (__builtin_expect(ts.verify_triangles, 0)) ctx.filter = &VerifyTriangles;
-  rtcIntersect1(scene.scene, &ctx, &rh);
+  TraceContext ctx;
+  rtcInitIntersectContext(&ctx.embree);
+  if (__builtin_expect(ts.verify_triangles, 0)) ctx.embree.filter = &VerifyTriangles;
+  ctx.scene = &scene;
+  ctx.any_hit_bit = AnyHitBit(ray.ray_type, f.flags & kRayFlagDisableAnyHit);
+  const bool instanced = !scene.instances.empty();
+  // Storage for the transform above a scene with instances, filled only for one: an Xform
+  // itself would write its two identity matrices on every trace.
+  alignas(Xform) unsigned char base_storage[sizeof(Xform)];
+  if (instanced) ctx.base = new (base_storage) Xform(f.xform);
+  rtcIntersect1(scene.scene, &ctx.embree, &rh);
+  if (ctx.current != RTC_INVALID_GEOMETRY_ID) CopyXform(f.xform, *ctx.base);
   RethrowPending(ts);
-  if (!geometry_group || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || f.terminated) return;
-  const GeometryInfo* info = scene.geometries[rh.hit.geomID].get();
-  // Embree found it within the ray, clipped to the closest hit so far: t == tmax counts.
-  if (!info->triangles || info->filter || !(rh.ray.tfar <= f.hit.t)) return;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || f.terminated) return;
+  const unsigned inst = rh.hit.instID[0];
+  const GeometryInfo* info;
+  if (geometry_group) {
+    info = scene.geometries[rh.hit.geomID].get();
+  } else if (instanced && inst != RTC_INVALID_GEOMETRY_ID) {
+    info = scene.instances[inst].scene->geometries[rh.hit.geomID].get();
+  } else {
+    return;  // a Group's child committed its own hit
+  }
+  // Embree found it within the ray, clipped to the closest hit so far: t == tmax counts. A
+  // geometry whose filter runs programs for this ray type has committed its hit.
+  if (!info->triangles || (info->filter && (info->plan->any_hit_types & ctx.any_hit_bit)) ||
+      !(rh.ray.tfar <= f.hit.t)) {
+    return;
+  }
   // Verified, the program has committed the hit already.
   if (ts.verify_triangles && !info->plan->builtin_triangles) return;
   // A native triangle is the closest so far: its attributes come after traversal.
@@ -204,13 +286,22 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   f.hit.primitive = rh.hit.primID;
   f.hit.material = 0;
   f.hit.deferred = true;
-  CopyWords(&f.hit.object_ray, &ray, sizeof(ray));  // rtTrace stored `ray` word by word
+  if (geometry_group) {
+    CopyWords(&f.hit.object_ray, &ray, sizeof(ray));  // rtTrace stored `ray` word by word
+    CopyXform(f.hit.xform, f.xform);
+  } else {
+    ComposeInstance(ctx, inst, f.hit.xform);
+    if (scene.instances[inst].xform.active) {
+      f.hit.object_ray = ToObject(ray, scene.instances[inst].xform.to_object);
+    } else {
+      CopyWords(&f.hit.object_ray, &ray, sizeof(ray));
+    }
+  }
   if (f.flags & kRayFlagTerminateOnFirstHit) f.terminated = true;
   // Only built-in triangles tell programs their face; barycentrics place the hit point for
   // tesseraSpawnPoint.
-  SetTriangleHit(f.hit, rh.hit, ray);
+  SetTriangleHit(f.hit, rh.hit, f.hit.object_ray);
   f.hit.geometry = info;
-  CopyXform(f.hit.xform, f.xform);
 }
 
 // Whether a ray may be traced: what Embree takes (origin and direction within +-1.844e18, its
@@ -259,8 +350,8 @@ void TraverseNode(ThreadState& ts, uint64_t id, const NodeInfo* node, const RayD
         return;  // the exception is disabled: nothing below the transform is hit
       }
       Xform saved = f.xform;
-      f.xform.to_world = saved.active ? Mul(saved.to_world, t.matrix) : t.matrix;
-      f.xform.to_object = saved.active ? Mul(t.inverse, saved.to_object) : t.inverse;
+      f.xform.to_world = saved.active ? MulMat(saved.to_world, t.matrix) : t.matrix;
+      f.xform.to_object = saved.active ? MulMat(t.inverse, saved.to_object) : t.inverse;
       f.xform.active = true;
       TraverseNode(ts, t.child.id, node->child, object_ray);
       f.xform = saved;
@@ -906,13 +997,15 @@ void IntersectUserGeometry(const RTCIntersectFunctionNArguments* args) {
     if (f.terminated) return;
     auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
     auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
-    RayData ray = FromEmbree(rh->ray, f.ray.ray_type);
+    SelectInstance(f, args->context);
+    RayData ray = FromEmbree(rh->ray, f.ray.ray_type);  // in the instance's space
     ray.tmax = std::min(ray.tmax, f.hit.t);
     ts.is.geometry = nullptr;
     if (RunIntersection(ts, info->plan, args->primID, ray, IntersectMode::kSearch, 0.f)) {
       rh->ray.tfar = f.hit.t;
       rh->hit.geomID = args->geomID;
       rh->hit.primID = args->primID;
+      rh->hit.instID[0] = args->context->instID[0];
     }
   });
 }
@@ -944,7 +1037,7 @@ void IntersectWatertight(const RTCIntersectFunctionNArguments* args) {
   hit.primID = args->primID;
   hit.geomID = args->geomID;
   hit.instID[0] = args->context->instID[0];
-  if (info->filter) {
+  if (info->filter && (info->plan->any_hit_types & ContextOf(args->context).any_hit_bit)) {
     // What Embree does for a native triangle's candidate: the geometry's filter decides.
     RTCRay candidate = rh->ray;
     candidate.tfar = h.t;
@@ -982,23 +1075,28 @@ void IntersectChild(const RTCIntersectFunctionNArguments* args) {
     if (f.terminated) return;
     auto* info = static_cast<const ChildInfo*>(args->geometryUserPtr);
     auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    SelectInstance(f, args->context);  // the transform above the Group's scene
     float before = f.hit.t;
     TraverseNode(ts, info->child.id, info->node, FromEmbree(rh->ray, f.ray.ray_type));
     if (f.hit.t < before) {
       rh->ray.tfar = f.hit.t;
       rh->hit.geomID = args->geomID;
       rh->hit.primID = 0;
+      rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     }
   });
 }
 
-void FilterTriangles(const RTCFilterFunctionNArguments* args) {
-  if (!args->valid[0]) return;
+namespace {
+// A triangle candidate put to its programs: the intersection program (or, for built-in triangles,
+// the attribute program) and the any-hit program of the ray type, if any.
+void FilterCandidate(const RTCFilterFunctionNArguments* args) {
   ThreadState& ts = TS();
   bool accepted = false;
   Guard(ts, [&] {
     Frame& f = ts.top();
     if (f.terminated) return;
+    SelectInstance(f, args->context);
     auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
     auto* ray = reinterpret_cast<RTCRay*>(args->ray);
     auto* hit = reinterpret_cast<RTCHit*>(args->hit);
@@ -1015,6 +1113,17 @@ void FilterTriangles(const RTCFilterFunctionNArguments* args) {
     accepted = RunIntersection(ts, info->plan, hit->primID, r, IntersectMode::kFiltered, t);
   });
   if (!accepted) args->valid[0] = 0;
+}
+}  // namespace
+
+void FilterTriangles(const RTCFilterFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  // A ray type without an any-hit program on this geometry: Embree keeps the candidate, as it
+  // would without a filter, and IntersectScene takes the closest after traversal. This test is
+  // all such a ray pays for the filter.
+  auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
+  if (!(info->plan->any_hit_types & ContextOf(args->context).any_hit_bit)) return;
+  FilterCandidate(args);
 }
 
 void RtSpawnPoint(const float* dir, float* origin) {
@@ -1035,8 +1144,9 @@ void VerifyTriangles(const RTCFilterFunctionNArguments* args) {
   auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
   // Candidates with their own filter, built-in triangles and intersection programs' hits need no
   // second look.
-  if (info == nullptr || !info->triangles || info->filter || info->plan->builtin_triangles) return;
-  FilterTriangles(args);
+  if (info == nullptr || !info->triangles || info->plan->builtin_triangles) return;
+  if (info->filter && (info->plan->any_hit_types & ContextOf(args->context).any_hit_bit)) return;
+  FilterCandidate(args);
 }
 
 }  // namespace tessera::worker

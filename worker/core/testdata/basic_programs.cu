@@ -38,6 +38,9 @@ RT_PROGRAM void camera() {
   output[launch_index] = make_float4(p.color, 1.f);
 }
 
+// An any-hit program that does nothing: the plan leaves it out (plan_test.cc).
+RT_PROGRAM void any_hit_nothing() {}
+
 RT_PROGRAM void miss() { payload.color = make_float3(0.f, 0.f, 1.f); }
 
 RT_PROGRAM void closest_hit() {
