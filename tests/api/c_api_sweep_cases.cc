@@ -169,6 +169,8 @@ std::vector<SubjectCase> SubjectCases() {
       S(kTriangles, RTgeometrytriangles, rtGeometryTrianglesValidate(H)),
       S(kTriangles, RTgeometrytriangles, rtGeometryTrianglesGetContext(H, &w.out.ctx)),
       S(kTriangles, RTgeometrytriangles, rtGeometryTrianglesSetPrimitiveIndexOffset(H, 1)),
+      S(kTriangles, RTgeometrytriangles,
+        rtGeometryTrianglesSetBuildFlags(H, RT_GEOMETRY_BUILD_FLAG_NONE)),
       S(kTriangles, RTgeometrytriangles, rtGeometryTrianglesGetPrimitiveIndexOffset(H, &w.u[0])),
       S(kTriangles, RTgeometrytriangles, rtGeometryTrianglesSetPrimitiveCount(H, 1)),
       S(kTriangles, RTgeometrytriangles, rtGeometryTrianglesGetPrimitiveCount(H, &w.u[0])),
