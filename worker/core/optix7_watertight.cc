@@ -20,22 +20,8 @@ void WatertightBounds(const RTCBoundsFunctionArguments* args) {
   const auto& m = *static_cast<const Optix7WatertightMesh*>(args->geometryUserPtr);
   const uint32_t* tri = m.indices.data() + 3 * size_t{args->primID};
   float lo[3], hi[3];
-  for (int k = 0; k < 3; ++k) {
-    const float a = Vertex(m, tri[0])[k], b = Vertex(m, tri[1])[k], c = Vertex(m, tri[2])[k];
-    lo[k] = std::min({a, b, c});
-    hi[k] = std::max({a, b, c});
-  }
-  if (std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2])) {
-    PadWatertightBounds(lo, hi);
-  } else {  // a NaN or infinite vertex: never hit, as Embree drops such native triangles
-    for (int k = 0; k < 3; ++k) lo[k] = 1.f, hi[k] = -1.f;
-  }
-  args->bounds_o->lower_x = lo[0];
-  args->bounds_o->lower_y = lo[1];
-  args->bounds_o->lower_z = lo[2];
-  args->bounds_o->upper_x = hi[0];
-  args->bounds_o->upper_y = hi[1];
-  args->bounds_o->upper_z = hi[2];
+  WatertightBox(Vertex(m, tri[0]), Vertex(m, tri[1]), Vertex(m, tri[2]), lo, hi);
+  *args->bounds_o = RTCBounds{lo[0], lo[1], lo[2], 0.f, hi[0], hi[1], hi[2], 0.f};
 }
 
 // Embree's intersection function of a watertight mesh (one ray: rtcIntersect1). The hit takes

@@ -372,24 +372,14 @@ absl::StatusOr<const SceneEntry*> SceneCache::BuildGeometryGroup(LaunchPlan& pla
 
 namespace {
 
-// The bounds of a triangle of the watertight test's user geometry: the box of its vertices, or an
-// empty one (never hit) for a vertex that is not finite, as Embree drops such triangles.
+// The bounds of a triangle of the watertight test's user geometry (WatertightBox).
 void WatertightBounds(const RTCBoundsFunctionArguments* args) {
   const auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
   const uint32_t* tri = info->indices + 3 * size_t{args->primID};
-  Box b = EmptyBox();
-  bool finite = true;
-  for (int k = 0; k < 3; ++k) {
-    const float* v = info->vertices + 3 * size_t{tri[k]};
-    finite = finite && std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-    Grow(b, v[0], v[1], v[2]);
-  }
-  if (!finite) {
-    b = Box{1.f, 1.f, 1.f, -1.f, -1.f, -1.f};
-  } else {
-    PadWatertightBounds(&b[0], &b[3]);
-  }
-  *args->bounds_o = RTCBounds{b[0], b[1], b[2], 0.f, b[3], b[4], b[5], 0.f};
+  float lo[3], hi[3];
+  WatertightBox(info->vertices + 3 * size_t{tri[0]}, info->vertices + 3 * size_t{tri[1]},
+                info->vertices + 3 * size_t{tri[2]}, lo, hi);
+  *args->bounds_o = RTCBounds{lo[0], lo[1], lo[2], 0.f, hi[0], hi[1], hi[2], 0.f};
 }
 
 // Copies `source` into a new geometry for `info`: Embree's triangles, or the watertight test's
@@ -412,6 +402,8 @@ absl::StatusOr<RTCGeometry> NewTriangles(RTCDevice device, const TriangleSource&
     rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(source.triangle_count));
     rtcSetGeometryBoundsFunction(geom, &WatertightBounds, nullptr);
     rtcSetGeometryIntersectFunction(geom, &IntersectWatertight);
+    // Its hits reach the same filter as a native triangle's (rtcFilterIntersection).
+    if (info.filter) rtcSetGeometryIntersectFilterFunction(geom, &FilterTriangles);
     return geom;
   }
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);

@@ -1037,8 +1037,10 @@ void IntersectWatertight(const RTCIntersectFunctionNArguments* args) {
   hit.primID = args->primID;
   hit.geomID = args->geomID;
   hit.instID[0] = args->context->instID[0];
-  if (info->filter && (info->plan->any_hit_types & ContextOf(args->context).any_hit_bit)) {
-    // What Embree does for a native triangle's candidate: the geometry's filter decides.
+  // Embree's filters decide, as for a native triangle's candidate: the geometry's (FilterTriangles,
+  // installed where an any-hit program exists) and the context's (VerifyTriangles, when traced
+  // again).
+  if (info->filter || ts.verify_triangles) {
     RTCRay candidate = rh->ray;
     candidate.tfar = h.t;
     int valid = -1;
@@ -1048,19 +1050,7 @@ void IntersectWatertight(const RTCIntersectFunctionNArguments* args) {
                                        reinterpret_cast<RTCRayN*>(&candidate),
                                        reinterpret_cast<RTCHitN*>(&hit),
                                        1};
-    FilterTriangles(&filter);
-    if (valid == 0) return;
-  } else if (ts.verify_triangles && !info->plan->builtin_triangles) {
-    RTCRay candidate = rh->ray;
-    candidate.tfar = h.t;
-    int valid = -1;
-    RTCFilterFunctionNArguments verify{&valid,
-                                       args->geometryUserPtr,
-                                       args->context,
-                                       reinterpret_cast<RTCRayN*>(&candidate),
-                                       reinterpret_cast<RTCHitN*>(&hit),
-                                       1};
-    VerifyTriangles(&verify);
+    rtcFilterIntersection(args, &filter);
     if (valid == 0) return;
   }
   rh->ray.tfar = h.t;

@@ -113,6 +113,24 @@ inline void PadWatertightBounds(float lo[3], float hi[3]) {
   }
 }
 
+// The box the watertight test's user geometry gives Embree for triangle (a, b, c): its vertices'
+// bounds, padded (PadWatertightBounds); an empty box, never hit, for a vertex that is not finite,
+// as Embree drops such native triangles.
+inline void WatertightBox(const float* a, const float* b, const float* c, float lo[3],
+                          float hi[3]) {
+  bool finite = true;
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::fmin(a[k], std::fmin(b[k], c[k]));
+    hi[k] = std::fmax(a[k], std::fmax(b[k], c[k]));
+    finite = finite && std::isfinite(a[k]) && std::isfinite(b[k]) && std::isfinite(c[k]);
+  }
+  if (finite) {
+    PadWatertightBounds(lo, hi);
+    return;
+  }
+  for (int k = 0; k < 3; ++k) lo[k] = 1.f, hi[k] = -1.f;
+}
+
 // pbrt's gamma(n): a bound on the relative error of n float operations.
 constexpr float Gamma(int n) {
   constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
