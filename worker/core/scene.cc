@@ -131,7 +131,7 @@ absl::StatusOr<SceneOptions> OptionsOf(uint64_t accel_id, const AccelRec& a, boo
   } else if (b == "Lbvh" || b == "MedianBvh" || b == "NoAccel") {
     o.quality = RTC_BUILD_QUALITY_LOW;
   }
-  const std::string& refine = Property(a, "refine", "0");
+  const std::string refine = Property(a, "refine", "0");
   int passes = 0;
   if (!absl::SimpleAtoi(refine, &passes) || passes < 0) {
     return absl::InvalidArgumentError(absl::StrCat(

@@ -68,8 +68,7 @@ bool TriangleBuilder(const AccelRec& a) {
          a.properties.count("vertex_buffer_name") > 0;
 }
 
-const std::string& Property(const AccelRec& a, const std::string& name,
-                            const std::string& fallback) {
+std::string Property(const AccelRec& a, const std::string& name, const std::string& fallback) {
   auto it = a.properties.find(name);
   return it == a.properties.end() ? fallback : it->second;
 }
@@ -87,7 +86,7 @@ absl::StatusOr<std::optional<TriangleSource>> BufferTriangleSource(
   size_t vertex_stride = 0, index_stride = 0;
   for (const auto& [name, stride] : {std::pair{"vertex_buffer_stride", &vertex_stride},
                                      std::pair{"index_buffer_stride", &index_stride}}) {
-    const std::string& text = Property(a, name, "0");
+    const std::string text = Property(a, name, "0");
     if (!absl::SimpleAtoi(text, stride)) {
       return absl::InvalidArgumentError(absl::StrCat("acceleration #", accel_id, ": property ",
                                                      name, " is '", text, "', not a byte count"));

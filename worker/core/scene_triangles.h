@@ -38,8 +38,7 @@ absl::StatusOr<std::optional<TriangleSource>> BufferTriangleSource(
 bool TriangleBuilder(const AccelRec& a);
 
 // An acceleration property, or `fallback` when it is not set.
-const std::string& Property(const AccelRec& a, const std::string& name,
-                            const std::string& fallback);
+std::string Property(const AccelRec& a, const std::string& name, const std::string& fallback);
 
 }  // namespace tessera::worker
 
