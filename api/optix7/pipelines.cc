@@ -75,6 +75,7 @@ absl::StatusOr<std::shared_ptr<Pipeline>> CreatePipeline(
   wire.set_num_attribute_values(static_cast<uint32_t>(compile.numAttributeValues));
   wire.set_traversable_graph_flags(compile.traversableGraphFlags);
   wire.set_primitive_type_flags(EffectivePrimitiveTypeFlags(compile.usesPrimitiveTypeFlags));
+  wire.set_uses_motion_blur(compile.usesMotionBlur != 0);
   return p;
 }
 

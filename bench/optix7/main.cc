@@ -3,6 +3,9 @@
 //  --mode eyelight: Embree viewer's eyelight shader on a model through the OptiX 7 API (built-in
 //    triangles, one in-process device on every core by default), timed against Embree's own
 //    `viewer --benchmark` in the same run: eyelight_optix7_ratio_vs_embree=<ours/theirs>.
+//  --mode flags: the same frame under a pipeline whose compile options allow everything (any
+//    graph, custom primitives, motion blur, every exception) against one that allows what the
+//    scene needs, on a GAS and on a single-level IAS: optix7_flags_<scene>_ratio.
 //  --mode bytes: what launches ship and gather on worker devices (local:2 by default): an
 //    unchanged launch, one after a 4 KiB cudaMemcpy into a 64 MiB buffer, one whose programs
 //    write 1% of that buffer (the bytes gathered, and what the next launch ships for them).
@@ -13,6 +16,7 @@
 #include <tessera/optix7_ext.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -83,11 +87,17 @@ struct Pipelines {
   ~Pipelines() { optixDeviceContextDestroy(context); }
 
   // A pipeline of raygen `raygen`, the eyelight miss and hit programs, launch parameters in
-  // `params`; its SBT in *sbt (hit and miss records without data).
-  OptixPipeline Make(const char* raygen, const char* params, OptixShaderBindingTable* sbt) {
+  // `params`; its SBT in *sbt (hit and miss records without data). `compile` gives the
+  // pipeline's graph, primitive, motion and exception options (default: a single GAS of
+  // triangles, no motion, no exceptions).
+  OptixPipeline Make(const char* raygen, const char* params, OptixShaderBindingTable* sbt,
+                     const OptixPipelineCompileOptions* compile = nullptr) {
     OptixModuleCompileOptions module_options = {};
     OptixPipelineCompileOptions pipeline_options = {};
-    pipeline_options.traversableGraphFlags = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_GAS;
+    if (compile != nullptr) pipeline_options = *compile;
+    if (compile == nullptr) {
+      pipeline_options.traversableGraphFlags = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_GAS;
+    }
     pipeline_options.numPayloadValues = 2;
     pipeline_options.numAttributeValues = 2;
     pipeline_options.pipelineLaunchParamsVariableName = params;
@@ -150,16 +160,32 @@ struct Camera {
   }
 };
 
-int RunEyelight(const std::string& model, unsigned width, unsigned height, int warmup, int runs,
-                const std::string& viewer_name) {
-  std::optional<std::string> viewer = FindExecutable(viewer_name);
-  if (!viewer) {
-    std::fprintf(stderr, "Embree's viewer ('%s') was not found; install embree-tools.\n",
-                 viewer_name.c_str());
-    return 2;
-  }
-  const Mesh mesh = LoadObjMesh(model);
-  Pipelines p;
+// Builds one acceleration of `input` into fresh device memory.
+OptixTraversableHandle Build(const Pipelines& p, const OptixBuildInput& input, unsigned flags) {
+  OptixAccelBuildOptions build = {};
+  build.buildFlags = flags;
+  build.operation = OPTIX_BUILD_OPERATION_BUILD;
+  OptixAccelBufferSizes sizes;
+  CHECK_OPTIX(optixAccelComputeMemoryUsage(p.context, &build, &input, 1, &sizes));
+  void *temp = nullptr, *out = nullptr;
+  CHECK_CUDA(cudaMalloc(&temp, sizes.tempSizeInBytes));
+  CHECK_CUDA(cudaMalloc(&out, sizes.outputSizeInBytes));
+  OptixTraversableHandle handle = 0;
+  CHECK_OPTIX(optixAccelBuild(p.context, nullptr, &build, &input, 1,
+                              reinterpret_cast<CUdeviceptr>(temp), sizes.tempSizeInBytes,
+                              reinterpret_cast<CUdeviceptr>(out), sizes.outputSizeInBytes, &handle,
+                              nullptr, 0));
+  return handle;
+}
+
+// A GAS of `mesh`'s triangles (any-hit disabled, fast trace), its vertex and index buffers.
+struct Gas {
+  CUdeviceptr vertices = 0, indices = 0;
+  OptixTraversableHandle handle = 0;
+};
+
+Gas BuildGas(const Pipelines& p, const Mesh& mesh) {
+  Gas gas;
   CUdeviceptr vertices = Upload(mesh.positions.data(), mesh.positions.size() * sizeof(float));
   CUdeviceptr indices = Upload(mesh.indices.data(), mesh.indices.size() * sizeof(int));
   const uint32_t flags[1] = {OPTIX_GEOMETRY_FLAG_DISABLE_ANYHIT};
@@ -173,23 +199,31 @@ int RunEyelight(const std::string& model, unsigned width, unsigned height, int w
   input.triangleArray.indexBuffer = indices;
   input.triangleArray.flags = flags;
   input.triangleArray.numSbtRecords = 1;
-  OptixAccelBuildOptions build = {};
-  build.buildFlags = OPTIX_BUILD_FLAG_PREFER_FAST_TRACE;
-  build.operation = OPTIX_BUILD_OPERATION_BUILD;
-  OptixAccelBufferSizes sizes;
-  CHECK_OPTIX(optixAccelComputeMemoryUsage(p.context, &build, &input, 1, &sizes));
-  void *temp = nullptr, *out = nullptr;
-  CHECK_CUDA(cudaMalloc(&temp, sizes.tempSizeInBytes));
-  CHECK_CUDA(cudaMalloc(&out, sizes.outputSizeInBytes));
-  OptixTraversableHandle gas = 0;
-  CHECK_OPTIX(optixAccelBuild(p.context, nullptr, &build, &input, 1,
-                              reinterpret_cast<CUdeviceptr>(temp), sizes.tempSizeInBytes,
-                              reinterpret_cast<CUdeviceptr>(out), sizes.outputSizeInBytes, &gas,
-                              nullptr, 0));
-  OptixShaderBindingTable sbt;
-  OptixPipeline pipeline = p.Make("__raygen__pinhole", "params", &sbt);
+  gas.handle = Build(p, input, OPTIX_BUILD_FLAG_PREFER_FAST_TRACE);
+  gas.vertices = vertices;
+  gas.indices = indices;
+  return gas;
+}
 
-  // The OptiX SDK pinhole for Embree viewer's camera (bench/eyelight/scene.cc MakePinhole).
+// An IAS of one instance of `child` under the identity: single-level instancing.
+OptixTraversableHandle BuildIas(const Pipelines& p, OptixTraversableHandle child) {
+  OptixInstance instance = {};
+  const float identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  std::copy(identity, identity + 12, instance.transform);
+  instance.visibilityMask = 255;
+  instance.traversableHandle = child;
+  const CUdeviceptr instances = Upload(&instance, sizeof(instance));
+  OptixBuildInput input = {};
+  input.type = OPTIX_BUILD_INPUT_TYPE_INSTANCES;
+  input.instanceArray.instances = instances;
+  input.instanceArray.numInstances = 1;
+  return Build(p, input, OPTIX_BUILD_FLAG_NONE);
+}
+
+// The eyelight launch parameters: the OptiX SDK pinhole for Embree viewer's camera
+// (bench/eyelight/scene.cc MakePinhole) over `handle`, the image in device memory.
+EyelightParams MakeParams(unsigned width, unsigned height, OptixTraversableHandle handle,
+                          const Gas& gas) {
   const Camera camera;
   const float3 eye = make_float3(camera.from[0], camera.from[1], camera.from[2]);
   float3 w = make_float3(camera.to[0] - eye.x, camera.to[1] - eye.y, camera.to[2] - eye.z);
@@ -207,16 +241,33 @@ int RunEyelight(const std::string& model, unsigned width, unsigned height, int w
   const float3 v = scaled(cross(u, w), vlen);
   void* image = nullptr;
   CHECK_CUDA(cudaMalloc(&image, size_t(width) * height * sizeof(uchar4)));
-  EyelightParams params = {static_cast<uchar4*>(image),
-                           width,
-                           height,
-                           eye,
-                           u,
-                           v,
-                           w,
-                           gas,
-                           reinterpret_cast<const float3*>(vertices),
-                           reinterpret_cast<const int3*>(indices)};
+  return {static_cast<uchar4*>(image),
+          width,
+          height,
+          eye,
+          u,
+          v,
+          w,
+          handle,
+          reinterpret_cast<const float3*>(gas.vertices),
+          reinterpret_cast<const int3*>(gas.indices)};
+}
+
+int RunEyelight(const std::string& model, unsigned width, unsigned height, int warmup, int runs,
+                const std::string& viewer_name) {
+  std::optional<std::string> viewer = FindExecutable(viewer_name);
+  if (!viewer) {
+    std::fprintf(stderr, "Embree's viewer ('%s') was not found; install embree-tools.\n",
+                 viewer_name.c_str());
+    return 2;
+  }
+  const Mesh mesh = LoadObjMesh(model);
+  Pipelines p;
+  const Gas gas = BuildGas(p, mesh);
+  OptixShaderBindingTable sbt;
+  OptixPipeline pipeline = p.Make("__raygen__pinhole", "params", &sbt);
+  const Camera camera;
+  const EyelightParams params = MakeParams(width, height, gas.handle, gas);
   const CUdeviceptr d_params = Upload(&params, sizeof(params));
   const LaunchTimes times = TimeLaunches(
       [&] {
@@ -242,6 +293,73 @@ int RunEyelight(const std::string& model, unsigned width, unsigned height, int w
   std::printf("embree_mrays_per_s=%.3f\n", theirs);
   std::printf("tessera_optix7_mrays_per_s=%.3f\n", ours);
   std::printf("eyelight_optix7_ratio_vs_embree=%.3f\n", ours / theirs);
+  return 0;
+}
+
+// The pipeline compile options OptiX specializes programs for (guide 6.3): what a pipeline that
+// allows everything says, against what the eyelight scene needs.
+OptixPipelineCompileOptions GenericOptions() {
+  OptixPipelineCompileOptions o = {};
+  o.traversableGraphFlags = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_ANY;
+  o.usesPrimitiveTypeFlags = 0;  // custom and triangles
+  o.usesMotionBlur = 1;
+  o.exceptionFlags = OPTIX_EXCEPTION_FLAG_STACK_OVERFLOW | OPTIX_EXCEPTION_FLAG_TRACE_DEPTH |
+                     OPTIX_EXCEPTION_FLAG_USER | OPTIX_EXCEPTION_FLAG_DEBUG;
+  return o;
+}
+
+OptixPipelineCompileOptions SpecializedOptions(bool instances) {
+  OptixPipelineCompileOptions o = {};
+  o.traversableGraphFlags = instances ? OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_LEVEL_INSTANCING
+                                      : OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_GAS;
+  o.usesPrimitiveTypeFlags = OPTIX_PRIMITIVE_TYPE_FLAGS_TRIANGLE;
+  o.usesMotionBlur = 0;
+  o.exceptionFlags = OPTIX_EXCEPTION_FLAG_NONE;
+  return o;
+}
+
+// The eyelight frame under generic and specialized pipeline compile options, on a GAS and on an
+// IAS of one instance, rounds alternating so that both see the same machine:
+// optix7_flags_<scene>_ratio=<specialized time / generic time> (below 1: the flags pay).
+int RunFlags(const std::string& model, unsigned width, unsigned height, int warmup, int runs) {
+  const Mesh mesh = LoadObjMesh(model);
+  Pipelines p;
+  const Gas gas = BuildGas(p, mesh);
+  const OptixTraversableHandle ias = BuildIas(p, gas.handle);
+  constexpr int kRounds = 5;
+  for (const bool instances : {false, true}) {
+    const char* scene = instances ? "ias" : "gas";
+    const EyelightParams params = MakeParams(width, height, instances ? ias : gas.handle, gas);
+    const CUdeviceptr d_params = Upload(&params, sizeof(params));
+    const OptixPipelineCompileOptions options[2] = {GenericOptions(),
+                                                    SpecializedOptions(instances)};
+    OptixShaderBindingTable sbt[2];
+    OptixPipeline pipelines[2];
+    for (int k = 0; k < 2; ++k) {
+      pipelines[k] = p.Make("__raygen__pinhole", "params", &sbt[k], &options[k]);
+    }
+    std::vector<double> medians[2];
+    for (int round = 0; round < kRounds; ++round) {
+      for (int k = 0; k < 2; ++k) {
+        const LaunchTimes t = TimeLaunches(
+            [&] {
+              CHECK_OPTIX(optixLaunch(pipelines[k], nullptr, d_params, sizeof(params), &sbt[k],
+                                      width, height, 1));
+            },
+            round == 0 ? warmup : 1, runs);
+        medians[k].push_back(t.Median());
+      }
+    }
+    double ratio[kRounds];
+    for (int r = 0; r < kRounds; ++r) ratio[r] = medians[1][r] / medians[0][r];
+    std::sort(ratio, ratio + kRounds);
+    std::sort(medians[0].begin(), medians[0].end());
+    std::sort(medians[1].begin(), medians[1].end());
+    std::printf("%s: generic %.3f ms, specialized %.3f ms per launch (medians of %d rounds)\n",
+                scene, 1e3 * medians[0][kRounds / 2], 1e3 * medians[1][kRounds / 2], kRounds);
+    std::printf("optix7_flags_%s_ratio=%.3f (rounds %.3f..%.3f)\n", scene, ratio[kRounds / 2],
+                ratio[0], ratio[kRounds - 1]);
+  }
   return 0;
 }
 
@@ -299,8 +417,8 @@ int main(int argc, char** argv) {
   std::string devices;
   unsigned width = 1024, height = 1024;
   int warmup = 5, runs = 20;
-  app.add_option("--mode", mode, "eyelight, bytes or all")
-      ->check(CLI::IsMember({"eyelight", "bytes", "all"}));
+  app.add_option("--mode", mode, "eyelight, flags, bytes or all")
+      ->check(CLI::IsMember({"eyelight", "flags", "bytes", "all"}));
   app.add_option("--model", model, "OBJ model for eyelight");
   app.add_option("--viewer", viewer, "Embree's viewer executable");
   app.add_option("--devices", devices,
@@ -314,6 +432,10 @@ int main(int argc, char** argv) {
   if (mode == "eyelight" || mode == "all") {
     setenv("TESSERA_DEVICES", devices.empty() ? "inproc" : devices.c_str(), 1);
     status = tessera::bench::RunEyelight(model, width, height, warmup, runs, viewer);
+  }
+  if (status == 0 && (mode == "flags" || mode == "all")) {
+    setenv("TESSERA_DEVICES", devices.empty() ? "inproc" : devices.c_str(), 1);
+    status = tessera::bench::RunFlags(model, width, height, warmup, runs);
   }
   if (status == 0 && (mode == "bytes" || mode == "all")) {
     setenv("TESSERA_DEVICES", devices.empty() ? "local:2" : devices.c_str(), 1);

@@ -213,6 +213,9 @@ uint64_t EngineTest::Pipeline(unsigned max_trace_depth, unsigned exception_flags
   p.set_exception_flags(exception_flags);
   p.set_num_payload_values(12);
   p.set_num_attribute_values(3);
+  p.set_traversable_graph_flags(graph_flags_);
+  p.set_primitive_type_flags(primitive_flags_);
+  p.set_uses_motion_blur(motion_blur_);
   state_.pipelines[p.id()] = p;
   return p.id();
 }

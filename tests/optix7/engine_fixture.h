@@ -102,6 +102,11 @@ class EngineTest : public ::testing::Test {
   // Params with a ray down -z from (x0, y, 1) stepping +1 in x per launch index, tmax 100.
   static EngineParams DownZ(float x0, float y);
 
+  // The compile options Pipeline gives the launch's pipeline (by default what allows everything).
+  unsigned graph_flags_ = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_ANY;
+  unsigned primitive_flags_ = ~0u;  // every OptixPrimitiveTypeFlags bit
+  bool motion_blur_ = true;
+
   worker::Optix7State state_;
   RTCDevice device_;
   std::unique_ptr<worker::Optix7Engine> engine_;

@@ -185,10 +185,56 @@ void CheckKind(const Optix7Thread& ts, unsigned kinds, const char* call) {
   }
 }
 
+namespace {
+
+// A scene a pipeline's compile options do not allow for: what OptiX leaves undefined (its
+// programs were specialized without it), reported with what the options said.
+void CheckCompileOptions(const Optix7Thread& ts, const Optix7Scene& s, uint64_t handle,
+                         const char* call) {
+  const Optix7Launch& l = *ts.launch;
+  const std::string scene = absl::StrCat("traversable 0x", absl::Hex(handle));
+  const unsigned graph = l.graph_flags;
+  const bool instances = s.kind == memory::AccelKind::kInstances;
+  if (graph == OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_GAS && instances) {
+    Fail(ts, call,
+         absl::StrCat(scene,
+                      " is an instance acceleration, but the pipeline's "
+                      "traversableGraphFlags allow a single GAS only"));
+  }
+  if ((graph & OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_LEVEL_INSTANCING) != 0 && instances &&
+      !s.single_level) {
+    Fail(ts, call,
+         absl::StrCat(scene,
+                      " has transforms or instance accelerations below its instances, but "
+                      "the pipeline's traversableGraphFlags allow single-level instancing "
+                      "(use OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_ANY)"));
+  }
+  const unsigned primitives = l.primitive_flags != 0
+                                  ? l.primitive_flags
+                                  : OPTIX_PRIMITIVE_TYPE_FLAGS_CUSTOM |
+                                        static_cast<unsigned>(OPTIX_PRIMITIVE_TYPE_FLAGS_TRIANGLE);
+  if ((s.primitive_types & ~primitives) != 0) {
+    Fail(ts, call,
+         absl::StrCat(scene, " holds primitives of types 0x", absl::Hex(s.primitive_types),
+                      " (OptixPrimitiveTypeFlags), but the pipeline's usesPrimitiveTypeFlags "
+                      "are 0x",
+                      absl::Hex(primitives)));
+  }
+  if (s.any_motion && !l.motion_blur) {
+    Fail(ts, call,
+         absl::StrCat(scene,
+                      " has motion (an acceleration or transform with motion keys), but "
+                      "the pipeline was compiled with usesMotionBlur 0"));
+  }
+}
+
+}  // namespace
+
 const Optix7Scene* SceneOf(Optix7Thread& ts, uint64_t handle, const char* call) {
   if (ts.scene_serial == ts.launch->serial && ts.scene_handle == handle) return ts.scene;
   absl::StatusOr<const Optix7Scene*> s = ts.launch->engine->Scene(handle);
   if (!s.ok()) Fail(ts, call, std::string(s.status().message()));
+  CheckCompileOptions(ts, **s, handle, call);
   ts.scene_serial = ts.launch->serial;
   ts.scene_handle = handle;
   ts.scene = *s;

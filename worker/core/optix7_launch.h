@@ -50,6 +50,12 @@ struct Optix7Launch {
   Optix7Engine* engine = nullptr;
   uint32_t max_trace_depth = 0;  // OptixPipelineLinkOptions::maxTraceDepth, at most 31
   uint32_t exception_flags = 0;  // OptixExceptionFlags
+  // What the pipeline's compile options say its traces may meet (OptiX specializes its programs
+  // for them): OptixTraversableGraphFlags, OptixPrimitiveTypeFlags as OptiX reads them (0 means
+  // custom and triangles), usesMotionBlur. A scene beyond them is an error (SceneOf).
+  uint32_t graph_flags = 0;
+  uint32_t primitive_flags = 0;
+  bool motion_blur = false;
   // TESSERA_ACCURACY_* bits of the launch's context (Optix7Launch.accuracy_flags): how scenes are
   // built (robust, watertight, compact) and whether closest-hit programs' rays are offset.
   uint32_t accuracy = 0;

@@ -219,6 +219,9 @@ absl::Status Optix7Engine::Prepare(const Optix7State& state, const v1::Optix7Lau
   constexpr uint32_t kMaxTraceDepth = 31;  // guide 10, "Limits"
   l->max_trace_depth = std::min(pipeline.max_trace_depth(), kMaxTraceDepth);
   l->exception_flags = pipeline.exception_flags();
+  l->graph_flags = pipeline.traversable_graph_flags();
+  l->primitive_flags = pipeline.primitive_type_flags();
+  l->motion_blur = pipeline.uses_motion_blur();
   l->accuracy = launch.accuracy_flags();
   std::map<std::string, const Module*> modules;  // by hash
   for (uint64_t id : pipeline.program_groups()) {

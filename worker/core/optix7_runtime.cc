@@ -150,7 +150,8 @@ unsigned int StateUint(unsigned int which) {
     case TESSERA_OPTIX7_HIT_KIND:
       CheckKind(ts, KindBit(Optix7Kind::kAnyHit) | KindBit(Optix7Kind::kClosestHit),
                 "optixGetHitKind");
-      return HitOf(ts, "optixGetHitKind").hit_kind;
+      HitOf(ts, "optixGetHitKind");
+      return Optix7HitKind(*ts.ctx.frame, *ts.ctx.hit);
     case TESSERA_OPTIX7_TRANSFORM_LIST_SIZE:
       return ts.ctx.hit != nullptr ? ts.ctx.hit->path.size : 0;
     default:

@@ -254,6 +254,8 @@ absl::Status Optix7SceneCache::BuildInstances(uint64_t handle, unsigned depth, O
   bool nested_masks = false;
   std::bitset<256> nested_visible;
   nested_visible.set();
+  s.single_level = true;
+  s.any_motion = s.motion.moves();
   for (uint64_t k = 0; k < h.primitive_count; ++k) {
     const unsigned char* record = bytes + h.inputs_offset + k * memory::kInstanceBytes;
     Optix7Scene::Instance& inst = s.instances.emplace_back();
@@ -286,6 +288,10 @@ absl::Status Optix7SceneCache::BuildInstances(uint64_t handle, unsigned depth, O
     absl::StatusOr<const Optix7Scene*> child = GetAt(c, depth + 1 + chain.size());
     if (!child.ok()) return fail(child.status());
     const Optix7Scene& cs = **child;
+    s.primitive_types |= cs.primitive_types;
+    s.any_motion = s.any_motion || cs.any_motion;
+    for (const Optix7Transform& t : chain) s.any_motion = s.any_motion || t.motion.moves();
+    s.single_level = s.single_level && chain.empty() && cs.kind != AccelKind::kInstances;
     // A moving GAS is an Embree instance when its range is the IAS's time (the first such GAS
     // sets it) and it never vanishes; anything else is a node.
     bool native = chain.empty() && cs.kind != AccelKind::kInstances;
@@ -344,6 +350,10 @@ absl::Status Optix7SceneCache::BuildInstances(uint64_t handle, unsigned depth, O
 absl::Status Optix7SceneCache::BuildPrimitives(const unsigned char* bytes, Optix7Scene& s) {
   const AccelHeader& h = *s.header;
   s.time = s.motion;
+  s.any_motion = s.motion.moves();
+  s.primitive_types = h.kind == AccelKind::kCustom    ? OPTIX_PRIMITIVE_TYPE_FLAGS_CUSTOM
+                      : h.kind == AccelKind::kSpheres ? OPTIX_PRIMITIVE_TYPE_FLAGS_SPHERE
+                                                      : OPTIX_PRIMITIVE_TYPE_FLAGS_TRIANGLE;
   const unsigned keys = s.motion.keys;
   const RTCBuildQuality quality = Updatable(h) ? RTC_BUILD_QUALITY_REFIT : QualityOf(bytes, h);
   // Motion triangles stay native in watertight mode: Embree interpolates their vertices.

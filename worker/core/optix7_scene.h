@@ -97,6 +97,13 @@ struct Optix7Scene {
   // Whether any instance is a node, or any nested IAS has one: traces then need the transform
   // list kept per level.
   bool deep = false;
+  // What the graph from here down uses, checked against the pipeline's compile options when a
+  // trace first meets the scene (SceneOf): OptixPrimitiveTypeFlags of its GASes; whether it or
+  // anything below moves (motion options of an acceleration or a transform); whether it is an IAS
+  // whose instances are GASes without transforms (OptiX's single-level instancing).
+  uint32_t primitive_types = 0;
+  bool any_motion = false;
+  bool single_level = false;
   // IAS: bit r is set when every instance (of nested IASes too) shares a bit with visibility mask
   // r: rays with such a mask need no per-hit mask test.
   std::bitset<256> all_visible;

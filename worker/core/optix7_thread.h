@@ -53,7 +53,10 @@ struct Optix7Path {
 // A primitive under consideration or hit: where it is and, once reported, how it was hit.
 struct Optix7Hit {
   float t = 0;
+  // Built-in primitives: their face is worked out when a program asks for the hit kind (or the
+  // ray's culling flags need it), not at every hit: SettleHitKind. Read it through HitKind.
   uint32_t hit_kind = 0;
+  bool face_pending = false;
   uint32_t attributes[8] = {};  // triangles: the barycentrics' bits in 0 and 1
   uint32_t primitive = 0;       // optixGetPrimitiveIndex: with the input's primitive index offset
   uint32_t sbt_gas_index = 0;
@@ -175,6 +178,10 @@ void Optix7Vertex(uint64_t gas, const memory::AccelInput& in, const Optix7Scene&
                   float time, unsigned n, float* out);
 void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
                  unsigned int* const* payload);
+// The hit kind of `h` (the frame's candidate or committed hit), its face worked out first if it
+// is pending.
+uint32_t Optix7HitKind(const Optix7Frame& f, Optix7Hit& h);
+
 int Optix7ReportIntersection(float hit_t, unsigned int hit_kind, unsigned int num_attributes,
                              const unsigned int* attributes);
 void Optix7IgnoreIntersection();

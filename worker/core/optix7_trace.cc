@@ -147,9 +147,8 @@ void ObjectDirection(const Optix7Frame& f, const Optix7Hit& h, float out[3]) {
 
 // A triangle's hit kind, from its vertices as the descriptor holds them: front where its
 // vertices wind counter-clockwise seen from the ray (the normal (v1-v0) x (v2-v0) faces the
-// ray), flipped by OPTIX_INSTANCE_FLAG_FLIP_TRIANGLE_FACING. Returns false when the ray's culling
-// flags remove it.
-bool TriangleFace(const Optix7Frame& f, Optix7Hit& h, float u, float v) {
+// ray), flipped by OPTIX_INSTANCE_FLAG_FLIP_TRIANGLE_FACING.
+void TriangleFace(const Optix7Frame& f, Optix7Hit& h) {
   const memory::AccelInput& in = h.geometry->input;
   uint32_t idx[3];
   std::memcpy(idx,
@@ -168,19 +167,11 @@ bool TriangleFace(const Optix7Frame& f, Optix7Hit& h, float u, float v) {
   const unsigned inst = h.instance != nullptr ? h.instance->flags : 0;
   if (inst & OPTIX_INSTANCE_FLAG_FLIP_TRIANGLE_FACING) front = !front;
   h.hit_kind = front ? OPTIX_HIT_KIND_TRIANGLE_FRONT_FACE : OPTIX_HIT_KIND_TRIANGLE_BACK_FACE;
-  std::memcpy(&h.attributes[0], &u, 4);
-  std::memcpy(&h.attributes[1], &v, 4);
-  std::memset(&h.attributes[2], 0, sizeof(h.attributes) - 8);
-  if (inst & OPTIX_INSTANCE_FLAG_DISABLE_TRIANGLE_FACE_CULLING) return true;
-  const unsigned ray = f.ray.ray_flags;
-  if ((ray & OPTIX_RAY_FLAG_CULL_BACK_FACING_TRIANGLES) && !front) return false;
-  if ((ray & OPTIX_RAY_FLAG_CULL_FRONT_FACING_TRIANGLES) && front) return false;
-  return true;
 }
 
 // A sphere's hit kind: front where the ray enters it (the hit point's offset from the centre
-// against the ray), back where it leaves (a ray from inside). Spheres have no attributes.
-bool SphereFace(const Optix7Frame& f, Optix7Hit& h) {
+// against the ray), back where it leaves (a ray from inside).
+void SphereFace(const Optix7Frame& f, Optix7Hit& h) {
   float c[4];
   Optix7Vertex(h.gas, h.geometry->input, *h.gas_scene, h.local_primitive,
                h.gas_scene->time.Normalized(f.ray.ray_time), 4, c);
@@ -198,8 +189,15 @@ bool SphereFace(const Optix7Frame& f, Optix7Hit& h) {
   float dot = 0.f;
   for (int r = 0; r < 3; ++r) dot += (o[r] + h.t * d[r] - c[r]) * d[r];
   h.hit_kind = dot < 0.f ? kOptix7SphereFrontFace : kOptix7SphereBackFace;
-  std::memset(h.attributes, 0, sizeof(h.attributes));
-  return true;
+}
+
+void SettleFace(const Optix7Frame& f, Optix7Hit& h) {
+  if (h.gas_scene->kind == memory::AccelKind::kSpheres) {
+    SphereFace(f, h);
+  } else {
+    TriangleFace(f, h);
+  }
+  h.face_pending = false;
 }
 
 // Runs an any-hit program until it returns or ends itself: optixIgnoreIntersection and
@@ -239,10 +237,29 @@ bool Accept(Optix7Thread& ts, Optix7Frame& f, const Optix7Hit& h, AnyHit decisio
   return true;
 }
 
-// A built-in primitive's face and attributes; false when culled.
+// A built-in primitive's attributes (a triangle's barycentrics; spheres have none), with its face
+// left pending unless the ray's culling flags need it now (a face costs the primitive's
+// vertices: the eyelight bench spent 5% of its time there for programs that never asked).
+// False when culled.
 bool Face(const Optix7Frame& f, Optix7Hit& h, float u, float v) {
-  return h.gas_scene->kind == memory::AccelKind::kSpheres ? SphereFace(f, h)
-                                                          : TriangleFace(f, h, u, v);
+  std::memset(h.attributes, 0, sizeof(h.attributes));
+  const bool triangles = h.gas_scene->kind != memory::AccelKind::kSpheres;
+  if (triangles) {
+    std::memcpy(&h.attributes[0], &u, 4);
+    std::memcpy(&h.attributes[1], &v, 4);
+  }
+  h.face_pending = true;
+  constexpr unsigned kCulling =
+      OPTIX_RAY_FLAG_CULL_BACK_FACING_TRIANGLES | OPTIX_RAY_FLAG_CULL_FRONT_FACING_TRIANGLES;
+  const unsigned ray = f.ray.ray_flags;
+  if (!triangles || (ray & kCulling) == 0) return true;
+  const unsigned inst = h.instance != nullptr ? h.instance->flags : 0;
+  if (inst & OPTIX_INSTANCE_FLAG_DISABLE_TRIANGLE_FACE_CULLING) return true;
+  SettleFace(f, h);
+  const bool front = h.hit_kind == OPTIX_HIT_KIND_TRIANGLE_FRONT_FACE;
+  if ((ray & OPTIX_RAY_FLAG_CULL_BACK_FACING_TRIANGLES) && !front) return false;
+  if ((ray & OPTIX_RAY_FLAG_CULL_FRONT_FACING_TRIANGLES) && front) return false;
+  return true;
 }
 
 // Embree's filter for built-in triangles and spheres, in traces that need one (NeedsFilter).
@@ -653,6 +670,11 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
   for (unsigned i = 0; i < num_payload; ++i) *payload[i] = f.payload[i];
 }
 
+uint32_t Optix7HitKind(const Optix7Frame& f, Optix7Hit& h) {
+  if (h.face_pending) SettleFace(f, h);
+  return h.hit_kind;
+}
+
 int Optix7ReportIntersection(float hit_t, unsigned int hit_kind, unsigned int num_attributes,
                              const unsigned int* attributes) {
   InterruptPoint();
@@ -668,6 +690,7 @@ int Optix7ReportIntersection(float hit_t, unsigned int hit_kind, unsigned int nu
   Optix7Hit& h = *ts.ctx.hit;
   h.t = hit_t;
   h.hit_kind = hit_kind & 0x7Fu;  // the lowest 7 bits are the program's
+  h.face_pending = false;
   std::memset(h.attributes, 0, sizeof(h.attributes));
   std::memcpy(h.attributes, attributes, std::min(num_attributes, 8u) * sizeof(uint32_t));
   if (!Accept(ts, f, h, DecideAnyHit(f, h))) return 0;
