@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "common/embree_viewer.h"
+#include "eyelight/camera.h"
 #include "eyelight/mesh.h"
 #include "eyelight/timing.h"
 #include "eyelight7.h"
@@ -142,22 +143,19 @@ struct Pipelines {
   }
 };
 
-// Embree viewer's default camera for the eyelight bench (bench/eyelight/scene.h).
-struct Camera {
-  float from[3] = {278.f, 273.f, -800.f};
-  float to[3] = {278.f, 273.f, 0.f};
-  float up[3] = {0.f, 1.f, 0.f};
-  float fov_degrees = 37.f;
-  std::vector<std::string> ViewerFlags() const {
-    auto num = [](float v) {
-      char b[32];
-      std::snprintf(b, sizeof(b), "%g", v);
-      return std::string(b);
-    };
-    return {"-vp",      num(from[0]), num(from[1]), num(from[2]),    "-vi",
-            num(to[0]), num(to[1]),   num(to[2]),   "-vu",           num(up[0]),
-            num(up[1]), num(up[2]),   "-fov",       num(fov_degrees)};
-  }
+float to[3] = {278.f, 273.f, 0.f};
+float up[3] = {0.f, 1.f, 0.f};
+float fov_degrees = 37.f;
+std::vector<std::string> ViewerFlags() const {
+  auto num = [](float v) {
+    char b[32];
+    std::snprintf(b, sizeof(b), "%g", v);
+    return std::string(b);
+  };
+  return {"-vp",      num(from[0]), num(from[1]), num(from[2]),    "-vi",
+          num(to[0]), num(to[1]),   num(to[2]),   "-vu",           num(up[0]),
+          num(up[1]), num(up[2]),   "-fov",       num(fov_degrees)};
+}
 };
 
 // Builds one acceleration of `input` into fresh device memory.
@@ -221,24 +219,12 @@ OptixTraversableHandle BuildIas(const Pipelines& p, OptixTraversableHandle child
 }
 
 // The eyelight launch parameters: the OptiX SDK pinhole for Embree viewer's camera
-// (bench/eyelight/scene.cc MakePinhole) over `handle`, the image in device memory.
+// (bench/eyelight/camera.h) over `handle`, the image in device memory.
 EyelightParams MakeParams(unsigned width, unsigned height, OptixTraversableHandle handle,
                           const Gas& gas) {
-  const Camera camera;
-  const float3 eye = make_float3(camera.from[0], camera.from[1], camera.from[2]);
-  float3 w = make_float3(camera.to[0] - eye.x, camera.to[1] - eye.y, camera.to[2] - eye.z);
-  const float wlen = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
-  auto cross = [](float3 a, float3 b) {
-    return make_float3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-  };
-  auto scaled = [](float3 a, float s) {
-    const float l = std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
-    return make_float3(a.x * s / l, a.y * s / l, a.z * s / l);
-  };
-  const float vlen = wlen * std::tan(0.5f * camera.fov_degrees * static_cast<float>(M_PI) / 180.f);
-  const float3 u = scaled(cross(w, make_float3(camera.up[0], camera.up[1], camera.up[2])),
-                          vlen * width / height);
-  const float3 v = scaled(cross(u, w), vlen);
+  const Pinhole pinhole = MakePinhole(Camera(), width, height);
+  auto vec = [](const float a[3]) { return make_float3(a[0], a[1], a[2]); };
+  const float3 eye = vec(pinhole.eye), u = vec(pinhole.u), v = vec(pinhole.v), w = vec(pinhole.w);
   void* image = nullptr;
   CHECK_CUDA(cudaMalloc(&image, size_t(width) * height * sizeof(uchar4)));
   return {static_cast<uchar4*>(image),
