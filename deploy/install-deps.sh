@@ -7,7 +7,7 @@ packages=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libopenimageio-dev openimageio-tools
   libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev libabsl-dev
-  libtinyobjloader-dev libcli11-dev nlohmann-json3-dev libspdlog-dev
+  libtinyobjloader-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libboost-context-dev
   openssl  # the security tests make their certificates with it
 )
 missing=()
