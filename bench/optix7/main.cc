@@ -6,6 +6,8 @@
 //  --mode flags: the same frame under a pipeline whose compile options allow everything (any
 //    graph, custom primitives, motion blur, every exception) against one that allows what the
 //    scene needs, on a GAS and on a single-level IAS: optix7_flags_<scene>_ratio.
+//  --mode batching: the same frame traced in blocks of 16 lanes with Embree packets
+//    (TESSERA_BATCHING=1) against one ray at a time: optix7_batching_ratio.
 //  --mode bytes: what launches ship and gather on worker devices (local:2 by default): an
 //    unchanged launch, one after a 4 KiB cudaMemcpy into a 64 MiB buffer, one whose programs
 //    write 1% of that buffer (the bytes gathered, and what the next launch ships for them).
@@ -141,21 +143,6 @@ struct Pipelines {
     CHECK_OPTIX(tesseraOptixDeviceContextGetTransferStats(context, &s.sent, &s.received));
     return s;
   }
-};
-
-float to[3] = {278.f, 273.f, 0.f};
-float up[3] = {0.f, 1.f, 0.f};
-float fov_degrees = 37.f;
-std::vector<std::string> ViewerFlags() const {
-  auto num = [](float v) {
-    char b[32];
-    std::snprintf(b, sizeof(b), "%g", v);
-    return std::string(b);
-  };
-  return {"-vp",      num(from[0]), num(from[1]), num(from[2]),    "-vi",
-          num(to[0]), num(to[1]),   num(to[2]),   "-vu",           num(up[0]),
-          num(up[1]), num(up[2]),   "-fov",       num(fov_degrees)};
-}
 };
 
 // Builds one acceleration of `input` into fresh device memory.
@@ -349,6 +336,58 @@ int RunFlags(const std::string& model, unsigned width, unsigned height, int warm
   return 0;
 }
 
+// The eyelight frame traced in blocks of lanes with 16-wide packets (TESSERA_BATCHING=1) against
+// one ray at a time (the default), alternating rounds, and whether the images agree:
+// optix7_batching_ratio=<batched time / single-ray time>.
+int RunBatching(const std::string& model, unsigned width, unsigned height, int warmup, int runs) {
+  const Mesh mesh = LoadObjMesh(model);
+  Pipelines p;
+  const Gas gas = BuildGas(p, mesh);
+  OptixShaderBindingTable sbt;
+  OptixPipeline pipeline = p.Make("__raygen__pinhole", "params", &sbt);
+  const EyelightParams params = MakeParams(width, height, gas.handle, gas);
+  const CUdeviceptr d_params = Upload(&params, sizeof(params));
+  const size_t pixels = size_t{width} * height;
+  std::vector<uchar4> images[2];
+  std::vector<double> medians[2];
+  constexpr int kRounds = 5;
+  for (int round = 0; round < kRounds; ++round) {
+    for (int k = 0; k < 2; ++k) {  // 0: single rays, 1: batched
+      setenv("TESSERA_BATCHING", k == 0 ? "0" : "1", 1);
+      const LaunchTimes t = TimeLaunches(
+          [&] {
+            CHECK_OPTIX(
+                optixLaunch(pipeline, nullptr, d_params, sizeof(params), &sbt, width, height, 1));
+          },
+          round == 0 ? warmup : 1, runs);
+      medians[k].push_back(t.Median());
+      if (round == 0) {
+        images[k].resize(pixels);
+        CHECK_CUDA(cudaMemcpy(images[k].data(), params.image, pixels * sizeof(uchar4),
+                              cudaMemcpyDeviceToHost));
+      }
+    }
+  }
+  unsetenv("TESSERA_BATCHING");
+  size_t differ = 0;
+  for (size_t i = 0; i < pixels; ++i) {
+    const uchar4 a = images[0][i], b = images[1][i];
+    differ += a.x != b.x || a.y != b.y || a.z != b.z || a.w != b.w;
+  }
+  double ratio[kRounds];
+  for (int r = 0; r < kRounds; ++r) ratio[r] = medians[1][r] / medians[0][r];
+  std::sort(ratio, ratio + kRounds);
+  std::sort(medians[0].begin(), medians[0].end());
+  std::sort(medians[1].begin(), medians[1].end());
+  std::printf(
+      "single rays %.3f ms, batched %.3f ms per launch (medians of %d rounds); %zu of %zu "
+      "pixels differ\n",
+      1e3 * medians[0][kRounds / 2], 1e3 * medians[1][kRounds / 2], kRounds, differ, pixels);
+  std::printf("optix7_batching_ratio=%.3f (rounds %.3f..%.3f)\n", ratio[kRounds / 2], ratio[0],
+              ratio[kRounds - 1]);
+  return 0;
+}
+
 int RunBytes() {
   constexpr size_t kBuffer = size_t{64} << 20;
   constexpr unsigned kStride = 100;  // every 100th word: 1% of the buffer
@@ -403,8 +442,8 @@ int main(int argc, char** argv) {
   std::string devices;
   unsigned width = 1024, height = 1024;
   int warmup = 5, runs = 20;
-  app.add_option("--mode", mode, "eyelight, flags, bytes or all")
-      ->check(CLI::IsMember({"eyelight", "flags", "bytes", "all"}));
+  app.add_option("--mode", mode, "eyelight, flags, batching, bytes or all")
+      ->check(CLI::IsMember({"eyelight", "flags", "batching", "bytes", "all"}));
   app.add_option("--model", model, "OBJ model for eyelight");
   app.add_option("--viewer", viewer, "Embree's viewer executable");
   app.add_option("--devices", devices,
@@ -422,6 +461,10 @@ int main(int argc, char** argv) {
   if (status == 0 && (mode == "flags" || mode == "all")) {
     setenv("TESSERA_DEVICES", devices.empty() ? "inproc" : devices.c_str(), 1);
     status = tessera::bench::RunFlags(model, width, height, warmup, runs);
+  }
+  if (status == 0 && (mode == "batching" || mode == "all")) {
+    setenv("TESSERA_DEVICES", devices.empty() ? "inproc" : devices.c_str(), 1);
+    status = tessera::bench::RunBatching(model, width, height, warmup, runs);
   }
   if (status == 0 && (mode == "bytes" || mode == "all")) {
     setenv("TESSERA_DEVICES", devices.empty() ? "local:2" : devices.c_str(), 1);

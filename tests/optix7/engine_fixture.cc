@@ -224,6 +224,7 @@ v1::Optix7Launch EngineTest::MakeLaunch(const Sbt& sbt, CUdeviceptr params) {
   v1::Optix7Launch l;
   l.set_params(params);
   l.set_params_size(sizeof(EngineParams));
+  l.set_batched(batched_);
   l.set_raygen_record(Records({sbt.raygen}, Sbt::kRaygenValue));
   if (sbt.exception != 0) l.set_exception_record(Records({sbt.exception}, Sbt::kExceptionValue));
   l.set_miss_record_base(Records(sbt.miss, Sbt::kMissBase));

@@ -106,6 +106,8 @@ class EngineTest : public ::testing::Test {
   unsigned graph_flags_ = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_ANY;
   unsigned primitive_flags_ = ~0u;  // every OptixPrimitiveTypeFlags bit
   bool motion_blur_ = true;
+  // Whether launches run in blocks of lanes with packets (Optix7Launch.batched).
+  bool batched_ = false;
 
   worker::Optix7State state_;
   RTCDevice device_;

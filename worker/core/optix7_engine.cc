@@ -11,7 +11,9 @@
 #include <memory>
 
 #include "absl/strings/str_cat.h"
+#include "batch_block.h"
 #include "interrupt.h"
+#include "optix7_batch.h"
 #include "optix7_launch.h"
 #include "optix7_thread.h"
 #include "optix_types.h"
@@ -25,10 +27,10 @@ namespace {
 
 thread_local std::unique_ptr<Optix7Thread> t_optix7_owner;  // frees the state at thread end
 
-// The native stack a launch index may use for nested optixTrace and callable calls, measured
-// from where its tile began, so that where deep recursion runs out does not depend on the thread
-// (TBB's have 4 MiB of stack, others 8 MiB). As the OptiX 3 engine's (thread_state.h).
-constexpr size_t kNativeStackBudget = 3 * 1024 * 1024 + 256 * 1024;
+// The native stack a launch index may use for nested optixTrace and callable calls is measured
+// from where its tile began (kOptix7StackBudget), so that where deep recursion runs out does not
+// depend on the thread (TBB's have 4 MiB of stack, others 8 MiB). As the OptiX 3 engine's
+// (thread_state.h).
 
 std::string IndexText(const Index3& i) {
   return absl::StrCat("(", i[0], ", ", i[1], ", ", i[2], ")");
@@ -257,16 +259,17 @@ namespace {
 // default exception program prints one. A tile sends its first report and counts the rest, as
 // OptiX 3 launches do (runtime.cc), so a launch that throws everywhere costs no memory per index.
 void Report(Optix7Thread& ts, const Optix7Exception& e) {
-  if (!ts.report_sent) {
-    ts.report_sent = true;
-    v1::ExceptionReport* r = ts.out->add_exceptions();
+  Optix7Thread& tile = *ts.tile;
+  if (!tile.report_sent) {
+    tile.report_sent = true;
+    v1::ExceptionReport* r = tile.out->add_exceptions();
     for (uint32_t i : ts.index) r->add_launch_index(i);
     r->set_code(static_cast<uint32_t>(e.code));
     r->set_details(e.text);
     return;
   }
-  v1::ExceptionReport*& rest = ts.reports_not_sent;
-  if (rest == nullptr) rest = ts.out->add_exceptions();
+  v1::ExceptionReport*& rest = tile.reports_not_sent;
+  if (rest == nullptr) rest = tile.out->add_exceptions();
   rest->set_not_sent(rest->not_sent() + 1);
   rest->set_not_sent_unshown(rest->not_sent_unshown() + 1);
 }
@@ -290,7 +293,14 @@ __attribute__((noinline)) void HandleException(Optix7Thread& ts, Optix7Exception
   }
 }
 
-inline void RunIndex(Optix7Thread& ts) {
+// The thread's lanes, made when its first batched tile runs.
+Optix7Batch& ThreadBatch() {
+  thread_local std::unique_ptr<Optix7Batch> batch;
+  if (batch == nullptr) batch = std::make_unique<Optix7Batch>();
+  return *batch;
+}
+
+void RunIndex(Optix7Thread& ts) {
   const Optix7Record& rg = ts.launch->raygen;
   if (__builtin_expect(ts.depth != 0 || !ts.callers.empty(), 0)) ResetOptix7Nesting(ts);
   ts.ctx = Optix7Context{Optix7Kind::kRaygen, &rg, nullptr, nullptr};
@@ -308,6 +318,26 @@ __attribute__((noinline)) bool RunIndices(Optix7Thread& ts, const Index3& origin
                                           const std::atomic<bool>& stop) {
   const Index3 end{std::min(origin[0] + size[0], dims[0]), std::min(origin[1] + size[1], dims[1]),
                    std::min(origin[2] + size[2], dims[2])};
+  if (ts.launch->batched) {
+    // Blocks of the launch grid (BatchBlock), clipped to the piece: whole blocks when pieces
+    // are made of them (tile_pieces.h), as tiles are.
+    const Index3 block = BatchBlock(dims);
+    Optix7Batch& batch = ThreadBatch();
+    batch.BeginTile(ts, &RunIndex);
+    for (uint32_t z = origin[2]; z < end[2]; ++z) {
+      for (uint32_t y = origin[1] / block[1] * block[1]; y < end[1]; y += block[1]) {
+        for (uint32_t x = origin[0] / block[0] * block[0]; x < end[0]; x += block[0]) {
+          if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
+            return false;
+          }
+          const Index3 from{std::max(x, origin[0]), std::max(y, origin[1]), z};
+          const Index3 to{std::min(x + block[0], end[0]), std::min(y + block[1], end[1]), z + 1};
+          batch.RunBlock(from, {to[0] - from[0], to[1] - from[1], 1});
+        }
+      }
+    }
+    return true;
+  }
   for (uint32_t z = origin[2]; z < end[2]; ++z) {
     for (uint32_t y = origin[1]; y < end[1]; ++y) {
       for (uint32_t x = origin[0]; x < end[0]; ++x) {
@@ -356,7 +386,7 @@ bool Optix7Engine::RunTile(const Index3& origin, const Index3& size, const Index
   const auto here = reinterpret_cast<uintptr_t>(__builtin_frame_address(0));
   ts.stack_limit = std::max(
       ts.stack_floor,
-      reinterpret_cast<const char*>(here > kNativeStackBudget ? here - kNativeStackBudget : 0));
+      reinterpret_cast<const char*>(here > kOptix7StackBudget ? here - kOptix7StackBudget : 0));
   struct Clear {  // nothing of the tile's outlives it
     Optix7Thread& ts;
     ~Clear() {
@@ -372,6 +402,7 @@ bool Optix7Engine::RunTile(const Index3& origin, const Index3& size, const Index
   sigjmp_buf interrupted;
   if (sigsetjmp(interrupted, 0) != 0) {
     interruptible.Jumped();
+    t_optix7 = &ts;  // the jump may have left a lane's stack: its lanes are never resumed
     ResetOptix7Nesting(ts);
     return false;
   }

@@ -71,6 +71,9 @@ struct Optix7Launch {
   // Whether the tiles run with denormals flushed to zero (float_mode.h): a module of the pipeline
   // was compiled with fast math, or the context asked for it (TESSERA_ACCURACY_FAST_MATH).
   bool flush_denormals = false;
+  // Whether tiles run in blocks of lanes whose rays are traced as packets (optix7_batch.h), or
+  // one launch index and one ray at a time (Optix7Launch.batched).
+  bool batched = false;
 
   // How many bytes can be read from `address` to the end of its allocation (0: none).
   uint64_t Readable(uint64_t address) const {

@@ -222,6 +222,7 @@ absl::Status Optix7Engine::Prepare(const Optix7State& state, const v1::Optix7Lau
   l->graph_flags = pipeline.traversable_graph_flags();
   l->primitive_flags = pipeline.primitive_type_flags();
   l->motion_blur = pipeline.uses_motion_blur();
+  l->batched = launch.batched();
   l->accuracy = launch.accuracy_flags();
   std::map<std::string, const Module*> modules;  // by hash
   for (uint64_t id : pipeline.program_groups()) {

@@ -587,6 +587,13 @@ absl::StatusOr<const Optix7Scene*> Optix7SceneCache::GetAt(uint64_t handle, unsi
   if (absl::Status st = Committed(device_, s->scene, "an OptiX 7 acceleration"); !st.ok()) {
     return st;
   }
+  s->packets = std::none_of(s->watertight.begin(), s->watertight.end(),
+                            [](const auto& mesh) { return mesh != nullptr; });
+  if (s->kind == AccelKind::kCustom) s->packets = false;
+  if (s->kind == AccelKind::kInstances) {
+    s->packets = !s->deep && std::all_of(s->children.begin(), s->children.end(),
+                                         [](const Optix7Scene* c) { return c->packets; });
+  }
   ++built_;
   const Optix7Scene* result = s.get();
   by_hash_[key] = std::move(s);

@@ -104,6 +104,10 @@ struct Optix7Scene {
   uint32_t primitive_types = 0;
   bool any_motion = false;
   bool single_level = false;
+  // Whether rays can be traced in it as Embree packets (optix7_batch.h): Embree's own primitives
+  // (triangles, spheres) directly or under one level of Embree instances; custom primitives,
+  // watertight triangles and nodes are called back per ray.
+  bool packets = false;
   // IAS: bit r is set when every instance (of nested IASes too) shares a bit with visibility mask
   // r: rays with such a mask need no per-hit mask test.
   std::bitset<256> all_visible;

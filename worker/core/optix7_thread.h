@@ -111,12 +111,22 @@ struct Optix7Exception {
   float invalid_ray[9] = {};
 };
 
+struct Optix7Lane;
+
+// The native stack a launch index may use below where it began (the thread's tile, or its lane's
+// stack): optixTrace and callables raise OPTIX_EXCEPTION_CODE_STACK_OVERFLOW past it.
+inline constexpr size_t kOptix7StackBudget = 3 * 1024 * 1024 + 256 * 1024;
+
 struct Optix7Thread {
   const Optix7Launch* launch = nullptr;
+  // Batched tracing (optix7_batch.h): the lane this state runs a launch index of (null: the
+  // thread's own state) and the state whose tile reports it shares (its own, for a thread).
+  Optix7Lane* lane = nullptr;
+  Optix7Thread* tile = this;
   Index3 index{}, dims{};
   v1::TileResult* out = nullptr;
-  bool report_sent = false;                         // this tile's first report went out
-  v1::ExceptionReport* reports_not_sent = nullptr;  // counts the rest
+  bool report_sent = false;                         // this tile's first report went out (tile)
+  v1::ExceptionReport* reports_not_sent = nullptr;  // counts the rest (tile)
   Optix7Context ctx;
   std::vector<Optix7Context> callers;  // of the callables running, innermost last
   std::array<Optix7Frame, 32> frames;  // frames[0, depth) are live; maxTraceDepth <= 31

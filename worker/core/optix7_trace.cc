@@ -12,6 +12,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "interrupt.h"
+#include "optix7_batch.h"
 #include "optix7_engine.h"
 #include "optix7_thread.h"
 #include "optix_types.h"
@@ -370,10 +371,19 @@ float EmbreeTnear(float tmin) { return tmin > 0.f ? std::nextafter(tmin, 0.f) : 
 // rtcIntersect1 over OptiX's closed [tmin, tmax]. Without the filter, a triangle hit whose t
 // rounds below tmin is traversed again from tmin itself (Embree's open end, rare); a t past tmax
 // by rounding is tmax.
-void IntersectClosed(RTCScene scene, RTCIntersectContext* context, RTCRayHit& rh, float tmin,
-                     bool filtered, const Optix7Frame& f) {
+// `lane`: a lane's state whose ray goes to Embree in its block's packet (optix7_batch.h) instead,
+// traced in `root`.
+// Inlined: a lane resumes inside it, and each return between the suspension and optixTrace's
+// caller is a mispredicted one (optix7_batch.h).
+__attribute__((always_inline)) inline void IntersectClosed(
+    RTCScene scene, RTCIntersectContext* context, RTCRayHit& rh, float tmin, bool filtered,
+    const Optix7Frame& f, Optix7Thread* lane = nullptr, const Optix7Scene* root = nullptr) {
   const float tfar = rh.ray.tfar;
-  rtcIntersect1(scene, context, &rh);
+  if (lane != nullptr) {
+    Optix7Batch::Wait(*lane, *root, rh);
+  } else {
+    rtcIntersect1(scene, context, &rh);
+  }
   if (filtered || f.pending || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
   if (!(rh.ray.tfar >= tmin)) {
     rh.ray.tnear = tmin;
@@ -662,7 +672,9 @@ void Optix7Trace(const TesseraOptix7Trace* ray, unsigned int num_payload,
     c.scene = f.root;
     c.scene_handle = ray->handle;
     c.path = nullptr;
-    IntersectClosed(f.root->scene, &c.rtc, rh, f.ray.tmin, filtered, f);
+    // A lane's ray goes in its block's packet when nothing needs a callback per hit.
+    Optix7Thread* lane = ts.lane != nullptr && !filtered && f.root->packets ? &ts : nullptr;
+    IntersectClosed(f.root->scene, &c.rtc, rh, f.ray.tmin, filtered, f, lane, f.root);
     RethrowPending(f);
     Resolve(c, rh, filtered);
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "batch_block.h"
+
 namespace tessera::worker {
 
 std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::Tile>& tiles,
@@ -24,14 +26,17 @@ std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::T
       whole.size[i] =
           static_cast<uint32_t>(std::min<uint64_t>(tile.size(i), dims[i] - whole.origin[i]));
     }
-    // Rows inside the launch.
+    // Rows inside the launch, in bands of whole blocks.
     const uint64_t begin = whole.origin[axis];
     const uint64_t end = std::min<uint64_t>(begin + whole.size[axis], dims[axis]);
-    const uint64_t rows = end > begin ? end - begin : 0;
-    const uint64_t n = std::max<uint64_t>(1, std::min(per_tile, rows));
+    const uint64_t block = axis == 1 ? BatchBlock(dims)[1] : BatchBlock(dims)[0];
+    const uint64_t first = begin / block, last = end > begin ? (end + block - 1) / block : first;
+    const uint64_t blocks = last - first;
+    const uint64_t n = std::max<uint64_t>(1, std::min(per_tile, blocks));
     for (uint64_t k = 0; k < n; ++k) {
       TilePiece p = whole;
-      const uint64_t from = begin + rows * k / n, to = begin + rows * (k + 1) / n;
+      const uint64_t from = std::max(begin, (first + blocks * k / n) * block);
+      const uint64_t to = std::min(end, (first + blocks * (k + 1) / n) * block);
       p.origin[axis] = static_cast<uint32_t>(from);
       p.size[axis] = static_cast<uint32_t>(n == 1 ? whole.size[axis] : to - from);
       pieces.push_back(p);

@@ -47,8 +47,19 @@ TEST(SplitTiles, EdgeTilesSplitOnlyTheirRowsInsideTheLaunch) {
   const Index3 dims{10, 5, 1};
   auto tiles = Tiles({10, 5}, {8, 8});
   std::vector<TilePiece> pieces = SplitTiles(tiles, dims, 64);
-  EXPECT_EQ(pieces.size(), 10u);  // two tiles of five rows each
+  // Two tiles of five rows each, split at the batch blocks' rows: 0-3 and 4.
+  EXPECT_EQ(pieces.size(), 4u);
   ExpectExactCover(pieces, dims);
+}
+
+TEST(SplitTiles, PiecesBeginAtBatchBlocks) {
+  const Index3 dims{1920, 1080, 1};
+  for (const TilePiece& p : SplitTiles(Tiles({1920, 1080}, {64, 64}), dims, 64)) {
+    EXPECT_EQ(p.origin[1] % 4, 0u);
+  }
+  for (const TilePiece& p : SplitTiles(Tiles({100000}, {4096}), {100000, 1, 1}, 64)) {
+    EXPECT_EQ(p.origin[0] % 16, 0u);
+  }
 }
 
 TEST(SplitTiles, OneAndThreeDimensionalLaunches) {

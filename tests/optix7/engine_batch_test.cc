@@ -1,0 +1,116 @@
+// Batched tracing (optix7_batch.h): launch indices run as lanes in blocks whose rays go to Embree
+// as 16-wide packets must see what they see one ray at a time: hits, payloads, instances,
+// recursion from closest-hit programs, exceptions raised in a lane, and traces that need a
+// callback per hit (any-hit programs), which a lane traces alone.
+#include <cstring>
+
+#include "engine_fixture.h"
+
+namespace tessera::optix7_test {
+namespace {
+
+// One triangle of the z = 0 plane at x0, winding counter-clockwise seen from +z.
+std::vector<float> Triangle(float x0) { return {x0, 0, 0, x0 + 1, 0, 0, x0, 1, 0}; }
+
+OptixInstance Moved(float dx, unsigned id, OptixTraversableHandle child) {
+  OptixInstance inst{};
+  const float m[12] = {1, 0, 0, dx, 0, 1, 0, 0, 0, 0, 1, 0};
+  std::memcpy(inst.transform, m, sizeof(m));
+  inst.instanceId = id;
+  inst.visibilityMask = 0xFF;
+  inst.traversableHandle = child;
+  return inst;
+}
+
+class BatchTest : public EngineTest {
+ protected:
+  // The launch run one ray at a time and in lanes (one thread, then two with tiles of one
+  // block): every word the programs wrote must be the same. `ties`: the scene has hits at
+  // exactly the same t, which Embree's packet and single-ray kernels may resolve differently
+  // (Embree issue 387): then lanes need only agree with lanes, whatever the threads and tiles.
+  void ExpectSameAsSingleRays(const Sbt& sbt, const EngineParams& p, unsigned width,
+                              unsigned max_depth = 2, unsigned exception_flags = 0,
+                              bool ties = false) {
+    batched_ = false;
+    const Result single = Run(sbt, p, width, max_depth, exception_flags);
+    ASSERT_TRUE(single.prepared.ok()) << single.prepared;
+    batched_ = true;
+    const Result lanes = Run(sbt, p, width, max_depth, exception_flags);
+    ASSERT_TRUE(lanes.prepared.ok()) << lanes.prepared;
+    const Result threads = Run(sbt, p, width, max_depth, exception_flags, 16, 2);
+    ASSERT_TRUE(threads.prepared.ok()) << threads.prepared;
+    if (!ties) {
+      EXPECT_EQ(single.out, lanes.out);
+    }
+    EXPECT_EQ(lanes.out, threads.out);
+    EXPECT_EQ(single.tile.exceptions_size(), lanes.tile.exceptions_size());
+  }
+};
+
+TEST_F(BatchTest, TrianglesAndInstancesSeeWhatSingleRaysSee) {
+  std::vector<float> row;
+  for (int k = 0; k < 12; ++k) {
+    const std::vector<float> t = Triangle(2.f * k);
+    row.insert(row.end(), t.begin(), t.end());
+  }
+  std::vector<uint32_t> indices(36);
+  for (uint32_t i = 0; i < 36; ++i) indices[i] = i;
+  const OptixTraversableHandle gas = Build({Triangles(row, indices)});
+  Sbt sbt;
+  sbt.raygen = Raygen(trace_module(), "__raygen__trace");
+  sbt.miss = {Miss(trace_module(), "__miss__probe")};
+  sbt.hit = {HitGroup(trace_module(), "__closesthit__probe")};
+  EngineParams p = DownZ(0.25f, 0.5f);
+  p.step.x = 0.75f;  // hits and misses alternate irregularly over 40 indices: 3 blocks, one part
+  p.handle = gas;
+  ExpectSameAsSingleRays(sbt, p, 40);
+  p.handle = Build({Instances({Moved(0.f, 7, gas), Moved(24.f, 9, gas)})});
+  p.step.x = 1.5f;  // over both instances
+  ExpectSameAsSingleRays(sbt, p, 40);
+  // Two instances in the same place: every hit is a tie between them.
+  p.handle = Build({Instances({Moved(0.f, 7, gas), Moved(0.f, 9, gas)})});
+  ExpectSameAsSingleRays(sbt, p, 40, 2, 0, /*ties=*/true);
+}
+
+TEST_F(BatchTest, ClosestHitRecursionAndExceptionsInLanes) {
+  EngineParams p = DownZ(0.25f, 0.5f);
+  p.step.x = 0.f;
+  p.handle = Build({Triangles(Triangle(0), {0, 1, 2})});
+  p.recursion = 5;
+  Sbt sbt;
+  sbt.raygen = Raygen(trace_module(), "__raygen__recurse");
+  sbt.miss = {Miss(trace_module(), "__miss__probe")};
+  sbt.hit = {HitGroup(trace_module(), "__closesthit__recurse")};
+  sbt.exception = Exception(calls_module(), "__exception__record");
+  ExpectSameAsSingleRays(sbt, p, 20, /*max_depth=*/5, OPTIX_EXCEPTION_FLAG_TRACE_DEPTH);
+  batched_ = true;
+  Result r = Run(sbt, p, 20, 5, OPTIX_EXCEPTION_FLAG_TRACE_DEPTH);
+  EXPECT_EQ(r.word(19, 0), 5u);  // every level of every lane returned its depth
+  // Too deep: every lane raises TRACE_DEPTH_EXCEEDED, which its exception program records.
+  ExpectSameAsSingleRays(sbt, p, 20, /*max_depth=*/2, OPTIX_EXCEPTION_FLAG_TRACE_DEPTH);
+  r = Run(sbt, p, 20, 2, OPTIX_EXCEPTION_FLAG_TRACE_DEPTH);
+  EXPECT_EQ(static_cast<int>(r.word(17, 0)), OPTIX_EXCEPTION_CODE_TRACE_DEPTH_EXCEEDED);
+  // Without an exception program one report goes out and the rest are counted, as per thread.
+  sbt.exception = 0;
+  r = Run(sbt, p, 20, 2, OPTIX_EXCEPTION_FLAG_TRACE_DEPTH);
+  ASSERT_GE(r.tile.exceptions_size(), 1);
+  EXPECT_EQ(r.tile.exceptions(0).launch_index(0), 0u);
+}
+
+TEST_F(BatchTest, AnyHitTracesRunAloneInTheirLanes) {
+  std::vector<float> two = Triangle(0);
+  const std::vector<float> behind = {0, 0, -1, 1, 0, -1, 0, 1, -1};
+  two.insert(two.end(), behind.begin(), behind.end());
+  const OptixTraversableHandle gas = Build({Triangles(two, {0, 1, 2, 3, 4, 5})});
+  Sbt sbt;
+  sbt.raygen = Raygen(trace_module(), "__raygen__trace");
+  sbt.miss = {Miss(trace_module(), "__miss__probe")};
+  sbt.hit = {HitGroup(trace_module(), "__closesthit__probe", "__anyhit__ignore_even")};
+  EngineParams p = DownZ(0.05f, 0.05f);
+  p.step.x = 0.05f;
+  p.handle = gas;
+  ExpectSameAsSingleRays(sbt, p, 24);
+}
+
+}  // namespace
+}  // namespace tessera::optix7_test

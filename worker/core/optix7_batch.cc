@@ -1,0 +1,145 @@
+#include "optix7_batch.h"
+
+#include <cstring>
+
+namespace tessera::worker {
+namespace {
+
+// A lane's stack: the native stack budget a launch index may use (optixTrace and callables raise
+// STACK_OVERFLOW past it, as on a thread's own stack) and a reserve below it for the engine,
+// Embree and a program that is still running when it is crossed.
+constexpr size_t kLaneStackBytes = kOptix7StackBudget + 768 * 1024;
+
+}  // namespace
+
+Optix7Batch::Optix7Batch() {
+  for (unsigned k = 0; k < kLanes; ++k) {
+    lanes_[k].batch = this;
+    lanes_[k].slot = k;
+  }
+}
+
+void Optix7Batch::LaneMain(void* arg) {
+  auto& lane = *static_cast<Optix7Lane*>(arg);
+  Optix7Batch& batch = *lane.batch;
+  // One launch index per resumption after `done`: the lane's stack stays laid out for the tile.
+  for (;;) {
+    try {
+      batch.run_(lane.ts);
+    } catch (...) {
+      lane.error = std::current_exception();
+    }
+    lane.done = true;
+    tessera_lane_switch(&lane.sp, batch.scheduler_sp_);
+  }
+}
+
+void Optix7Batch::BeginTile(Optix7Thread& thread, void (*run)(Optix7Thread&)) {
+  run_ = run;
+  thread_ = &thread;
+  for (unsigned k = 0; k < kLanes; ++k) {
+    Optix7Lane& lane = lanes_[k];
+    if (stacks_[k] == nullptr) stacks_[k] = std::make_unique<LaneStack>(kLaneStackBytes, k);
+    Optix7Thread& ts = lane.ts;
+    ts.launch = thread.launch;
+    ts.dims = thread.dims;
+    ts.out = thread.out;
+    ts.tile = &thread;
+    ts.lane = &lane;
+    ts.stack_limit = stacks_[k]->base() + (stacks_[k]->size() - kOptix7StackBudget);
+    ts.stack_floor = stacks_[k]->base();
+    // Afresh each tile: a tile that was interrupted or failed left its lanes anywhere.
+    lane.sp = stacks_[k]->Start(&LaneMain, &lane);
+    lane.waiting = lane.done = false;
+    lane.error = nullptr;
+  }
+}
+
+inline void Optix7Batch::Resume(Optix7Lane& lane) {
+  t_optix7 = &lane.ts;
+  tessera_lane_switch(&scheduler_sp_, lane.sp);
+  t_optix7 = thread_;
+  if (lane.error) {
+    std::exception_ptr e = lane.error;
+    lane.error = nullptr;
+    std::rethrow_exception(e);  // the other lanes of the block are abandoned with it
+  }
+}
+
+void Optix7Batch::TraceWaiting() {
+  // One packet per scene among the waiting lanes, scenes in the order of their first lane.
+  bool traced[kLanes] = {};
+  for (unsigned first = 0; first < kLanes; ++first) {
+    if (!lanes_[first].waiting || traced[first]) continue;
+    const Optix7Scene* scene = lanes_[first].scene;
+    alignas(64) RTCRayHit16 packet;
+    alignas(64) int valid[kLanes];
+    for (unsigned k = 0; k < kLanes; ++k) {
+      const Optix7Lane& lane = lanes_[k];
+      const bool in = lane.waiting && !traced[k] && lane.scene == scene;
+      valid[k] = in ? -1 : 0;
+      if (!in) continue;
+      traced[k] = true;
+      const RTCRay& r = lane.ray->ray;
+      packet.ray.org_x[k] = r.org_x;
+      packet.ray.org_y[k] = r.org_y;
+      packet.ray.org_z[k] = r.org_z;
+      packet.ray.tnear[k] = r.tnear;
+      packet.ray.dir_x[k] = r.dir_x;
+      packet.ray.dir_y[k] = r.dir_y;
+      packet.ray.dir_z[k] = r.dir_z;
+      packet.ray.time[k] = r.time;
+      packet.ray.tfar[k] = r.tfar;
+      packet.ray.mask[k] = r.mask;
+      packet.ray.id[k] = r.id;
+      packet.ray.flags[k] = r.flags;
+      packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect16(valid, scene->scene, &context, &packet);
+    for (unsigned k = 0; k < kLanes; ++k) {
+      if (!valid[k]) continue;
+      RTCRayHit& rh = *lanes_[k].ray;
+      rh.ray.tfar = packet.ray.tfar[k];
+      rh.hit.geomID = packet.hit.geomID[k];
+      rh.hit.primID = packet.hit.primID[k];
+      rh.hit.instID[0] = packet.hit.instID[0][k];
+      rh.hit.u = packet.hit.u[k];
+      rh.hit.v = packet.hit.v[k];
+      rh.hit.Ng_x = packet.hit.Ng_x[k];
+      rh.hit.Ng_y = packet.hit.Ng_y[k];
+      rh.hit.Ng_z = packet.hit.Ng_z[k];
+    }
+  }
+}
+
+void Optix7Batch::RunBlock(const Index3& origin, const Index3& size) {
+  unsigned n = 0;
+  for (uint32_t z = origin[2]; z < origin[2] + size[2]; ++z) {
+    for (uint32_t y = origin[1]; y < origin[1] + size[1]; ++y) {
+      for (uint32_t x = origin[0]; x < origin[0] + size[0]; ++x) {
+        Optix7Lane& lane = lanes_[n++];
+        lane.ts.index = {x, y, z};
+        lane.waiting = lane.done = false;
+      }
+    }
+  }
+  for (unsigned k = n; k < kLanes; ++k) lanes_[k].waiting = false;
+  for (unsigned k = 0; k < n; ++k) Resume(lanes_[k]);
+  for (;;) {
+    bool any = false;
+    for (unsigned k = 0; k < n; ++k) any = any || lanes_[k].waiting;
+    if (!any) break;
+    TraceWaiting();
+    for (unsigned k = 0; k < n; ++k) {
+      Optix7Lane& lane = lanes_[k];
+      if (!lane.waiting) continue;
+      lane.waiting = false;
+      Resume(lane);
+    }
+  }
+}
+
+}  // namespace tessera::worker
