@@ -1,5 +1,6 @@
 #include "gltf_loader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>

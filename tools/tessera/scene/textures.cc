@@ -36,7 +36,8 @@ absl::StatusOr<Texture> ReadOpened(OIIO::ImageInput& in, const std::string& name
   std::vector<float> stored(texels * channels);
   // Volume images keep their first slice: a material samples 2D images only.
   if (!in.read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, stored.data())) {
-    return absl::InvalidArgumentError(absl::StrCat(name, ": ", in.geterror()));
+    return absl::InvalidArgumentError(
+        absl::StrCat(name, ": cannot decode the image: ", in.geterror()));
   }
 
   Texture texture;
