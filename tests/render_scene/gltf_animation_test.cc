@@ -79,6 +79,14 @@ TEST_F(RenderSceneGltfAnimationTest, TimeRangeSpansEveryAnimationInput) {
   EXPECT_EQ(scene_->time_end(), 3.5);
 }
 
+TEST_F(RenderSceneGltfAnimationTest, NanTimeTakesTheFirstKeys) {
+  const Frame frame = scene_->FrameAt(std::nan(""));
+  ASSERT_EQ(frame.instances.size(), 5u);
+  const Affine& m = frame.instances[kCubicTranslation].to_world;
+  EXPECT_EQ(m[3], 0.f);
+  EXPECT_EQ(frame.instances[kStepScale].to_world[0], 1.f);
+}
+
 TEST_F(RenderSceneGltfAnimationTest, LinearTranslationAtBetweenAndOutsideKeys) {
   using T = std::array<float, 3>;
   EXPECT_EQ(Translation(0.5, kLinearTranslation), (T{0, 0, 0}));

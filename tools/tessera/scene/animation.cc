@@ -49,7 +49,9 @@ absl::Status ValidateChannel(const AnimationChannel& c, const std::string& what)
 
 void SampleChannel(const AnimationChannel& c, double time, double* out) {
   const size_t last = c.times.size() - 1;
-  if (time <= c.times.front()) return CopyKey(c, 0, out);
+  // Negated, so that a NaN time takes the first key instead of reaching the search below with a
+  // value every comparison rejects.
+  if (!(time > c.times.front())) return CopyKey(c, 0, out);
   if (time >= c.times[last]) return CopyKey(c, last, out);
   // times[k] <= time < times[k + 1]; both exist since time lies strictly inside the range.
   const size_t k = static_cast<size_t>(std::upper_bound(c.times.begin(), c.times.end(), time) -

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "scene_graph.h"
@@ -26,7 +27,7 @@ float Clamp01(float v) { return v > 0.f ? std::min(v, 1.f) : 0.f; }
 // normals and texture coordinates separately; a Mesh vertex is one distinct triple of them.
 struct MeshBuilder {
   Mesh mesh;
-  std::map<std::tuple<int, int, int>, uint32_t> vertex_of;
+  absl::flat_hash_map<std::tuple<int, int, int>, uint32_t> vertex_of;
   bool every_vertex_has_normal = true;
   bool some_vertex_has_texcoord = false;
 
