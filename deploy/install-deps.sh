@@ -8,6 +8,7 @@ packages=(
   libopenimageio-dev openimageio-tools
   libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev libabsl-dev
   libtinyobjloader-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libboost-context-dev
+  libtinygltf-dev  # tessera render's glTF loader (tools/tessera/scene)
   openssl  # the security tests make their certificates with it
 )
 missing=()
