@@ -80,17 +80,26 @@ Pixels Layout(ImageFormat format, const RenderedImage& image, bool exr_float) {
   return p;
 }
 
-void AddMetadata(OIIO::ImageSpec& spec, const ImageMetadata& m) {
+// PNG text chunks hold strings only (OIIO drops other attributes there), so PNG gets every
+// value as a string; OpenEXR keeps numbers as numbers.
+void AddMetadata(OIIO::ImageSpec& spec, const ImageMetadata& m, bool strings_only) {
   spec.attribute("Software", SoftwareName());
   spec.attribute("tessera:version", TESSERA_VERSION_STRING);
-  spec.attribute("tessera:samples", static_cast<int>(m.samples));
-  spec.attribute("tessera:spp", static_cast<int>(m.spp));
-  spec.attribute("tessera:seed", static_cast<int>(m.seed));
-  spec.attribute("tessera:max_depth", m.max_depth);
   spec.attribute("tessera:scene", m.scene);
   spec.attribute("tessera:camera", m.camera);
-  spec.attribute("tessera:frame", m.frame);
-  spec.attribute("tessera:time", static_cast<float>(m.time));
+  auto number = [&](const char* name, auto value) {
+    if (strings_only) {
+      spec.attribute(name, absl::StrCat(value));
+    } else {
+      spec.attribute(name, value);
+    }
+  };
+  number("tessera:samples", static_cast<int>(m.samples));
+  number("tessera:spp", static_cast<int>(m.spp));
+  number("tessera:seed", static_cast<unsigned>(m.seed));
+  number("tessera:max_depth", m.max_depth);
+  number("tessera:frame", m.frame);
+  number("tessera:time", static_cast<float>(m.time));
 }
 
 // Writes all of `bytes` to `fd`; false with errno set when it could not.
@@ -148,7 +157,9 @@ absl::Status WriteImage(const std::string& path, const RenderedImage& image,
   const absl::StatusOr<ImageFormat> format = FormatForPath(path);
   if (!format.ok()) return format.status();
   Pixels pixels = Layout(*format, image, exr_float);
-  if (*format != ImageFormat::kHdr) AddMetadata(pixels.spec, metadata);
+  if (*format != ImageFormat::kHdr) {
+    AddMetadata(pixels.spec, metadata, *format == ImageFormat::kPng);
+  }
 
   // Encoded in memory first: OIIO's PNG writer does not report a failed write, so the bytes
   // reach the disk through checked calls.
