@@ -165,6 +165,7 @@ int RenderRun::Run() {
     return kExitFailure;
   }
   renderer_ = *std::move(renderer);
+  log_(LogLevel::kDebug, "program modules in %s", settings.module_dir);
 
   for (const FrameJob& job : jobs) {
     if (StopSignal() != 0) return ExitStatusForSignal(StopSignal());

@@ -72,7 +72,11 @@ std::string DefaultModuleDir() {
     const std::string self(exe, static_cast<size_t>(n));
     const std::string installed =
         self.substr(0, self.rfind('/')) + "/" + TESSERA_RENDER_INSTALLED_MODULE_DIR;
-    if (IsFile(installed + "/" + kProbeModule)) return installed;
+    char resolved[PATH_MAX];
+    if (IsFile(installed + "/" + kProbeModule) &&
+        realpath(installed.c_str(), resolved) != nullptr) {
+      return resolved;
+    }
   }
   return TESSERA_RENDER_BUILD_MODULE_DIR;
 }
