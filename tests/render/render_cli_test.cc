@@ -1,6 +1,7 @@
 // End-to-end tests of `tessera render`: the executable run on builtin:cornell, small (64x48, a few
 // samples), its images read back with OpenImageIO.
 #include <OpenImageIO/imageio.h>
+#include <dirent.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -317,6 +318,59 @@ TEST_F(RenderCliTest, SigtermExits143WithTheImageSoFar) {
   close(fds[0]);
   EXPECT_EQ(r.status, 143) << err;
   EXPECT_GE(Samples(Read(out)), 1);
+}
+
+// The process ids of `parent`'s children running `name`.
+std::vector<pid_t> Children(pid_t parent, const std::string& name) {
+  std::vector<pid_t> found;
+  DIR* proc = opendir("/proc");
+  if (proc == nullptr) return found;
+  while (dirent* entry = readdir(proc)) {
+    const pid_t pid = static_cast<pid_t>(std::atoi(entry->d_name));
+    if (pid <= 0) continue;
+    // /proc/PID/stat: "pid (comm) state ppid ..."
+    const std::string stat = ReadFile("/proc/" + std::to_string(pid) + "/stat");
+    const size_t close = stat.rfind(')');
+    if (close == std::string::npos || stat.find("(" + name + ")") == std::string::npos) continue;
+    if (std::atoi(stat.c_str() + close + 4) == parent) found.push_back(pid);
+  }
+  closedir(proc);
+  return found;
+}
+
+// Sums stay on the devices between passes (GPU_LOCAL): a worker killed mid-render takes its share
+// along, which the host notices in the sample counts and repairs by running the pass again from
+// the last good sums. The image is the same bits as without the fault.
+TEST_F(RenderCliTest, AWorkerKilledMidRenderCostsTimeNotBits) {
+  const std::string out = Path("faulted.exr");
+  int fds[2];
+  ASSERT_EQ(pipe(fds), 0);
+  const pid_t pid =
+      Spawn({"render", "builtin:cornell", "-o", out, kWidth, kHeight, "--exr-float", "--spp=150",
+             "--pass-samples=1", "--devices=local:2", "--log-level=debug"},
+            fds[1]);
+  close(fds[1]);
+  std::string err;
+  char buffer[4096];
+  while (err.find("pass done") == std::string::npos) {
+    const ssize_t n = read(fds[0], buffer, sizeof(buffer));
+    if (n <= 0) break;
+    err.append(buffer, static_cast<size_t>(n));
+  }
+  const std::vector<pid_t> workers = Children(pid, "tessera-worker");
+  ASSERT_EQ(workers.size(), 2u) << err;
+  ASSERT_EQ(kill(workers[1], SIGKILL), 0);
+  std::thread drain([&] {
+    for (ssize_t n; (n = read(fds[0], buffer, sizeof(buffer))) > 0;) err.append(buffer, n);
+  });
+  const Result r = Wait(pid);
+  drain.join();
+  close(fds[0]);
+  ASSERT_EQ(r.status, 0) << err;
+  EXPECT_NE(err.find("ran again: a device had lost its accumulation"), std::string::npos) << err;
+  ASSERT_EQ(Render(Path("reference.exr"), {"--spp=150", "--exr-float", "--devices=inproc"}).status,
+            0);
+  ExpectSameBits(Path("reference.exr"), out);
 }
 
 TEST_F(RenderCliTest, FramesFollowThePatternAndSkipExistingSkips) {

@@ -6,7 +6,8 @@
 //   width W\n height H\n samples N\n key KEY\n      (one "name value" per line; KEY is one line)
 //   \n                                               (an empty line ends the header)
 //   W * H * 4 float32, little-endian: per pixel of the launch (row 0 at the bottom, as the
-//   programs write it) the radiance sums r, g, b and the count of rays traced.
+//   programs write it) the radiance sums r, g, b and the number of samples added (every pixel
+//   holds `samples`).
 #ifndef TESSERA_TOOLS_TESSERA_RENDER_ACCUMULATION_FILE_H_
 #define TESSERA_TOOLS_TESSERA_RENDER_ACCUMULATION_FILE_H_
 

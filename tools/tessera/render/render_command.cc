@@ -127,6 +127,7 @@ class RenderRun {
   std::unique_ptr<Renderer> renderer_;
   double seconds_per_sample_ = 0.0;  // measured on the last pass
   double rays_per_second_ = 0.0;
+  int passes_repeated_ = 0;  // already reported
 };
 
 int RenderRun::Run() {
@@ -281,7 +282,14 @@ int RenderRun::RenderFrame(const FrameJob& job) {
   }
   progress_.FinishFrame(renderer_->samples_done(), rays_per_second_);
 
-  absl::StatusOr<RenderedImage> image = renderer_->Resolve();
+  if (renderer_->passes_repeated() > passes_repeated_) {
+    log_(LogLevel::kWarn, "%d sample passes ran again: a device had lost its accumulation",
+         renderer_->passes_repeated() - passes_repeated_);
+    passes_repeated_ = renderer_->passes_repeated();
+  }
+  // Only OpenEXR files carry the albedo, normal and depth layers: no launch for them otherwise.
+  const bool layers = FormatForPath(job.path).value_or(ImageFormat::kPng) == ImageFormat::kExr;
+  absl::StatusOr<RenderedImage> image = renderer_->Resolve(layers);
   if (!image.ok()) {
     log_(LogLevel::kError, "%s", image.status().message());
     return kExitFailure;
@@ -354,7 +362,7 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
       });
   CLI::Option* spp = render->add_option("--spp", o.spp, "samples per pixel")
                          ->capture_default_str()
-                         ->check(CLI::Range(1u, 1u << 30));
+                         ->check(CLI::Range(1u, 1u << 24));
   render
       ->add_option("--time-limit", o.time_limit,
                    "seconds per frame: render passes until the time is up (with --spp, whichever "

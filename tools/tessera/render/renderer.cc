@@ -150,10 +150,15 @@ absl::Status Renderer::Init(const SceneFile& scene, const RendererSettings& sett
     if (!graph.ok()) return graph.status();
     graph_ = std::make_unique<SceneGraph>(*std::move(graph));
 
-    accum_ = context_->createBuffer(RT_BUFFER_INPUT_OUTPUT, RT_FORMAT_FLOAT4, 1, 1);
+    accum_ = context_->createBuffer(RT_BUFFER_INPUT_OUTPUT | RT_BUFFER_GPU_LOCAL, RT_FORMAT_FLOAT4,
+                                    1, 1);
+    output_ = context_->createBuffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, 1, 1);
+    ray_counts_ = context_->createBuffer(RT_BUFFER_OUTPUT, RT_FORMAT_UNSIGNED_INT, 1, 1);
     albedo_ = context_->createBuffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, 1, 1);
     normal_depth_ = context_->createBuffer(RT_BUFFER_OUTPUT, RT_FORMAT_FLOAT4, 1, 1);
     context_["accum_buffer"]->set(accum_);
+    context_["output_buffer"]->set(output_);
+    context_["ray_count_buffer"]->set(ray_counts_);
     context_["albedo_buffer"]->set(albedo_);
     context_["normal_depth_buffer"]->set(normal_depth_);
     context_->setTimeoutCallback(&Renderer::TimeoutCallback, 0.2);
@@ -183,15 +188,14 @@ absl::Status Renderer::SetView(const Frame& frame, const Camera& camera, int wid
     context_["orthographic"]->setInt(basis.orthographic ? 1 : 0);
     context_["near_distance"]->setFloat(basis.near_distance);
     if (width != width_ || height != height_) {
-      for (optix::Buffer* b : {&accum_, &albedo_, &normal_depth_}) {
+      for (optix::Buffer* b : {&accum_, &output_, &ray_counts_, &albedo_, &normal_depth_}) {
         (*b)->setSize(static_cast<RTsize>(width), static_cast<RTsize>(height));
       }
       width_ = width;
       height_ = height;
     }
     accumulation_.assign(static_cast<size_t>(width) * static_cast<size_t>(height) * 4, 0.f);
-    std::memcpy(accum_->map(), accumulation_.data(), accumulation_.size() * sizeof(float));
-    accum_->unmap();
+    UploadAccumulation();
   } catch (const optix::Exception& e) {
     return FromException("setting up the frame", e);
   }
@@ -204,76 +208,112 @@ absl::Status Renderer::ResumeFrom(const std::vector<float>& sums, uint32_t sampl
   if (sums.size() != accumulation_.size()) {
     return absl::InvalidArgumentError("the accumulation does not fit the image size");
   }
+  for (size_t i = 3; i < sums.size(); i += 4) {
+    if (sums[i] != static_cast<float>(samples)) {
+      return absl::InvalidArgumentError("the accumulation's pixels do not all hold its samples");
+    }
+  }
+  accumulation_ = sums;
   try {
-    std::memcpy(accum_->map(), sums.data(), sums.size() * sizeof(float));
-    accum_->unmap();
+    UploadAccumulation();
   } catch (const optix::Exception& e) {
     return FromException("loading the accumulation", e);
   }
-  accumulation_ = sums;
   samples_done_ = samples;
-  rays_traced_ = 0.0;
-  for (size_t i = 3; i < sums.size(); i += 4) rays_traced_ += sums[i];
   return absl::OkStatus();
+}
+
+void Renderer::UploadAccumulation() {
+  std::memcpy(accum_->map(), accumulation_.data(), accumulation_.size() * sizeof(float));
+  accum_->unmap();
 }
 
 absl::Status Renderer::RenderPass(uint32_t samples) {
   const auto w = static_cast<RTsize>(width_), h = static_cast<RTsize>(height_);
-  try {
-    context_["sample_begin"]->setUint(samples_done_);
-    context_["sample_count"]->setUint(samples);
-    g_launching = this;
-    context_->launch(kPathTraceEntry, w, h);
-    g_launching = nullptr;
-    const float* sums = static_cast<const float*>(accum_->map(0, RT_BUFFER_MAP_READ));
-    std::memcpy(accumulation_.data(), sums, accumulation_.size() * sizeof(float));
-    accum_->unmap();
-  } catch (const optix::Exception& e) {
-    g_launching = nullptr;
-    // The buffer may hold part of the pass: put back what the last whole pass left.
+  const auto expected = static_cast<float>(samples_done_ + samples);
+  // A device that lost its accumulation gives itself away in the sample counts; the pass then
+  // runs again from the last good sums. Twice more at most: a device set that keeps losing
+  // devices fails the launches themselves.
+  for (int attempt = 0;; ++attempt) {
     try {
-      std::memcpy(accum_->map(), accumulation_.data(), accumulation_.size() * sizeof(float));
-      accum_->unmap();
-    } catch (const optix::Exception&) {
-      // The launch's own error says more.
+      context_["sample_begin"]->setUint(samples_done_);
+      context_["sample_count"]->setUint(samples);
+      g_launching = this;
+      context_->launch(kPathTraceEntry, w, h);
+      g_launching = nullptr;
+      const auto* sums = static_cast<const float*>(output_->map(0, RT_BUFFER_MAP_READ));
+      bool whole = true;
+      for (size_t i = 3; i < accumulation_.size() && whole; i += 4) whole = sums[i] == expected;
+      if (whole) std::memcpy(accumulation_.data(), sums, accumulation_.size() * sizeof(float));
+      output_->unmap();
+      if (!whole) {
+        if (attempt == 2) {
+          return absl::DataLossError("the devices lost their accumulation three times in a row");
+        }
+        ++passes_repeated_;
+        UploadAccumulation();
+        continue;
+      }
+      const auto* rays = static_cast<const unsigned*>(ray_counts_->map(0, RT_BUFFER_MAP_READ));
+      double pass_rays = 0.0;
+      for (size_t i = 0; i < accumulation_.size() / 4; ++i) pass_rays += rays[i];
+      ray_counts_->unmap();
+      rays_traced_ += pass_rays;
+      samples_done_ += samples;
+      return absl::OkStatus();
+    } catch (const optix::Exception& e) {
+      g_launching = nullptr;
+      // The devices' sums may hold part of the pass: put back what the last whole pass left.
+      try {
+        UploadAccumulation();
+      } catch (const optix::Exception&) {
+        // The launch's own error says more.
+      }
+      if (e.getErrorCode() == RT_TIMEOUT_CALLBACK) {
+        return absl::CancelledError("the sample pass was cancelled");
+      }
+      return FromException("rendering", e);
     }
-    if (e.getErrorCode() == RT_TIMEOUT_CALLBACK) {
-      return absl::CancelledError("the sample pass was cancelled");
-    }
-    return FromException("rendering", e);
   }
-  samples_done_ += samples;
-  rays_traced_ = 0.0;
-  for (size_t i = 3; i < accumulation_.size(); i += 4) rays_traced_ += accumulation_[i];
-  return absl::OkStatus();
 }
 
-absl::StatusOr<RenderedImage> Renderer::Resolve() {
+absl::StatusOr<RenderedImage> Renderer::Resolve(bool layers) {
   RenderedImage image;
   image.width = width_;
   image.height = height_;
   const size_t count = static_cast<size_t>(width_) * static_cast<size_t>(height_);
   image.rgba.resize(count * 4);
-  image.albedo.resize(count * 3);
-  image.normal.resize(count * 3);
-  image.depth.resize(count);
+  if (layers) {
+    image.albedo.resize(count * 3);
+    image.normal.resize(count * 3);
+    image.depth.resize(count);
+  }
+  const float scale = samples_done_ > 0 ? 1.f / static_cast<float>(samples_done_) : 0.f;
+  for (int y = 0; y < height_; ++y) {
+    // Launch row 0 is the bottom of the image; files start at the top.
+    const size_t src_row = static_cast<size_t>(height_ - 1 - y) * static_cast<size_t>(width_);
+    const size_t dst_row = static_cast<size_t>(y) * static_cast<size_t>(width_);
+    for (size_t x = 0; x < static_cast<size_t>(width_); ++x) {
+      for (size_t c = 0; c < 3; ++c) {
+        image.rgba[(dst_row + x) * 4 + c] = accumulation_[(src_row + x) * 4 + c] * scale;
+      }
+      image.rgba[(dst_row + x) * 4 + 3] = 1.f;
+    }
+  }
+  if (!layers) return image;
   try {
     context_->launch(kAovEntry, static_cast<RTsize>(width_), static_cast<RTsize>(height_));
     const auto* albedo = static_cast<const float*>(albedo_->map(0, RT_BUFFER_MAP_READ));
     const auto* normal_depth = static_cast<const float*>(normal_depth_->map(0, RT_BUFFER_MAP_READ));
-    const float scale = samples_done_ > 0 ? 1.f / static_cast<float>(samples_done_) : 0.f;
     for (int y = 0; y < height_; ++y) {
-      // Launch row 0 is the bottom of the image; files start at the top.
       const size_t src_row = static_cast<size_t>(height_ - 1 - y) * static_cast<size_t>(width_);
       const size_t dst_row = static_cast<size_t>(y) * static_cast<size_t>(width_);
-      for (int x = 0; x < width_; ++x) {
-        const size_t s = src_row + static_cast<size_t>(x), d = dst_row + static_cast<size_t>(x);
-        for (int c = 0; c < 3; ++c) {
-          image.rgba[d * 4 + c] = accumulation_[s * 4 + c] * scale;
+      for (size_t x = 0; x < static_cast<size_t>(width_); ++x) {
+        const size_t s = src_row + x, d = dst_row + x;
+        for (size_t c = 0; c < 3; ++c) {
           image.albedo[d * 3 + c] = albedo[s * 4 + c];
           image.normal[d * 3 + c] = normal_depth[s * 4 + c];
         }
-        image.rgba[d * 4 + 3] = 1.f;
         image.depth[d] = normal_depth[s * 4 + 3];
       }
     }

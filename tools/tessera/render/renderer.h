@@ -64,36 +64,44 @@ class Renderer {
   void SetPassObserver(std::function<bool(double)> observer) { observer_ = std::move(observer); }
 
   // Adds `samples` samples per pixel in one launch. On failure the accumulation is as it was
-  // before the pass.
+  // before the pass. A pass whose result shows a device's accumulation lost (a worker that died
+  // and came back, or tiles that moved to a device that never had them: every pixel's sample
+  // count is checked) is run again from the last good accumulation, which is sent to every device.
   absl::Status RenderPass(uint32_t samples);
 
   uint32_t samples_done() const { return samples_done_; }
-  // Rays traced for the accumulation so far (counted by the programs).
+  // Rays traced by this renderer's passes (counted by the programs), and passes run again.
   double rays_traced() const { return rays_traced_; }
+  int passes_repeated() const { return passes_repeated_; }
   // The accumulation after the last pass that completed (launch layout: row 0 at the bottom).
   const std::vector<float>& accumulation() const { return accumulation_; }
   int width() const { return width_; }
   size_t emissive_triangle_count() const { return graph_->emissive_triangle_count(); }
   int height() const { return height_; }
 
-  // The image: accumulation / samples, rows flipped to top first, and the albedo, normal and
-  // depth layers (one more launch, of the `aovs` entry point).
-  absl::StatusOr<RenderedImage> Resolve();
+  // The image: accumulation / samples, rows flipped to top first, and with `layers` the albedo,
+  // normal and depth layers (one more launch, of the `aovs` entry point).
+  absl::StatusOr<RenderedImage> Resolve(bool layers);
 
  private:
   Renderer() = default;
   absl::Status Init(const SceneFile& scene, const RendererSettings& settings);
   static int TimeoutCallback();
+  // Sends the last good accumulation to every device (a host write of a GPU_LOCAL buffer).
+  void UploadAccumulation();
 
   RendererSettings settings_;
   optix::Context context_;
   std::unique_ptr<SceneGraph> graph_;
   optix::Buffer accum_;
+  optix::Buffer output_;
+  optix::Buffer ray_counts_;
   optix::Buffer albedo_;
   optix::Buffer normal_depth_;
   int width_ = 0, height_ = 0;
   uint32_t samples_done_ = 0;
   double rays_traced_ = 0.0;
+  int passes_repeated_ = 0;
   std::vector<float> accumulation_;
   std::function<bool(double)> observer_;
 };

@@ -23,8 +23,14 @@ rtDeclareVariable(unsigned int, seed, , );
 rtDeclareVariable(unsigned int, aov_samples, , );
 
 // Row 0 is the bottom of the image, as in OptiX; the host flips rows when it writes a file.
-// accum_buffer (INPUT_OUTPUT): xyz the sum of the samples' radiance, w the rays they traced.
+// accum_buffer (INPUT_OUTPUT | GPU_LOCAL): xyz the sum of the samples' radiance, w how many
+// samples were added. Each device keeps its own copy and never ships it, as progressive renderers
+// on multi-GPU OptiX do: a pixel stays on the same device from launch to launch (docs/devices.md,
+// "Stable ownership"). output_buffer (OUTPUT) receives the sums after every launch, for the host;
+// ray_count_buffer the rays this launch traced per pixel.
 rtBuffer<float4, 2> accum_buffer;
+rtBuffer<float4, 2> output_buffer;
+rtBuffer<unsigned int, 2> ray_count_buffer;
 // The `aovs` entry's outputs: albedo (rgb) and coverage; world normal (xyz) and depth along W.
 rtBuffer<float4, 2> albedo_buffer;
 rtBuffer<float4, 2> normal_depth_buffer;
@@ -64,6 +70,7 @@ static __device__ __inline__ RadiancePayload NewPath(const Rng& rng) {
 RT_PROGRAM void path_trace() {
   const unsigned int pixel = launch_index.y * launch_dim.x + launch_index.x;
   float4 sum = accum_buffer[launch_index];
+  unsigned int rays = 0;
   // One sample at a time, in sample order: the sum comes out the same however the samples are
   // split into launches, which is what lets a resumed render match an uninterrupted one.
   for (unsigned int s = sample_begin; s != sample_begin + sample_count; ++s) {
@@ -71,7 +78,6 @@ RT_PROGRAM void path_trace() {
     const float2 jitter = make_float2(Rnd(rng), Rnd(rng));
     optix::Ray ray = CameraRay(jitter);
     RadiancePayload prd = NewPath(rng);
-    unsigned int rays = 0;
     for (;;) {
       rtTrace(top_object, ray, prd);
       ++rays;
@@ -80,9 +86,12 @@ RT_PROGRAM void path_trace() {
     }
     // A sample that went wrong numerically counts as black rather than as a speckle.
     const float3 radiance = IsFinite(prd.radiance) ? prd.radiance : make_float3(0.0f);
-    sum += make_float4(radiance, static_cast<float>(rays + prd.rays));
+    sum += make_float4(radiance, 1.0f);
+    rays += prd.rays;
   }
   accum_buffer[launch_index] = sum;
+  output_buffer[launch_index] = sum;
+  ray_count_buffer[launch_index] = rays;
 }
 
 // First-hit albedo, normal and depth, averaged over `aov_samples` jittered rays (a stream of
