@@ -22,8 +22,10 @@ std::vector<std::string> BuiltinSceneNames();
 //
 // "cornell": a Cornell box two units wide, the floor at y = 0, open towards +Z where the camera
 // stands: a checkered white floor (a base colour texture), white ceiling and back wall, red left
-// and green right walls, an emissive quad under the ceiling, one point light, a tall copper box
-// (metallic, roughness 0.3) and a short white box carrying a glass ball (transmission 1, IOR 1.5).
+// and green right walls, an emissive quad under the ceiling (0.8 x 0.64, larger and dimmer than
+// the classic box's, so that caustics of the glass converge sooner), one point light, a tall
+// copper box (metallic, roughness 0.35) and a short white box carrying a glass ball
+// (transmission 1, IOR 1.5).
 // The short box and its ball turn and slide over time_begin() = 0 .. time_end() = 2 s, so frames
 // of an animation differ. Cameras: "main" (perspective, 39.3 degrees vertical) and "ortho"
 // (orthographic, the same view axis).
