@@ -54,16 +54,17 @@ void ToMatrix4(const Affine& a, float m[16]) {
   m[15] = 1.f;
 }
 
+double Determinant(const Affine& a) {
+  const auto m = [&](int i) { return static_cast<double>(a[static_cast<size_t>(i)]); };
+  return m(0) * (m(5) * m(10) - m(6) * m(9)) - m(1) * (m(4) * m(10) - m(6) * m(8)) +
+         m(2) * (m(4) * m(9) - m(5) * m(8));
+}
+
 bool Invertible(const Affine& a) {
-  const double det = static_cast<double>(a[0]) *
-                         (static_cast<double>(a[5]) * a[10] - static_cast<double>(a[6]) * a[9]) -
-                     static_cast<double>(a[1]) *
-                         (static_cast<double>(a[4]) * a[10] - static_cast<double>(a[6]) * a[8]) +
-                     static_cast<double>(a[2]) *
-                         (static_cast<double>(a[4]) * a[9] - static_cast<double>(a[5]) * a[8]);
   for (float v : a) {
     if (!std::isfinite(v)) return false;
   }
+  const double det = Determinant(a);
   return std::isfinite(det) && std::fabs(det) > 1e-30;
 }
 
@@ -284,6 +285,9 @@ void SceneGraph::UpdateEmissiveTriangles(const Frame& frame) {
     const float luminance = Luminance(material.emissive);
     if (!(luminance > 0.f)) continue;
     const bool uvs = mesh.texcoords.size() == mesh.positions.size() / 3 * 2;
+    // A mirroring transform turns the winding around, and with it the front face (glTF; and
+    // rtTransformNormal, which the closest-hit program takes the front from, agrees).
+    const float facing = Determinant(instance.to_world) < 0.0 ? -1.f : 1.f;
     for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
       const uint32_t* v = &mesh.indices[t];
       EmissiveTriangle e{};
@@ -294,7 +298,8 @@ void SceneGraph::UpdateEmissiveTriangles(const Frame& frame) {
       const float3 n = Cross(e.e1, e.e2);
       const float twice_area = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
       if (!(twice_area > 0.f) || !std::isfinite(twice_area)) continue;
-      e.normal = make_float3(n.x / twice_area, n.y / twice_area, n.z / twice_area);
+      const float scale = facing / twice_area;
+      e.normal = make_float3(n.x * scale, n.y * scale, n.z * scale);
       e.emission = make_float3(material.emissive[0], material.emissive[1], material.emissive[2]);
       e.emissive_texture = TextureId(texture_ids_, material.emissive_texture);
       if (uvs) {
