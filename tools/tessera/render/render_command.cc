@@ -97,7 +97,7 @@ std::string AccumulationKey(const RenderOptions& o, const std::string& camera, d
   return key;
 }
 
-// One frame: its output, its time and how it went.
+// One frame to render: its number, its image and its time in the scene.
 struct FrameJob {
   int frame = 0;
   std::string path;
@@ -132,13 +132,6 @@ class RenderRun {
 
 int RenderRun::Run() {
   InstallStopSignalHandlers();
-  absl::StatusOr<std::unique_ptr<SceneFile>> scene = OpenScene(options_.scene);
-  if (!scene.ok()) {
-    log_(LogLevel::kError, "%s", scene.status().message());
-    return kExitFailure;
-  }
-  scene_ = *std::move(scene);
-
   std::vector<FrameJob> jobs;
   if (options_.frames.empty()) {
     jobs.push_back({0, ExpandFramePattern(options_.output, 0), 0.0});
@@ -148,6 +141,27 @@ int RenderRun::Run() {
       jobs.push_back({frame, ExpandFramePattern(options_.output, frame), frame / options_.fps});
     }
   }
+  if (options_.skip_existing) {
+    // Before the scene is read or a device started: a farm that restarts a finished range does
+    // no work.
+    std::vector<FrameJob> left;
+    for (const FrameJob& job : jobs) {
+      if (Exists(job.path) && !Exists(AccumulationPath(job.path))) {
+        log_(LogLevel::kInfo, "%s exists, skipped", job.path);
+      } else {
+        left.push_back(job);
+      }
+    }
+    jobs.swap(left);
+    if (jobs.empty()) return 0;
+  }
+
+  absl::StatusOr<std::unique_ptr<SceneFile>> scene = OpenScene(options_.scene);
+  if (!scene.ok()) {
+    log_(LogLevel::kError, "%s", scene.status().message());
+    return kExitFailure;
+  }
+  scene_ = *std::move(scene);
 
   RendererSettings settings;
   settings.module_dir = DefaultModuleDir();
@@ -170,10 +184,6 @@ int RenderRun::Run() {
 
   for (const FrameJob& job : jobs) {
     if (StopSignal() != 0) return ExitStatusForSignal(StopSignal());
-    if (options_.skip_existing && Exists(job.path) && !Exists(AccumulationPath(job.path))) {
-      log_(LogLevel::kInfo, "%s exists, skipped", job.path);
-      continue;
-    }
     if (const int status = RenderFrame(job); status != 0) return status;
   }
   return 0;
@@ -184,7 +194,8 @@ uint32_t RenderRun::NextPassSize(uint32_t target) const {
   uint32_t samples = options_.pass_samples;
   if (samples == 0) {
     // About a second per launch: progress, Ctrl-C and --time-limit act between launches, and
-    // each launch ships the accumulation, which costs more the more launches there are.
+    // every launch costs the same few milliseconds of calls and copies however many samples it
+    // takes.
     samples = seconds_per_sample_ > 0.0
                   ? static_cast<uint32_t>(std::clamp(kPassSeconds / seconds_per_sample_, 1.0, 1e6))
                   : 1;
