@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Makes the Secret "tessera" of deploy/kubernetes: a CA, one certificate for every pod of the
-# worker StatefulSet, and a random token, with deploy/tls/make-certs.sh into DIR (kept: the CA and the token are reused when
-# the script runs again, say after adding a namespace); then prints the kubectl command that
-# creates the Secret, or runs it with --apply. docs/farm.md, "Kubernetes".
+# worker StatefulSet, and a random token, with deploy/tls/make-certs.sh into DIR (kept: the CA
+# and the token are reused when the script runs again, say for another namespace); then prints
+# the kubectl command that creates the Secret, or runs it with --apply. docs/farm.md,
+# "Kubernetes".
 #
 #   deploy/kubernetes/make-secret.sh [--namespace NS] [--service NAME] [--apply] DIR
 set -euo pipefail

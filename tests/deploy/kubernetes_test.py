@@ -40,6 +40,12 @@ PENDING_FLAGS = {"--status-listen", "--log-level", "--version"}  # issue 27, lan
 failures = []
 
 
+# The render command, one place to switch it: tessera-tutorial (the test's third argument) until
+# `tessera render` exists; then [renderer, "render", SCENE, "-o", out, "--spp", "1"].
+def render_command(renderer, out):
+    return [renderer, "--step", "1", "--width", "32", "--height", "32", "--out", out]
+
+
 def check(condition, message):
     if not condition:
         failures.append(message)
@@ -90,7 +96,8 @@ def check_pod(owner, pod, secrets, claims):
         for kind in ("cpu", "memory"):
             request = resources.get("requests", {}).get(kind)
             limit = resources.get("limits", {}).get(kind)
-            if check(request is not None and limit is not None, f"{cwhere}: {kind} request and limit"):
+            if check(request is not None and limit is not None,
+                     f"{cwhere}: {kind} request and limit"):
                 check(quantity(request) <= quantity(limit), f"{cwhere}: {kind} request over limit")
         mounts = {}
         for mount in container.get("volumeMounts", []):
@@ -101,7 +108,8 @@ def check_pod(owner, pod, secrets, claims):
             volume = volumes[mount["name"]]
             if "secret" in volume:
                 secret = volume["secret"]["secretName"]
-                if check(secret in secrets, f"{cwhere}: Secret {secret} is not among the manifests"):
+                if check(secret in secrets,
+                         f"{cwhere}: Secret {secret} is not among the manifests"):
                     items = volume["secret"].get("items") or [{"key": k, "path": k}
                                                               for k in secrets[secret]]
                     for item in items:
@@ -155,8 +163,9 @@ def main():
 
     # 1. yamllint.
     manifests = sorted(os.path.join(k8s_dir, n) for n in os.listdir(k8s_dir) if n.endswith(".yaml"))
-    lint = subprocess.run(["yamllint", "--strict", "-c", os.path.join(source_dir, "deploy/.yamllint")]
-                          + manifests, capture_output=True, text=True)
+    config = os.path.join(source_dir, "deploy/.yamllint")
+    lint = subprocess.run(["yamllint", "--strict", "-c", config] + manifests, capture_output=True,
+                          text=True)
     check(lint.returncode == 0, f"yamllint:\n{lint.stdout}{lint.stderr}")
 
     # 2. The manifests as a whole.
@@ -310,15 +319,15 @@ def serve(worker, tutorial, keys, service, tmp):
         match = re.search(r"listening on (\S+)", line)
         if not check(match is not None, f"the worker did not start: {line}"):
             return
-        for name, works in ((service, True), (f"{service}-2.{service}.render.svc.cluster.local", True),
+        for name, works in ((service, True),
+                            (f"{service}-2.{service}.render.svc.cluster.local", True),
                             (f"{service}-0.{service}.other.svc", False)):
             env = dict(os.environ, TESSERA_DEVICES=match.group(1), TESSERA_TLS_CA=keys["ca.pem"],
                        TESSERA_TOKEN_FILE=keys["tessera.token"], TESSERA_TLS_SERVER_NAME=name)
             env.pop("TESSERA_TOKEN", None)
             started = time.monotonic()
-            render = subprocess.run([tutorial, "--step", "1", "--width", "32", "--height", "32",
-                                     "--out", os.path.join(tmp, "k8s.png")], env=env,
-                                    capture_output=True, text=True, timeout=120)
+            render = subprocess.run(render_command(tutorial, os.path.join(tmp, "k8s.png")),
+                                    env=env, capture_output=True, text=True, timeout=120)
             check((render.returncode == 0) == works,
                   f"a host verifying '{name}' {'failed' if works else 'was served'}: "
                   f"{render.stderr[-400:]}")

@@ -13,5 +13,6 @@ mapfile -t scripts < <(find deploy tests/deploy -type f \( -name '*.sh' -o -name
 [ "${#scripts[@]}" -gt 0 ] || { echo "FAIL: no scripts found"; exit 1; }
 # Batch scripts are bash (#!/bin/bash) whatever their extension says.
 shellcheck --shell=bash --external-sources "${scripts[@]}"
-echo "PASS: shellcheck $(shellcheck --version | sed -n 's/^version: //p') on ${#scripts[@]} scripts:"
+version="$(shellcheck --version | sed -n 's/^version: //p')"
+echo "PASS: shellcheck $version on ${#scripts[@]} scripts:"
 printf '  %s\n' "${scripts[@]}"

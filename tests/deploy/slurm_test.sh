@@ -90,7 +90,8 @@ socks = [socket.socket() for _ in range(2)]
 for s in socks: s.bind(("127.0.0.1", 0))
 print(*(s.getsockname()[1] for s in socks))')
 # The node as slurmd sees this machine (CPUs, sockets, cores, memory), named localhost.
-node_line="$(slurmd -C | head -n 1 | sed 's/^NodeName=[^ ]*/NodeName=localhost NodeAddr=127.0.0.1/')"
+node_line="$(slurmd -C | head -n 1 |
+  sed 's/^NodeName=[^ ]*/NodeName=localhost NodeAddr=127.0.0.1/')"
 mkdir "$work/state" "$work/spool"
 cat >"$work/slurm.conf" <<EOF
 ClusterName=tessera-test
@@ -151,7 +152,8 @@ started=$SECONDS
 render_args=(--step 3 --width 96 --height 64)
 TESSERA_RENDER="$RENDER_CMD" timeout 150 \
   sbatch --wait --export=ALL --nodes=1 --ntasks=3 --overcommit --time=5 \
-  --output="$work/farm.out" "$source_dir/deploy/slurm/tessera-farm.sbatch" "${render_args[@]}" --out "$work/farm.png" ||
+  --output="$work/farm.out" "$source_dir/deploy/slurm/tessera-farm.sbatch" \
+  "${render_args[@]}" --out "$work/farm.png" ||
   { cat "$work/farm.out" >&2 || true; show_logs; fail "tessera-farm.sbatch failed"; }
 cat "$work/farm.out"
 echo "tessera-farm.sbatch took $((SECONDS - started)) s (sbatch --wait polls)"
@@ -186,10 +188,12 @@ echo "tessera-frames.sbatch took $((SECONDS - started)) s"
 for frame in 1 2 4 5; do
   [ -s "$work/frames/f.000$frame.png" ] || fail "frame $frame was not rendered"
 done
-[ "$(cat "$work/frames/f.0003.png")" = "rendered before" ] || fail "frame 3 existed and was rendered again"
+[ "$(cat "$work/frames/f.0003.png")" = "rendered before" ] ||
+  fail "frame 3 existed and was rendered again"
 for chunk in "0 1-2" "1 3-4" "2 5-5"; do
   read -r task range <<<"$chunk"
-  grep -q "^tessera-frames: task $task renders frames $range on local:1$" "$work/frames-$task.out" ||
+  grep -q "^tessera-frames: task $task renders frames $range on local:1$" \
+    "$work/frames-$task.out" ||
     fail "array task $task did not render frames $range"
 done
 echo "PASS"

@@ -8,7 +8,8 @@ rest of deploy/ under <prefix>/share/tessera/deploy. The installed units:
   - start the worker with its TLS certificate, key and token from LoadCredential= and its module
     cache in CacheDirectory=, with flags the real worker has (`tessera-worker --help`),
   - pass `systemd-analyze verify` without a warning, and `systemd-analyze security` rates their
-    exposure at most 2.0 ("OK"; 1.2 when written), where systemd-analyze exists (it runs without a running systemd).
+    exposure at most 2.0 ("OK"; 1.2 when written), where systemd-analyze exists (it runs without
+    a running systemd).
 """
 
 import os
@@ -18,6 +19,7 @@ import subprocess
 import sys
 import tempfile
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import systemd_unit  # noqa: E402
 

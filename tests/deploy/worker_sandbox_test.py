@@ -36,8 +36,15 @@ import tempfile
 import time
 import urllib.request
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import systemd_unit  # noqa: E402
+
+# The render command, one place to switch it: tessera-tutorial (the test's third argument) until
+# `tessera render` exists; then [renderer, "render", SCENE, "-o", out, "--spp", "4"].
+def render_command(renderer, out):
+    return [renderer, "--step", "10", "--width", "96", "--height", "64", "--out", out]
+
 
 SERVICE_UID = 61234  # in systemd's DynamicUser= range (61184-65519)
 CLONE_NEWNS = 0x00020000
@@ -414,8 +421,7 @@ def main():
                               TESSERA_TOKEN_FILE=f"{tls}/tessera.token")
             render_env.pop("TESSERA_TOKEN", None)
             started = time.monotonic()
-            render = subprocess.run([tutorial, "--step", "10", "--width", "96", "--height", "64",
-                                     "--out", images[name]], env=render_env,
+            render = subprocess.run(render_command(tutorial, images[name]), env=render_env,
                                     capture_output=True, text=True, timeout=120)
             if render.returncode != 0:
                 failures.append(f"the render on {devices} failed: {render.stderr}")
