@@ -7,6 +7,8 @@
 #   - tessera-farm.sbatch with three worker tasks on the one node (TLS and a token made by the
 #     job): the image must exist and be identical to the same render on an inproc device, every
 #     worker must have served TLS with a token, and stopped gracefully;
+#   - tessera-farm.sbatch whose workers cannot start (a bad flag): the job fails at once, shows
+#     the workers' error, and removes its private directory;
 #   - tessera-frames.sbatch as an array of three tasks over frames 1-5: every frame is written,
 #     each task renders its own chunk, and a frame that exists is skipped.
 # Skips (exit 77) only where the machine cannot run the daemons: not root, or slurmd refused by
@@ -173,6 +175,24 @@ fi
 TESSERA_DEVICES=inproc "$RENDER_CMD" "${render_args[@]}" --out "$work/inproc.png"
 cmp "$work/farm.png" "$work/inproc.png" ||
   fail "the farm's image differs from the same render on an inproc device"
+
+# ---- A worker that cannot start fails the job at once, saying why, and leaves nothing behind.
+started=$SECONDS
+if TESSERA_RENDER="$RENDER_CMD" TESSERA_WORKER_ARGS=--no-such-flag timeout 150 \
+  sbatch --wait --export=ALL --nodes=1 --ntasks=2 --overcommit --time=5 \
+  --output="$work/farm-fails.out" "$source_dir/deploy/slurm/tessera-farm.sbatch" \
+  "${render_args[@]}" --out "$work/never.png"; then
+  fail "tessera-farm.sbatch succeeded with workers that cannot start"
+fi
+cat "$work/farm-fails.out"
+echo "the failing tessera-farm.sbatch took $((SECONDS - started)) s"
+grep -q '^tessera-farm: not every one of the 2 workers started$' "$work/farm-fails.out" ||
+  fail "the job did not say that its workers did not start"
+grep -q -- '--no-such-flag' "$work/farm-fails.out" || fail "the job did not show the workers' error"
+[ ! -e "$work/never.png" ] || fail "the render ran without workers"
+if compgen -G "$work/tessera-job-*" >/dev/null; then
+  fail "the failed job left its private directory behind"
+fi
 
 # ---- tessera-frames.sbatch: frames 1-5 over an array of three tasks; frame 3 exists already.
 started=$SECONDS
