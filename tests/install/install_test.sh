@@ -19,6 +19,14 @@ for f in bin/tessera-worker include/tessera/optix.h include/tessera/tessera/devi
   [ -e "$prefix/$f" ] || { echo "missing from the install: $f"; exit 1; }
 done
 ls "$prefix"/lib*/libtessera.so* >/dev/null
+
+# `tessera render` runs from the moved prefix with the installed path tracer modules.
+unset TESSERA_RENDER_MODULE_DIR
+err=$(TESSERA_DEVICES=local:2 TESSERA_CACHE_DIR="$work/cache-render" "$prefix/bin/tessera" render \
+      builtin:cornell -o "$work/cornell.png" --width 32 --height 24 --spp 1 --log-level debug 2>&1)
+grep -q "program modules in $prefix/lib[^ ]*/tessera/render\$" <<<"$err" ||
+  { echo "tessera render did not use the installed modules: $err"; exit 1; }
+[ -s "$work/cornell.png" ] || { echo "tessera render wrote no image"; exit 1; }
 echo "// added by install_test.sh: consumer/fill.cu needs it" \
   >"$prefix/include/tessera/installed_marker.h"
 

@@ -118,10 +118,15 @@ class SceneFile {
   // Every instance, camera and light at `time`, animations sampled as glTF says (LINEAR, STEP,
   // CUBICSPLINE; rotations by slerp), clamped to the animation's range.
   virtual Frame FrameAt(double time) const = 0;
+  // What the loaders skipped or could not read without failing (morph targets, skins, points and
+  // lines, a texture file that is missing, ...), one line per kind of problem, each naming the
+  // file; empty when everything in the file was loaded. For the user, not for the renderer.
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  protected:
   Assets assets_;
   double time_begin_ = 0.0, time_end_ = 0.0;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace tessera::render

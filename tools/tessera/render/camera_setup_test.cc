@@ -1,0 +1,75 @@
+#include "tools/tessera/render/camera_setup.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace tessera::render {
+namespace {
+
+Frame TwoCameras() {
+  Frame frame;
+  Camera a;
+  a.name = "front";
+  a.to_world = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 5};
+  Camera b = a;
+  b.name = "side";
+  b.aspect = 2.f;
+  frame.cameras = {a, b};
+  return frame;
+}
+
+TEST(CameraSetupTest, SelectsByIndexOrNameAndListsThemOtherwise) {
+  const Frame frame = TwoCameras();
+  EXPECT_EQ(SelectCamera(frame, "")->name, "front");
+  EXPECT_EQ(SelectCamera(frame, "1")->name, "side");
+  EXPECT_EQ(SelectCamera(frame, "side")->name, "side");
+  const auto missing = SelectCamera(frame, "top");
+  ASSERT_TRUE(absl::IsNotFound(missing.status()));
+  EXPECT_NE(missing.status().message().find("1 \"side\""), std::string::npos);
+  EXPECT_FALSE(SelectCamera(frame, "2").ok());
+}
+
+TEST(CameraSetupTest, FramesASceneWithoutCameras) {
+  Frame frame;
+  const float bounds[6] = {-1, -1, -1, 1, 1, 1};
+  std::copy(bounds, bounds + 6, frame.bounds);
+  const auto camera = SelectCamera(frame, "");
+  ASSERT_TRUE(camera.ok());
+  EXPECT_FALSE(camera->orthographic);
+  EXPECT_GT(camera->to_world[11], 2.f);  // in front of the box, looking down -Z at it
+  EXPECT_EQ(camera->to_world[3], 0.f);
+}
+
+TEST(CameraSetupTest, ImageSizeFollowsTheAspectRatio) {
+  Camera camera;
+  int w = 0, h = 0;
+  ResolveImageSize(camera, 0, 0, &w, &h);
+  EXPECT_EQ(w, 1280);
+  EXPECT_EQ(h, 720);
+  camera.aspect = 2.f;
+  ResolveImageSize(camera, 0, 0, &w, &h);
+  EXPECT_EQ(h, 640);
+  ResolveImageSize(camera, 0, 300, &w, &h);
+  EXPECT_EQ(w, 600);
+  ResolveImageSize(camera, 100, 0, &w, &h);
+  EXPECT_EQ(h, 50);
+  ResolveImageSize(camera, 100, 10, &w, &h);
+  EXPECT_EQ(w, 100);
+  EXPECT_EQ(h, 10);
+}
+
+TEST(CameraSetupTest, BasisLooksDownMinusZWithTheImagesAspect) {
+  Camera camera;
+  camera.yfov = 2.f * std::atan(0.5f);  // half height 0.5 at distance 1
+  camera.to_world = {1, 0, 0, 1, 0, 1, 0, 2, 0, 0, 1, 3};
+  const CameraBasis b = ComputeCameraBasis(camera, 200, 100);
+  EXPECT_FLOAT_EQ(b.eye[0], 1.f);
+  EXPECT_FLOAT_EQ(b.eye[2], 3.f);
+  EXPECT_FLOAT_EQ(b.w[2], -1.f);
+  EXPECT_NEAR(b.v[1], 0.5f, 1e-6f);
+  EXPECT_NEAR(b.u[0], 1.0f, 1e-6f);  // twice as wide
+}
+
+}  // namespace
+}  // namespace tessera::render
