@@ -17,11 +17,9 @@ set -euo pipefail
 source_dir="$(cd "$1" && pwd)"
 build_dir="$(cd "$2" && pwd)"
 
-# The render command under test, one place to switch it. tessera-tutorial until `tessera render`
-# exists; then RENDER_CMD="$build_dir/tools/tessera/tessera render $source_dir/<a scene>" and
-# RENDER_ARGS=(-o "$work/farm.png" --spp 4), and FRAMES_RENDER_CMD the same command.
-RENDER_CMD="$build_dir/samples/tutorial/tessera-tutorial"
-FRAMES_RENDER_CMD="$source_dir/tests/deploy/render_frames_stub.sh"
+# The render command under test: `tessera render` on its built-in scene, small and few samples.
+RENDER_CMD="$build_dir/tools/tessera/tessera"
+FRAMES_RENDER_CMD="$RENDER_CMD render"
 WORKER="$build_dir/worker/service/tessera-worker"
 
 skip() {
@@ -42,7 +40,7 @@ for tool in munged mungekey slurmctld slurmd sbatch srun sbcast squeue scancel s
   command -v "$tool" >/dev/null || fail "$tool not found: deploy/install-deps.sh installs it"
 done
 [ -x "$WORKER" ] || fail "no $WORKER: build tessera-worker"
-[ -x "$RENDER_CMD" ] || fail "no $RENDER_CMD: build tessera-tutorial"
+[ -x "$RENDER_CMD" ] || fail "no $RENDER_CMD: build tessera_cli"
 
 # munged wants every directory above its socket searchable by all.
 work="$(mktemp -d "${TMPDIR:-/tmp}/tessera-slurm-test.XXXXXX")"
@@ -151,11 +149,11 @@ export TESSERA_WORKER_BIN="$WORKER"
 
 # ---- tessera-farm.sbatch: three workers on the one node, the render on the first node.
 started=$SECONDS
-render_args=(--step 3 --width 96 --height 64)
+render_args=(render builtin:cornell --spp 2 --width 96 --height 64)
 TESSERA_RENDER="$RENDER_CMD" timeout 150 \
   sbatch --wait --export=ALL --nodes=1 --ntasks=3 --overcommit --time=5 \
   --output="$work/farm.out" "$source_dir/deploy/slurm/tessera-farm.sbatch" \
-  "${render_args[@]}" --out "$work/farm.png" ||
+  "${render_args[@]}" --output "$work/farm.png" ||
   { cat "$work/farm.out" >&2 || true; show_logs; fail "tessera-farm.sbatch failed"; }
 cat "$work/farm.out"
 echo "tessera-farm.sbatch took $((SECONDS - started)) s (sbatch --wait polls)"
@@ -172,7 +170,7 @@ if compgen -G "$work/tessera-job-*" >/dev/null; then
   fail "the job left its private directory behind: $(echo "$work"/tessera-job-*)"
 fi
 # The same image as on one in-process device: the workers traced it, through TLS and the token.
-TESSERA_DEVICES=inproc "$RENDER_CMD" "${render_args[@]}" --out "$work/inproc.png"
+TESSERA_DEVICES=inproc "$RENDER_CMD" "${render_args[@]}" --output "$work/inproc.png"
 cmp "$work/farm.png" "$work/inproc.png" ||
   fail "the farm's image differs from the same render on an inproc device"
 
@@ -181,7 +179,7 @@ started=$SECONDS
 if TESSERA_RENDER="$RENDER_CMD" TESSERA_WORKER_ARGS=--no-such-flag timeout 150 \
   sbatch --wait --export=ALL --nodes=1 --ntasks=2 --overcommit --time=5 \
   --output="$work/farm-fails.out" "$source_dir/deploy/slurm/tessera-farm.sbatch" \
-  "${render_args[@]}" --out "$work/never.png"; then
+  "${render_args[@]}" --output "$work/never.png"; then
   fail "tessera-farm.sbatch succeeded with workers that cannot start"
 fi
 cat "$work/farm-fails.out"
@@ -198,10 +196,10 @@ fi
 started=$SECONDS
 mkdir "$work/frames"
 echo "rendered before" >"$work/frames/f.0003.png"
-TESSERA_FRAMES=1-5 TESSERA_RENDER="$FRAMES_RENDER_CMD" TESSERA_TUTORIAL="$RENDER_CMD" timeout 150 \
+TESSERA_FRAMES=1-5 TESSERA_RENDER="$FRAMES_RENDER_CMD" timeout 150 \
   sbatch --wait --export=ALL --array=0-2 --cpus-per-task=1 --time=5 \
   --output="$work/frames-%a.out" "$source_dir/deploy/slurm/tessera-frames.sbatch" \
-  scene -o "$work/frames/f.####.png" ||
+  builtin:cornell --spp 1 --width 48 --height 32 -o "$work/frames/f.####.png" ||
   { cat "$work"/frames-*.out >&2 || true; show_logs; fail "tessera-frames.sbatch failed"; }
 cat "$work"/frames-*.out
 echo "tessera-frames.sbatch took $((SECONDS - started)) s"
