@@ -543,6 +543,9 @@ grpc::Status WorkerService::EndSession(grpc::ServerContext* context,
     use.get()->device.reset();
     ForgetIfEmpty(request->session_id(), use.shared());
   }
+  // The session is gone with its last reference (above): its memory goes back to the system, as
+  // for a session dropped for idleness.
+  malloc_trim(0);
   return grpc::Status::OK;
 }
 
