@@ -294,15 +294,16 @@ absl::Status Context::EnsureDevices() {
     }
   }
   if (available > 0) return absl::OkStatus();
-  // Never answered: its own code (a refused token stays RT_ERROR_AUTHENTICATION_FAILED), and
-  // every device named.
+  // Never answered: its own code (a refused token stays RT_ERROR_AUTHENTICATION_FAILED); with
+  // running workers among several devices, every device named (any of them may come up).
   if (!first_never_started.ok()) {
-    const size_t devices = slots_.size();
+    const bool running_workers = std::any_of(
+        slots_.begin(), slots_.end(), [](const DeviceSlot& s) { return s.joiner != nullptr; });
+    if (slots_.size() == 1 || !running_workers) return first_never_started;
     return RtError(ToRtResult(first_never_started),
-                   devices == 1 ? std::string(first_never_started.message())
-                                : absl::StrCat("no device could be started (", failures,
-                                               "); running workers are tried again in the "
-                                               "background and join when they answer"));
+                   absl::StrCat("no device could be started (", failures,
+                                "); running workers are tried again in the background and join "
+                                "when they answer"));
   }
   return RtError(RT_ERROR_CONNECTION_FAILED,
                  absl::StrCat("every device was lost and none could be started again",
