@@ -14,7 +14,7 @@ import re
 import sys
 from collections import defaultdict
 
-HOST = re.compile(r'tessera: launch (\d+):.*monotonic clock ([0-9.]+) to ([0-9.]+)ms')
+HOST = re.compile(r'\[api\] \[info\] launch (\d+):.*monotonic clock ([0-9.]+) to ([0-9.]+)ms')
 CALL = re.compile(r'call of launch (\d+) .*waited ([0-9.]+)ms, ran ([0-9.]+)ms, '
                   r'sent the rest in ([0-9.]+)ms.*monotonic clock ([0-9.]+) to ([0-9.]+)ms')
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <thread>
 
+#include "tessera/scheduler/log.h"
+
 namespace tessera::optix7 {
 namespace {
 
@@ -23,10 +25,10 @@ CudaDeviceMode CudaDeviceModeFromEnvironment() {
   // A typo must not silently change how many GPUs an application believes it has.
   static std::atomic<bool> said{false};
   if (!said.exchange(true)) {
-    std::fprintf(stderr,
-                 "tessera: TESSERA_CUDA_DEVICES='%s' is neither 'one' nor 'each'; using 'one' "
-                 "(one CUDA device tiled over every device of TESSERA_DEVICES)\n",
-                 value.c_str());
+    log::Warn(log::Component::kApi,
+              "TESSERA_CUDA_DEVICES='%s' is neither 'one' nor 'each'; using 'one' (one CUDA device "
+              "tiled over every device of TESSERA_DEVICES)",
+              value);
   }
   return CudaDeviceMode::kOne;
 }

@@ -11,6 +11,7 @@
 #include "program.h"
 #include "status.h"
 #include "tessera/scheduler/device.h"
+#include "tessera/scheduler/log.h"
 
 namespace tessera::api {
 namespace {
@@ -201,10 +202,10 @@ void CheckRestoredAccelerations(Context& context) {
     }
     a->set_restore_check(Acceleration::RestoreCheck::kMismatch);
     // Once per rtAccelerationSetData: the check is not made again for this data.
-    std::fprintf(stderr,
-                 "tessera: %s: the data rtAccelerationSetData restored was not built over the "
-                 "graph it is on (%s); it is built afresh, running its bounding-box programs\n",
-                 a->Describe().c_str(), why.c_str());
+    log::Warn(log::Component::kApi,
+              "%s: the data rtAccelerationSetData restored was not built over the graph it is on "
+              "(%s); it is built afresh, running its bounding-box programs",
+              a->Describe(), why);
   }
 }
 

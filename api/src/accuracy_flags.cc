@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "tessera/accuracy.h"
+#include "tessera/scheduler/log.h"
 
 namespace tessera::api {
 namespace {
@@ -56,8 +57,7 @@ uint32_t AccuracyFromEnvironment() {
   if (flags.ok()) return *flags;
   static std::once_flag reported;
   std::call_once(reported, [&] {
-    std::fprintf(stderr, "tessera: TESSERA_ACCURACY ignored: %s\n",
-                 std::string(flags.status().message()).c_str());
+    log::Warn(log::Component::kApi, "TESSERA_ACCURACY ignored: %s", flags.status().message());
   });
   return 0;
 }

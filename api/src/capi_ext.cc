@@ -7,11 +7,30 @@
 #include "device_spec.h"
 #include "device_table.h"
 #include "status.h"
+#include "tessera/log.h"
 #include "tessera/rt_ext.h"
+#include "tessera/scheduler/log.h"
 
 using namespace tessera::api;  // NOLINT: C entry points only
 
+static_assert(TESSERA_LOG_TRACE == static_cast<int>(tessera::log::Level::kTrace) &&
+                  TESSERA_LOG_DEBUG == static_cast<int>(tessera::log::Level::kDebug) &&
+                  TESSERA_LOG_INFO == static_cast<int>(tessera::log::Level::kInfo) &&
+                  TESSERA_LOG_WARN == static_cast<int>(tessera::log::Level::kWarn) &&
+                  TESSERA_LOG_ERROR == static_cast<int>(tessera::log::Level::kError) &&
+                  TESSERA_LOG_OFF == static_cast<int>(tessera::log::Level::kOff),
+              "tessera/log.h's levels are the log's");
+
 extern "C" {
+
+// No handle to look up and no error to report: nothing but running out of memory before the first
+// line can go wrong, and then lines go on to stderr.
+void tesseraSetLogCallback(TesseraLogCallback callback, void* user) {
+  try {
+    tessera::log::SetCallback(callback, user);
+  } catch (...) {
+  }
+}
 
 RTresult tesseraContextSetDeviceSpec(RTcontext context, const char* spec) {
   return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {

@@ -135,12 +135,16 @@ class Context : public Object {
   // Replaces the devices with the given ones (tests drive the launch path with fakes).
   void UseDevicesForTesting(std::vector<std::unique_ptr<Device>> devices);
   // Creates the selected devices that do not exist yet, including lost ones again (a respawned
-  // local worker, a reconnected remote one). A device that cannot be created again is left out
-  // of the launch with a warning on stderr; UNAVAILABLE (RT_ERROR_CONNECTION_FAILED) when none
-  // is left.
+  // local worker), and takes running workers (HOST:PORT, unix:PATH) that answered in the
+  // background since (DeviceJoiner). A device that cannot be created is left out of the launch
+  // with one warning until it is back; a running worker that does not answer is then tried again
+  // in the background, never by a launch. With no device left, the running workers get one more
+  // try each (within the connection timeout) before it fails: UNAVAILABLE
+  // (RT_ERROR_CONNECTION_FAILED) naming every device, or the only device's own reason and code.
   absl::Status EnsureDevices();
   // Forgets a device that was lost during a launch (killed, hung, crashed): the next launch
-  // creates it again and sends it the whole state under a new session.
+  // creates it again (a running worker: once it answers in the background) and sends it the
+  // whole state under a new session.
   void LoseDevice(DeviceSlot& slot);
   // The tile size launches use: empty = automatic.
   absl::Status SetTileSize(std::vector<uint64_t> size);
@@ -215,6 +219,9 @@ class Context : public Object {
   Context();
   void DropLinks() override;
   void ResetDeviceSlots();
+  // Tries to reach the running worker of `slot` in the background until it answers (the first
+  // try at once, or after the backoff's first wait when the caller just tried).
+  void StartJoining(DeviceSlot& slot, bool try_at_once);
 
   uint64_t version_clock_ = 0;
   uint64_t structure_clock_ = 1;

@@ -1,4 +1,6 @@
 // Context device selection: which devices of the context's list a launch uses.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <new>
@@ -8,9 +10,12 @@
 #include <vector>
 
 #include "absl/container/flat_hash_set.h"
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "context.h"
+#include "device_joiner.h"
 #include "status.h"
+#include "tessera/scheduler/log.h"
 
 namespace tessera::api {
 
@@ -123,31 +128,133 @@ std::vector<absl::StatusOr<std::unique_ptr<Device>>> CreateDevices(
 
 }  // namespace
 
+namespace {
+
+// A worker someone else runs: one that does not answer is tried again in the background instead
+// of at every launch (a host that cannot be reached costs each try the connection timeout).
+bool IsRunningWorker(const DeviceDesc& desc) {
+  return desc.type == DeviceSpecEntry::Type::kTcp || desc.type == DeviceSpecEntry::Type::kUnix;
+}
+
+// The longest one try to reach a running worker takes: TESSERA_WORKER_TIMEOUT (read as the
+// transport reads it, which says once when it is unusable), and a second for the connection.
+// How long a launch that has a device waits for running workers' first tries: connecting to a
+// worker that is up takes milliseconds, one that is not may take the whole connection timeout.
+constexpr absl::Duration kFirstAnswerGrace = absl::Seconds(1);
+
+absl::Duration OneTryAtMost() {
+  double seconds = 10;
+  const char* env = std::getenv("TESSERA_WORKER_TIMEOUT");
+  double parsed = 0;
+  if (env != nullptr && absl::SimpleAtod(env, &parsed) && std::isfinite(parsed) && parsed >= 1) {
+    seconds = parsed;
+  }
+  return absl::Seconds(seconds + 1);
+}
+
+}  // namespace
+
+void Context::StartJoining(DeviceSlot& slot, bool try_at_once) {
+  if (slot.joiner != nullptr || injected_devices_) return;
+  const DeviceDesc desc = slot.desc;
+  const int threads = num_threads_;
+  slot.joiner = std::make_shared<DeviceJoiner>(
+      desc.address, [desc, threads] { return CreateDevice(desc, threads); }, try_at_once,
+      slot.lost);
+}
+
 absl::Status Context::EnsureDevices() {
   if (slots_.empty()) return RtError(RT_ERROR_NO_DEVICE, "the context has no devices");
+  // Running workers that answered in the background join now, with the whole state (their
+  // sessions are new: LoseDevice, or never started).
+  auto take_joined = [this] {
+    for (DeviceSlot& slot : slots_) {
+      if (slot.device != nullptr || slot.joiner == nullptr) continue;
+      std::unique_ptr<Device> device = slot.joiner->Take();
+      if (device == nullptr) continue;
+      slot.joiner.reset();
+      slot.device = std::move(device);
+      slot.lost = false;
+      slot.start_failure_said = false;
+      slot.down_reason.clear();
+    }
+  };
+  take_joined();
+  auto count_available = [this] {
+    size_t n = 0;
+    for (const DeviceSlot& slot : slots_) n += slot.device != nullptr ? 1 : 0;
+    return n;
+  };
+  // Waits until each of `waits` (a joiner's slot, and the tries it must have ended) ended its
+  // try or answered, or `grace` after some device is ready (a worker that answers later joins a
+  // later launch), or one try's longest time; takes those that answered.
+  auto wait_for_tries = [&](const std::vector<std::pair<DeviceSlot*, uint64_t>>& waits,
+                            absl::Duration grace) {
+    const absl::Time start = absl::Now();
+    const absl::Time deadline = start + OneTryAtMost();
+    while (!waits.empty()) {
+      bool all_tried = true;
+      for (const auto& [slot, tries] : waits) {
+        if (slot->joiner == nullptr) continue;  // taken
+        const bool ready = slot->joiner->Wait(tries, absl::InfinitePast());
+        all_tried = all_tried && (ready || slot->joiner->tries() >= tries);
+      }
+      take_joined();
+      const absl::Time now = absl::Now();
+      if (all_tried || now >= deadline || (count_available() > 0 && now >= start + grace)) break;
+      absl::SleepFor(absl::Milliseconds(5));
+    }
+  };
+  // Running workers not tried yet (at the context's first launch) are tried on joiners' threads
+  // from the start, as those that stopped answering are; the others are created here, at once
+  // and in parallel: in-process devices and spawned workers (local:N, started again at every
+  // launch while they fail).
   std::vector<DeviceSlot*> missing;
+  std::vector<std::pair<DeviceSlot*, uint64_t>> first_tries;
   for (DeviceSlot& slot : slots_) {
     // A lost test device stays lost.
-    if (slot.device == nullptr && !injected_devices_) missing.push_back(&slot);
+    if (slot.device != nullptr || slot.joiner != nullptr || injected_devices_) continue;
+    if (IsRunningWorker(slot.desc)) {
+      StartJoining(slot, /*try_at_once=*/true);
+      first_tries.emplace_back(&slot, 1);
+    } else {
+      missing.push_back(&slot);
+    }
   }
   std::vector<absl::StatusOr<std::unique_ptr<Device>>> created =
       CreateDevices(missing, num_threads_);
   for (size_t i = 0; i < missing.size(); ++i) {
     if (!created[i].ok()) continue;
-    missing[i]->device = *std::move(created[i]);
-    missing[i]->lost = false;
-    missing[i]->start_failure_said = false;
+    DeviceSlot& slot = *missing[i];
+    slot.device = *std::move(created[i]);
+    slot.lost = false;
+    slot.start_failure_said = false;
   }
-  size_t available = 0;
-  for (const DeviceSlot& slot : slots_) available += slot.device != nullptr ? 1 : 0;
+  // The launch starts with the devices that answer: a worker that has not answered a second
+  // after another device was ready is left to join a later launch.
+  wait_for_tries(first_tries, kFirstAnswerGrace);
+  // No device at all: the running workers get one more try each, at once and together, before
+  // the launch fails (a bounded wait: each try ends within the connection timeout, and one
+  // refused ends at once).
+  if (count_available() == 0) {
+    std::vector<std::pair<DeviceSlot*, uint64_t>> waits;
+    for (DeviceSlot& slot : slots_) {
+      if (slot.joiner == nullptr) continue;
+      const bool first = std::any_of(first_tries.begin(), first_tries.end(),
+                                     [&](const auto& w) { return w.first == &slot; });
+      if (!first) waits.emplace_back(&slot, slot.joiner->Kick());
+    }
+    wait_for_tries(waits, absl::ZeroDuration());
+  }
+  const size_t available = count_available();
   // A device that cannot be started (a worker killed or stopped while starting, a remote worker
   // not up yet) is a lost device: while another is left the launch runs without it, said once
-  // until it starts again, and every launch tries it again. Only with no device left does the
-  // launch fail: a device that never worked names why (a configuration error keeps its code).
+  // until it starts again. Only with no device left does the launch fail: a device that never
+  // worked names why (a configuration error keeps its code).
   std::string failures;
   absl::Status first_never_started;
   for (size_t i = 0; i < missing.size(); ++i) {
-    if (created[i].ok()) continue;
+    if (created[i].ok() || IsRunningWorker(missing[i]->desc)) continue;
     DeviceSlot& slot = *missing[i];
     const absl::Status& why = created[i].status();
     absl::StrAppend(&failures, failures.empty() ? "" : "; ", slot.desc.name, ": ", why.message());
@@ -157,20 +264,52 @@ absl::Status Context::EnsureDevices() {
                                         ") could not be started: ", why.message()));
     }
     if (available > 0 && !slot.start_failure_said) {
-      std::fprintf(stderr,
-                   "tessera: device '%s' (%s) could not be started%s: %s. Launches run on the "
-                   "other devices and try it again each time (said once until it starts).\n",
-                   slot.desc.name.c_str(), slot.desc.address.c_str(), slot.lost ? " again" : "",
-                   std::string(why.message()).c_str());
+      log::Warn(log::Component::kApi,
+                "device '%s' (%s) could not be started%s: %s. Launches run on the other devices "
+                "and try it again each time (said once until it starts).",
+                slot.desc.name, slot.desc.address, slot.lost ? " again" : "", why.message());
       slot.start_failure_said = true;
     }
     slot.lost = true;
   }
+  // Running workers that do not answer: one line each until they join.
+  for (DeviceSlot& slot : slots_) {
+    if (slot.device != nullptr || slot.joiner == nullptr) continue;
+    const absl::Status last = slot.joiner->last_error();
+    if (!last.ok()) slot.down_reason = std::string(last.message());
+    if (slot.down_reason.empty()) slot.down_reason = "no answer yet";
+    const std::string reason = slot.down_reason.empty() ? "" : " (" + slot.down_reason + ")";
+    absl::StrAppend(&failures, failures.empty() ? "" : "; ", slot.desc.address, reason);
+    if (!slot.lost && first_never_started.ok()) {
+      const absl::Status why = last.ok() ? absl::UnavailableError(slot.down_reason) : last;
+      first_never_started = RtError(
+          ToRtResult(why), absl::StrCat("device '", slot.desc.name, "' (", slot.desc.address,
+                                        ") could not be started: ", slot.down_reason));
+    }
+    if (available > 0 && !slot.start_failure_said) {
+      log::Warn(log::Component::kApi,
+                "device %s not answering; continuing with %d devices, retrying in background%s",
+                slot.desc.address, available, reason);
+      slot.start_failure_said = true;
+    }
+  }
   if (available > 0) return absl::OkStatus();
-  if (!first_never_started.ok()) return first_never_started;
+  // Never answered: its own code (a refused token stays RT_ERROR_AUTHENTICATION_FAILED); with
+  // running workers among several devices, every device named (any of them may come up).
+  if (!first_never_started.ok()) {
+    const bool running_workers = std::any_of(
+        slots_.begin(), slots_.end(), [](const DeviceSlot& s) { return s.joiner != nullptr; });
+    if (slots_.size() == 1 || !running_workers) return first_never_started;
+    return RtError(ToRtResult(first_never_started),
+                   absl::StrCat("no device could be started (", failures,
+                                "); running workers are tried again in the background and join "
+                                "when they answer"));
+  }
   return RtError(RT_ERROR_CONNECTION_FAILED,
                  absl::StrCat("every device was lost and none could be started again",
-                              failures.empty() ? "" : " (", failures, failures.empty() ? "" : ")"));
+                              failures.empty() ? "" : " (", failures, failures.empty() ? "" : ")",
+                              "; running workers are tried again in the background and join when "
+                              "they answer"));
 }
 
 void Context::LoseDevice(DeviceSlot& slot) {
@@ -182,6 +321,11 @@ void Context::LoseDevice(DeviceSlot& slot) {
   slot.sync = DeviceSync();
   slot.sync.ordinal = ordinal;
   slot.sync.session_id = session_id_ + sessions_++;
+  // A running worker is reached again in the background, from now: a launch never waits for it.
+  if (IsRunningWorker(slot.desc)) {
+    slot.start_failure_said = false;
+    StartJoining(slot, /*try_at_once=*/true);
+  }
 }
 
 bool Context::race_check() const {

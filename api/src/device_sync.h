@@ -15,6 +15,8 @@
 
 namespace tessera::api {
 
+class DeviceJoiner;  // device_joiner.h
+
 struct BufferSyncState {
   uint64_t byte_size = 0;
   uint64_t host_write_epoch = 0;  // GPU_LOCAL: the host writes the device has received
@@ -48,7 +50,12 @@ struct DeviceSlot {
   std::unique_ptr<Device> device;  // null until created, and after it was lost
   DeviceSync sync;
   bool lost = false;  // lost (or never started): created again, or left out, at the next launch
-  bool start_failure_said = false;  // a failure to start was said on stderr; reset once it starts
+  bool start_failure_said = false;  // a failure to start was said in the log; reset once it starts
+  // A running worker (HOST:PORT, unix:PATH) that did not answer or was lost: tried again in the
+  // background until it answers, and taken by the launch after that (Context::EnsureDevices).
+  // (shared_ptr: destroyed where DeviceJoiner is incomplete, which unique_ptr cannot do.)
+  std::shared_ptr<DeviceJoiner> joiner;
+  std::string down_reason;  // why it was lost or did not answer, for the line that says so
   // The device's threads when it last existed: a device gone at a launch with stable tile
   // ownership still counts toward the tile size, so that the other devices keep their tiles.
   int threads = 0;

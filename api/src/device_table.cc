@@ -10,6 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "status.h"
 #include "system_info.h"
+#include "tessera/scheduler/log.h"
 
 namespace tessera::api {
 namespace {
@@ -101,8 +102,8 @@ std::string DefaultDeviceSpec() {
     // Defaults work with no configuration: a forked child still renders, on its own cores.
     static std::atomic<bool> said{false};
     if (!said.exchange(true)) {
-      std::fprintf(stderr, "tessera: the default devices are '%s' here: %s\n", kDefaultDeviceSpec,
-                   std::string(usable.message()).c_str());
+      log::Warn(log::Component::kApi, "the default devices are '%s' here: %s", kDefaultDeviceSpec,
+                usable.message());
     }
     return kDefaultDeviceSpec;
   }

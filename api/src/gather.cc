@@ -17,6 +17,7 @@
 #include "hash.h"
 #include "status.h"
 #include "tessera/scheduler/device.h"
+#include "tessera/scheduler/log.h"
 #include "variable.h"
 #include "variable_scope.h"
 
@@ -44,12 +45,11 @@ uint64_t PrintBytes(const v1::PrintRecord& p) { return p.text().size() + p.dropp
 void LaunchGather::ReportExceptions() {
   if (exceptions_unshown_ == 0 || !first_exception_.has_value()) return;
   const std::string& first = first_exception_->details();
-  std::fprintf(stderr,
-               "tessera: %llu launch index(es) raised an exception that no exception program "
-               "handled%s; first: %s",
-               static_cast<unsigned long long>(exceptions_unshown_),
-               context_.print_enabled() ? " and printing did not show" : "", first.c_str());
-  if (first.empty() || first.back() != '\n') std::fputc('\n', stderr);
+  log::Warn(log::Component::kApi,
+            "%llu launch index(es) raised an exception that no exception program handled%s; "
+            "first: %s",
+            static_cast<unsigned long long>(exceptions_unshown_),
+            context_.print_enabled() ? " and printing did not show" : "", first);
 }
 
 void LaunchGather::DropPrint(const v1::PrintRecord& p) {
@@ -379,18 +379,17 @@ absl::Status LaunchGather::Finish() {
       const auto* b = static_cast<const Buffer*>(context_.FindById(r.buffer_id));
       const uint64_t w = b != nullptr ? std::max<uint64_t>(b->dim(0), 1) : 1;
       const uint64_t h = b != nullptr ? std::max<uint64_t>(b->dim(1), 1) : 1;
-      std::fprintf(stderr,
-                   "tessera: race check: buffer %s element (%llu, %llu, %llu): devices '%s' and "
-                   "'%s' wrote different values in one launch\n",
-                   BufferName(context_, r.buffer_id).c_str(),
-                   static_cast<unsigned long long>(r.element % w),
-                   static_cast<unsigned long long>(r.element / w % h),
-                   static_cast<unsigned long long>(r.element / (w * h)),
-                   slots_[r.first]->desc.name.c_str(), slots_[r.second]->desc.name.c_str());
+      log::Warn(log::Component::kApi,
+                "race check: buffer %s element (%llu, %llu, %llu): devices '%s' and '%s' wrote "
+                "different values in one launch",
+                BufferName(context_, r.buffer_id), static_cast<unsigned long long>(r.element % w),
+                static_cast<unsigned long long>(r.element / w % h),
+                static_cast<unsigned long long>(r.element / (w * h)), slots_[r.first]->desc.name,
+                slots_[r.second]->desc.name);
     }
     if (race_count_ > races_.size()) {
-      std::fprintf(stderr, "tessera: race check: %llu more elements written by two devices\n",
-                   static_cast<unsigned long long>(race_count_ - races_.size()));
+      log::Warn(log::Component::kApi, "race check: %llu more elements written by two devices",
+                static_cast<unsigned long long>(race_count_ - races_.size()));
     }
   }
   context_.set_last_race_count(race_count_);
@@ -431,12 +430,12 @@ absl::Status LaunchGather::Finish() {
   for (const v1::PrintRecord& p : prints_) std::fwrite(p.text().data(), 1, p.text().size(), stdout);
   std::fflush(stdout);
   if (prints_dropped_ > 0) {
-    std::fprintf(stderr,
-                 "tessera: rtPrintf output of this launch exceeds the print buffer size (%llu "
-                 "bytes, rtContextSetPrintBufferSize): %llu prints (%llu bytes) were dropped\n",
-                 static_cast<unsigned long long>(context_.print_buffer_size()),
-                 static_cast<unsigned long long>(prints_dropped_),
-                 static_cast<unsigned long long>(print_bytes_dropped_));
+    log::Warn(log::Component::kApi,
+              "rtPrintf output of this launch exceeds the print buffer size (%llu bytes, "
+              "rtContextSetPrintBufferSize): %llu prints (%llu bytes) were dropped",
+              static_cast<unsigned long long>(context_.print_buffer_size()),
+              static_cast<unsigned long long>(prints_dropped_),
+              static_cast<unsigned long long>(print_bytes_dropped_));
   }
   prints_.clear();
   ReportExceptions();

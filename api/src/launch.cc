@@ -26,6 +26,7 @@
 #include "status.h"
 #include "tessera/scheduler/dispatcher.h"
 #include "tessera/scheduler/launch_timing.h"
+#include "tessera/scheduler/log.h"
 #include "tessera/scheduler/result_pool.h"
 #include "tessera/scheduler/tiling.h"
 #include "validate.h"
@@ -80,7 +81,8 @@ enum class LostTiles {
   kStartedAgain,  // every device was lost taking the state: the launch starts them again once
 };
 
-// Only local:N workers are started again; the host reconnects to others.
+// Only local:N workers are started again; others are reached again in the background
+// (DeviceJoiner).
 void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
               const absl::Status& reason, LostTiles tiles) {
   const bool others_took_over = tiles == LostTiles::kRanElsewhere;
@@ -97,18 +99,19 @@ void WarnLost(Context& context, const DeviceSlot& slot, uint64_t launch_id,
   const std::string gone = gpu_local.empty() ? std::string()
                                              : absl::StrCat("; its copies of GPU_LOCAL buffers (",
                                                             gpu_local, ") are gone");
-  std::fprintf(stderr, "tessera: device '%s' (%s) was lost during launch %llu: %s. %s%s.%s %s\n",
-               slot.desc.name.c_str(), slot.desc.address.c_str(),
-               static_cast<unsigned long long>(launch_id), std::string(reason.message()).c_str(),
-               others_took_over                    ? "Its tiles ran on the other devices"
-               : tiles == LostTiles::kNoDeviceLeft ? "No other device was left to run its tiles"
-               : tiles == LostTiles::kStartedAgain
-                   ? "No device was left: the launch starts its devices again once"
-                   : "The launch ended without its tiles",
-               gone.c_str(), moved.c_str(),
-               tiles == LostTiles::kStartedAgain ? ""
-               : spawned                         ? "It is started again for the next launch."
-                                                 : "The next launch connects to it again.");
+  log::Warn(log::Component::kApi, "device '%s' (%s) was lost during launch %llu: %s. %s%s.%s %s",
+            slot.desc.name, slot.desc.address, static_cast<unsigned long long>(launch_id),
+            reason.message(),
+            others_took_over                    ? "Its tiles ran on the other devices"
+            : tiles == LostTiles::kNoDeviceLeft ? "No other device was left to run its tiles"
+            : tiles == LostTiles::kStartedAgain
+                ? "No device was left: the launch starts its devices again once"
+                : "The launch ended without its tiles",
+            gone, moved,
+            tiles == LostTiles::kStartedAgain ? ""
+            : spawned                         ? "It is started again for the next launch."
+                                              : "It is reached again in the background and joins "
+                                                "the launch after it answers.");
 }
 
 // TESSERA_LAUNCH_TIMING=1: one line per launch on stderr with where the host's time went, to tell
@@ -132,13 +135,13 @@ class LaunchTiming {
     rusage now{};
     getrusage(RUSAGE_SELF, &now);
     // The monotonic clock is the machine's: it places the launch among local workers' calls.
-    std::fprintf(stderr,
-                 "tessera: launch %llu:%s (of which applying results %sms); host cpu user %.1fms "
-                 "sys %.1fms; monotonic clock %s to %sms\n",
-                 static_cast<unsigned long long>(launch_id), line_.c_str(), Ms(apply).c_str(),
-                 scheduler::Milliseconds(now.ru_utime, start_usage_.ru_utime),
-                 scheduler::Milliseconds(now.ru_stime, start_usage_.ru_stime),
-                 Ms(start_.time_since_epoch()).c_str(), Ms(last_.time_since_epoch()).c_str());
+    log::Info(log::Component::kApi,
+              "launch %llu:%s (of which applying results %sms); host cpu user %.1fms sys %.1fms; "
+              "monotonic clock %s to %sms",
+              static_cast<unsigned long long>(launch_id), line_, Ms(apply),
+              scheduler::Milliseconds(now.ru_utime, start_usage_.ru_utime),
+              scheduler::Milliseconds(now.ru_stime, start_usage_.ru_stime),
+              Ms(start_.time_since_epoch()), Ms(last_.time_since_epoch()));
   }
   std::chrono::steady_clock::duration apply{};
 
@@ -388,13 +391,13 @@ void WarnIfTilesMoved(Context& context, uint64_t launch_id, const std::vector<ui
   const std::vector<uint64_t> effective = scheduler::EffectiveTileSize(dims, tile_size);
   if (last.dims == dims && !last.tile.empty() && last.tile != effective) {
     const Buffer* b = FirstGpuLocalBuffer(context);
-    std::fprintf(stderr,
-                 "tessera: launch %llu: the tile size changed from %s to %s at the same launch "
-                 "size %s; launch indices move to other devices and see those devices' copies "
-                 "of GPU_LOCAL buffers (%s)\n",
-                 static_cast<unsigned long long>(launch_id), absl::StrJoin(last.tile, "x").c_str(),
-                 absl::StrJoin(effective, "x").c_str(), absl::StrJoin(dims, "x").c_str(),
-                 b != nullptr ? b->DescribeNamed().c_str() : "");
+    log::Warn(
+        log::Component::kApi,
+        "launch %llu: the tile size changed from %s to %s at the same launch size %s; launch "
+        "indices move to other devices and see those devices' copies of GPU_LOCAL buffers (%s)",
+        static_cast<unsigned long long>(launch_id), absl::StrJoin(last.tile, "x"),
+        absl::StrJoin(effective, "x"), absl::StrJoin(dims, "x"),
+        b != nullptr ? b->DescribeNamed().c_str() : "");
   }
   last.dims = dims;
   last.tile = effective;

@@ -22,6 +22,7 @@
 #include "status.h"
 #include "subprocess.h"
 #include "tessera/scheduler/install_paths.h"
+#include "tessera/scheduler/log.h"
 #include "tessera/scheduler/module_cache_files.h"
 
 #ifndef TESSERA_PROGRAM_INCLUDE_DIR
@@ -217,8 +218,8 @@ absl::StatusOr<std::string> UsableModuleCacheDir(const std::string& chosen_dir) 
                    absl::StrCat("cannot create module cache directory '", wanted, "': ", why,
                                 "; nor a temporary one: ", std::strerror(errno)));
   }
-  std::fprintf(stderr, "tessera: compile cache %s is not usable (%s); using %s instead\n",
-               wanted.c_str(), why.c_str(), temp.c_str());
+  log::Warn(log::Component::kApi, "compile cache %s is not usable (%s); using %s instead", wanted,
+            why, temp);
   temp_dir = new std::string(temp);
   std::atexit([] {
     std::error_code ignored;

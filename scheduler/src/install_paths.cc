@@ -9,6 +9,8 @@
 #include <cstring>
 #include <mutex>
 
+#include "tessera/scheduler/log.h"
+
 // Set by scheduler/CMakeLists.txt from GNUInstallDirs: the installed <bindir> and <includedir>
 // relative to <libdir>, which `cmake --install --prefix` keeps whatever the prefix.
 #ifndef TESSERA_BINDIR_FROM_LIBDIR
@@ -84,12 +86,11 @@ void NoteBuildTreeFallback(InstalledPart part, const std::string& missing,
   static std::once_flag said[2];
   const bool worker = part == InstalledPart::kWorker;
   std::call_once(said[worker ? 0 : 1], [&] {
-    std::fprintf(stderr,
-                 "tessera: no usable %s at %s (beside %s); using the build tree's, %s, which may "
-                 "be another version: reinstall, or set %s\n",
-                 worker ? "tessera-worker" : "program headers", missing.c_str(),
-                 ThisBinaryPathOnce().c_str(), used.c_str(),
-                 worker ? "TESSERA_WORKER" : "TESSERA_INCLUDE_DIR");
+    log::Warn(log::Component::kScheduler,
+              "no usable %s at %s (beside %s); using the build tree's, %s, which may be another "
+              "version: reinstall, or set %s",
+              worker ? "tessera-worker" : "program headers", missing, ThisBinaryPathOnce(), used,
+              worker ? "TESSERA_WORKER" : "TESSERA_INCLUDE_DIR");
   });
 }
 

@@ -10,6 +10,7 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/string_view.h"
+#include "tessera/scheduler/log.h"
 #include "tessera/scheduler/module_hash.h"
 
 namespace tessera::scheduler {
@@ -52,10 +53,9 @@ uint64_t ModuleCacheLimitBytes() {
         v <= (UINT64_MAX >> 20)) {
       mib = v;
     } else if (static std::atomic<bool> warned{false}; !warned.exchange(true)) {  // once
-      std::fprintf(stderr,
-                   "tessera: TESSERA_MODULE_CACHE_MAX_MB='%s' is not a positive number of MiB; "
-                   "using %llu\n",
-                   env, static_cast<unsigned long long>(kDefaultMiB));
+      log::Warn(log::Component::kScheduler,
+                "TESSERA_MODULE_CACHE_MAX_MB='%s' is not a positive number of MiB; using %llu", env,
+                static_cast<unsigned long long>(kDefaultMiB));
     }
   }
   return mib << 20;

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "absl/strings/escaping.h"
+#include "tessera/scheduler/log.h"
 
 namespace tessera::scheduler {
 
@@ -14,7 +15,7 @@ std::string ModuleHash(absl::string_view bytes) {
   unsigned int size = 0;
   // EVP_Digest fails only when it cannot allocate: nothing a caller could handle.
   if (EVP_Digest(bytes.data(), bytes.size(), digest, &size, EVP_sha256(), nullptr) != 1) {
-    std::fprintf(stderr, "tessera: SHA-256 failed (out of memory?)\n");
+    log::Error(log::Component::kScheduler, "SHA-256 failed (out of memory?)");
     std::abort();
   }
   return absl::BytesToHexString(absl::string_view(reinterpret_cast<const char*>(digest), size));

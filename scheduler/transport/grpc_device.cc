@@ -15,11 +15,13 @@
 #include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "tessera/scheduler/log.h"
 #include "tessera/scheduler/result_pool.h"
 #include "tessera/v1/worker.grpc.pb.h"
 #include "transport/apply_call.h"
 #include "transport/call_watchdog.h"
 #include "transport/credentials.h"
+#include "transport/grpc_log.h"
 #include "transport/result_arena.h"
 #include "transport/worker_wire.h"
 
@@ -59,11 +61,11 @@ absl::Duration SilenceDeadline() {
     return absl::Seconds(seconds);
   }
   static std::once_flag warned;
-  std::call_once(warned, [env] {
-    std::fprintf(stderr,
-                 "tessera: TESSERA_WORKER_TIMEOUT='%s' is not a number of seconds from %g up "
-                 "(workers send a heartbeat twice a second); using %g\n",
-                 env, kMin, kDefault);
+  std::call_once(warned, [&] {
+    log::Warn(log::Component::kScheduler,
+              "TESSERA_WORKER_TIMEOUT='%s' is not a number of seconds from %g up (workers send a "
+              "heartbeat twice a second); using %g",
+              env, kMin, kDefault);
   });
   return absl::Seconds(kDefault);
 }
@@ -97,6 +99,7 @@ absl::Status GrpcDevice::Open(absl::Duration timeout) {
   // never released keeps the library up for the life of the host process instead.
   static const bool kKeepGrpcInitialised = [] {
     g_grpc_pid.store(getpid());
+    RouteGrpcLogs();
     grpc_init();
     return true;
   }();

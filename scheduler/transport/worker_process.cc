@@ -32,6 +32,7 @@
 #include "absl/strings/str_split.h"
 #include "absl/time/clock.h"
 #include "tessera/scheduler/install_paths.h"
+#include "tessera/scheduler/log.h"
 #include "transport/result_arena.h"
 
 #ifndef TESSERA_WORKER_BUILD_PATH
@@ -263,15 +264,21 @@ std::string StartupLineKey(absl::string_view line) {
 // Passes on what a worker printed while it started: warnings about the environment it shares with
 // the host (a module cache it cannot use, a malformed TESSERA_* value) would otherwise stay in a
 // log that nobody reads and that goes with the worker. A line that several workers print (they
-// all see the same environment) appears once per host process.
-void RelayStartupLines(const std::string& log, int index) {
+// all see the same environment) appears once per host process. A worker's warnings and errors
+// travel at their own level, without their time and component (the host's line has its own), and
+// its info lines (what it serves) stay in its log; anything else it printed is a warning.
+void RelayStartupLines(const std::string& printed, int index) {
   static std::mutex mu;
   static auto* seen = new std::set<std::string>;
   std::lock_guard<std::mutex> lock(mu);
-  for (absl::string_view line : absl::StrSplit(log, '\n', absl::SkipWhitespace())) {
-    if (!seen->emplace(StartupLineKey(line)).second) continue;
-    std::fprintf(stderr, "%.*s (said by local worker %d at startup)\n",
-                 static_cast<int>(line.size()), line.data(), index);
+  for (absl::string_view line : absl::StrSplit(printed, '\n', absl::SkipWhitespace())) {
+    log::Level level = log::Level::kWarn;
+    absl::string_view text = line;
+    if (!log::ParseLine(line, &level, &text)) text = line;
+    if (level < log::Level::kWarn || !log::Enabled(level)) continue;
+    if (!seen->emplace(StartupLineKey(text)).second) continue;
+    log::Log(log::Component::kScheduler, level, "%s (said by local worker %d at startup)", text,
+             index);
   }
 }
 
@@ -334,10 +341,10 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
       process->log_path_ = absl::StrCat(dir, "/tessera-worker-", getpid(), "-", spawns++, "-w",
                                         options.index, ".log");
     } else if (static std::atomic<bool> warned{false}; !warned.exchange(true)) {
-      std::fprintf(stderr,
-                   "tessera: TESSERA_WORKER_LOG_DIR=%s cannot hold worker logs (%s); they stay "
-                   "in each worker's private directory\n",
-                   dir, ec ? ec.message().c_str() : std::strerror(errno));
+      log::Warn(log::Component::kScheduler,
+                "TESSERA_WORKER_LOG_DIR=%s cannot hold worker logs (%s); they stay in each "
+                "worker's private directory",
+                dir, ec ? ec.message().c_str() : std::strerror(errno));
     }
   }
   std::string listen = options.listen;

@@ -477,9 +477,10 @@ TEST_F(FaultTest, ATileThatEndsTwoRemoteWorkersIsBlamedBeforeTheThird) {
   EXPECT_EQ(alive, 1);
 }
 
-// A remote worker that hangs is tried again at every launch: each try may cost the silence
-// deadline, not gRPC's 10 s connection timeout.
-TEST_F(FaultTest, AHungRemoteWorkerCostsLaterLaunchesTheDeadlineOnly) {
+// A remote worker that hangs is lost once, at the launch that found it silent (which costs the
+// silence deadline); later launches do not wait for it: it is tried again in the background
+// (docs/devices.md "Running workers as a service"), and said once, not at every launch.
+TEST_F(FaultTest, AHungRemoteWorkerCostsOnlyTheLaunchThatLostIt) {
   std::vector<std::unique_ptr<transport::WorkerProcess>> workers;
   std::string spec;
   ASSERT_NO_FATAL_FAILURE(SpawnOwnWorkers(2, &workers, &spec));
@@ -496,13 +497,16 @@ TEST_F(FaultTest, AHungRemoteWorkerCostsLaterLaunchesTheDeadlineOnly) {
   }
   unsetenv("TESSERA_WORKER_TIMEOUT");
   kill(workers[1]->pid(), SIGCONT);
-  for (double s : seconds) EXPECT_LT(s, kDeadlineSeconds + 4.0);
-  // Lost in the first launch; the second cannot reach it and says so once, the third says
-  // nothing more (a worker down for hours must not log at every launch).
-  EXPECT_NE(warnings[1].find("did not answer within " + kDeadline + "s"), std::string::npos)
+  EXPECT_LT(seconds[0], kDeadlineSeconds + 4.0);
+  EXPECT_NE(warnings[0].find("reached again in the background"), std::string::npos) << warnings[0];
+  // The later launches wait for nothing; the second says once that the worker is not answering,
+  // the third says nothing more (a worker down for hours must not log at every launch).
+  for (size_t i = 1; i < seconds.size(); ++i) EXPECT_LT(seconds[i], kDeadlineSeconds) << i;
+  EXPECT_NE(warnings[1].find(workers[1]->address() +
+                             " not answering; continuing with 1 devices, retrying in background"),
+            std::string::npos)
       << warnings[1];
-  EXPECT_NE(warnings[1].find("could not be started again"), std::string::npos) << warnings[1];
-  EXPECT_EQ(warnings[2].find("could not be started"), std::string::npos) << warnings[2];
+  EXPECT_EQ(warnings[2].find("not answering"), std::string::npos) << warnings[2];
 }
 
 // A worker says nothing while it builds its copy of a large state update: that silence is work,

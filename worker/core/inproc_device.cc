@@ -31,6 +31,7 @@
 #include "tessera/accuracy.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/launch_timing.h"
+#include "tessera/scheduler/log.h"
 #include "tessera/scheduler/result_pool.h"
 #include "tessera/scheduler/tiling.h"
 #include "tile_pieces.h"
@@ -414,13 +415,13 @@ class InprocDevice : public Device {
         return std::chrono::duration<double, std::milli>(d).count();
       };
       const auto ended = std::chrono::steady_clock::now();
-      std::fprintf(stderr,
-                   "tessera: device call of launch %llu: %d tiles %.1fms (%d threads ran pieces "
-                   "for %.1fms in all), regions %.1fms; monotonic clock %.1f to %.1fms\n",
-                   static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
-                   ms(traced - started), threads,
-                   ms(std::chrono::steady_clock::duration(piece_ns.load())), ms(ended - traced),
-                   ms(started.time_since_epoch()), ms(ended.time_since_epoch()));
+      log::Info(log::Component::kWorker,
+                "device call of launch %llu: %d tiles %.1fms (%d threads ran pieces for %.1fms in "
+                "all), regions %.1fms; monotonic clock %.1f to %.1fms",
+                static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
+                ms(traced - started), threads,
+                ms(std::chrono::steady_clock::duration(piece_ns.load())), ms(ended - traced),
+                ms(started.time_since_epoch()), ms(ended.time_since_epoch()));
     }
     if (!failure.ok()) return failure;
     if (cancel.load()) return absl::CancelledError("launch cancelled");

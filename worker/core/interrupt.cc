@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "tessera/scheduler/log.h"
 #include "tessera/worker/inproc_device.h"  // CheckInterruptSignal
 
 namespace tessera::worker {
@@ -192,12 +193,11 @@ void InstallHandler() {
           // An application took the signal over after Tessera installed its handler: the
           // signal would now reach the application's handler instead.
           if (!replaced) {
-            std::fprintf(stderr,
-                         "tessera: signal %d (TESSERA_INTERRUPT_SIGNAL) now has another handler: "
-                         "programs that never return can no longer be stopped; set "
-                         "TESSERA_INTERRUPT_SIGNAL to a real-time signal the application does "
-                         "not use\n",
-                         InterruptSignal());
+            log::Warn(log::Component::kWorker,
+                      "signal %d (TESSERA_INTERRUPT_SIGNAL) now has another handler: programs that "
+                      "never return can no longer be stopped; set TESSERA_INTERRUPT_SIGNAL to a "
+                      "real-time signal the application does not use",
+                      InterruptSignal());
             replaced = true;
           }
           continue;
@@ -225,10 +225,9 @@ int InterruptSignal() {
     char* end = nullptr;
     const long n = std::strtol(env, &end, 10);
     if (*end == '\0' && (n == 0 || (n >= SIGRTMIN && n <= SIGRTMAX))) return static_cast<int>(n);
-    std::fprintf(stderr,
-                 "tessera: TESSERA_INTERRUPT_SIGNAL='%s' is not 0 or a real-time signal (%d to "
-                 "%d); using %d\n",
-                 env, SIGRTMIN, SIGRTMAX, fallback);
+    log::Warn(log::Component::kWorker,
+              "TESSERA_INTERRUPT_SIGNAL='%s' is not 0 or a real-time signal (%d to %d); using %d",
+              env, SIGRTMIN, SIGRTMAX, fallback);
     return fallback;
   }();
   return sig;

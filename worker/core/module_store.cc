@@ -18,6 +18,7 @@
 
 #include "absl/strings/escaping.h"
 #include "absl/strings/str_cat.h"
+#include "tessera/scheduler/log.h"
 
 namespace tessera::worker {
 namespace fs = std::filesystem;
@@ -118,12 +119,12 @@ std::string PrepareModuleCacheDir(const std::string& dir) {
   std::string temp =
       (temp_root / absl::StrCat(kTemporaryPrefix, static_cast<long>(getpid()), "-XXXXXX")).string();
   if (mkdtemp(temp.data()) == nullptr) {
-    std::fprintf(stderr, "tessera: module cache %s is not usable (%s), nor is a temporary one\n",
-                 dir.c_str(), why.c_str());
+    log::Error(log::Component::kWorker,
+               "module cache %s is not usable (%s), nor is a temporary one", dir, why);
     return dir;  // storing a module then fails with a message naming the directory
   }
-  std::fprintf(stderr, "tessera: module cache %s is not usable (%s); using %s instead\n",
-               dir.c_str(), why.c_str(), temp.c_str());
+  log::Warn(log::Component::kWorker, "module cache %s is not usable (%s); using %s instead", dir,
+            why, temp);
   static const bool kRemovedAtExit = std::atexit(RemoveTemporaryModuleCaches) == 0;
   (void)kRemovedAtExit;
   std::lock_guard<std::mutex> lock(TemporaryCaches().mu);

@@ -19,6 +19,7 @@
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
 #include "tessera/scheduler/launch_timing.h"
+#include "tessera/scheduler/log.h"
 #include "tile_pieces.h"
 #include "write_tracker.h"
 
@@ -276,13 +277,12 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
     auto ms = [](auto a, auto b) {
       return std::chrono::duration<double, std::milli>(b - a).count();
     };
-    std::fprintf(stderr,
-                 "tessera: OptiX 7 device call of launch %llu: prepare %.1fms, write tracking "
-                 "set up %.1fms, tiles %.1fms, writes collected %.1fms (%zu runs, %zu atomics), "
-                 "sent %.1fms\n",
-                 static_cast<unsigned long long>(request.launch_id()), ms(started, prepared),
-                 ms(prepared, armed), ms(armed, traced), ms(traced, collected), runs.size(),
-                 atomics.size(), ms(collected, std::chrono::steady_clock::now()));
+    log::Info(log::Component::kWorker,
+              "OptiX 7 device call of launch %llu: prepare %.1fms, write tracking set up %.1fms, "
+              "tiles %.1fms, writes collected %.1fms (%zu runs, %zu atomics), sent %.1fms",
+              static_cast<unsigned long long>(request.launch_id()), ms(started, prepared),
+              ms(prepared, armed), ms(armed, traced), ms(traced, collected), runs.size(),
+              atomics.size(), ms(collected, std::chrono::steady_clock::now()));
   }
   // The call's end, also when nothing was written: the host counts the call's tiles by it.
   v1::TileResult end;

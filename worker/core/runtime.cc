@@ -16,6 +16,7 @@
 #include "absl/strings/str_format.h"
 #include "interrupt.h"
 #include "tessera/rt.h"
+#include "tessera/scheduler/log.h"
 #include "texture_views.h"
 #include "thread_state.h"
 
@@ -205,10 +206,10 @@ void Emit(const std::string& text) {
     // prints have no place in the launch's output. Say so once instead of dropping them silently.
     static std::atomic<bool> said{false};
     if (ts.kind == ProgramKind::kBoundingBox && !said.exchange(true)) {
-      std::fprintf(stderr,
-                   "tessera: rtPrintf from %s is not printed: bounding box programs run while "
-                   "accelerations are built, outside any launch index\n",
-                   ts.current ? ts.current->name.c_str() : "a bounding box program");
+      log::Warn(log::Component::kWorker,
+                "rtPrintf from %s is not printed: bounding box programs run while accelerations "
+                "are built, outside any launch index",
+                ts.current ? ts.current->name.c_str() : "a bounding box program");
     }
     return;
   }

@@ -123,8 +123,7 @@ grpc::Status AuthenticatedWorker::Admit(grpc::ServerContext* context,
                                         absl::string_view method) const {
   absl::Status status = CheckAuthorization(context->client_metadata(), token_);
   if (status.ok()) return grpc::Status::OK;
-  log_(absl::StrCat("tessera-worker: refused ", method, " from ", context->peer(), ": ",
-                    status.message()));
+  log_(absl::StrCat("refused ", method, " from ", context->peer(), ": ", status.message()));
   return grpc::Status(grpc::StatusCode::UNAUTHENTICATED, std::string(status.message()));
 }
 

@@ -3,6 +3,7 @@
 //   tessera-worker [--listen 127.0.0.1:0 | HOST:PORT | unix:PATH] [--threads N]
 //                  [--tls-cert FILE --tls-key FILE [--tls-client-ca FILE]] [--token-file FILE]
 //                  [--session-idle-timeout SECONDS] [--max-sessions N]
+//                  [--status-listen [HOST:]PORT] [--log-level LEVEL] [--version]
 //
 // A non-loopback address needs TLS and a token (docs/security.md); the token may also come from
 // $TESSERA_WORKER_TOKEN. --allow-remote is still accepted but allows nothing by itself.
@@ -10,8 +11,11 @@
 // Program modules arrive by content hash and are kept in --module-cache DIR (module_cache.h).
 //
 // Once it listens it prints exactly one line to stdout, `tessera-worker listening on <address>`
-// (with the real port when asked for port 0), so that a parent process can read where it is.
-// SIGTERM or SIGINT stops it.
+// (with the real port when asked for port 0), so that a parent process can read where it is; its
+// log goes to stderr (tessera/scheduler/log.h). SIGTERM, SIGINT or SIGHUP stop it gracefully:
+// no new sessions or launches, those under way finish within a few seconds, exit 0. A usage
+// error exits 2, a failure to start (an address in use) 1 (docs/devices.md "Running workers as a
+// service").
 #include <grpcpp/grpcpp.h>
 #include <malloc.h>
 #include <signal.h>
@@ -28,24 +32,114 @@
 #include "auth.h"
 #include "listen_address.h"
 #include "server_options.h"
+#include "status_server.h"
+#include "tessera/scheduler/log.h"
 #include "tessera/scheduler/module_cache_files.h"
 #include "tessera/worker/crash_report.h"
 #include "tessera/worker/module_cache.h"
+#include "transport/grpc_log.h"
 #include "transport/result_arena.h"
 #include "transport/worker_wire.h"
 #include "worker_service.h"
+#include "worker_status.h"
+
+#ifndef TESSERA_VERSION
+#define TESSERA_VERSION "unknown"
+#endif
 
 namespace {
 
+namespace log = tessera::log;
+
+// Exit statuses (docs/devices.md "Running workers as a service").
+constexpr int kExitStopped = 0;      // a clean stop (SIGTERM, SIGINT, SIGHUP)
+constexpr int kExitCannotStart = 1;  // an address in use, credentials that cannot be used
+constexpr int kExitUsage = 2;        // a flag or address that is not one
+
+// How long a stopping worker lets launches under way finish before it cancels them; a second
+// signal cancels them at once.
+constexpr std::chrono::seconds kStopGrace{5};
+
+// SIGTERM, SIGINT and SIGHUP: taken by sigwait in AwaitStop, and blocked in every thread from
+// the start of main, before anything starts a thread (the server credentials start gRPC's first
+// threads): a thread that did not block them took the signal and its default action ended the
+// worker with SIGTERM, now and then, when the signal came right after it said it listens.
+sigset_t StopSignals() {
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGTERM);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGHUP);
+  return stop;
+}
+
+void Say(log::Level level, const std::string& text) {
+  log::Write(log::Component::kWorker, level, text);
+}
+
+// Waits for the stop signals in `stop`, then stops gracefully: the worker takes no new sessions
+// or launches (and its /healthz says 503), the calls of launches under way get kStopGrace to end,
+// and the server is shut down, cancelling what is left. Returns the first signal's name.
+const char* AwaitStop(const sigset_t& stop, tessera::worker::WorkerService* service,
+                      grpc::Server* server) {
+  int signal_number = 0;
+  sigwait(&stop, &signal_number);
+  const char* name = signal_number == SIGTERM  ? "SIGTERM"
+                     : signal_number == SIGINT ? "SIGINT"
+                                               : "SIGHUP";
+  service->BeginShutdown(name);
+  Say(log::Level::kInfo,
+      absl::StrCat("stopping (", name, "): no new sessions or launches; ",
+                   service->calls_in_progress(), " call(s) under way get up to ",
+                   kStopGrace.count(), " s to finish (a second signal cancels them)"));
+  // Idle for a tenth of a second in a row: a launch's next call follows the last at once.
+  const auto end = std::chrono::steady_clock::now() + kStopGrace;
+  auto idle_since = std::chrono::steady_clock::time_point::max();
+  const timespec tick{0, 20 * 1000 * 1000};
+  while (std::chrono::steady_clock::now() < end) {
+    const auto now = std::chrono::steady_clock::now();
+    if (service->calls_in_progress() > 0) {
+      idle_since = std::chrono::steady_clock::time_point::max();
+    } else if (idle_since == std::chrono::steady_clock::time_point::max()) {
+      idle_since = now;
+    } else if (now - idle_since >= std::chrono::milliseconds(100)) {
+      break;
+    }
+    if (sigtimedwait(&stop, nullptr, &tick) > 0) {
+      Say(log::Level::kInfo, "second stop signal: cancelling the calls under way");
+      break;
+    }
+  }
+  const int left = service->calls_in_progress();
+  if (left > 0) {
+    Say(log::Level::kWarn, absl::StrCat("cancelling ", left, " call(s) still under way"));
+  }
+  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
+  server->Wait();
+  return name;
+}
+
 int Serve(const std::string& listen, int threads, tessera::transport::ResultArena* arena,
           const tessera::worker::SecurityOptions& security,
-          const tessera::worker::SessionLimits& limits) {
-  absl::Status address = tessera::worker::CheckListenAddress(listen);
-  if (address.ok()) address = tessera::worker::CheckUnixSocketNotInUse(listen);
+          const tessera::worker::SessionLimits& limits, const std::string& status_listen) {
+  // An address that is not one is a usage error; one that cannot be bound now (in use, not this
+  // machine's, a live worker's socket) a failure to start.
+  if (absl::Status address = tessera::worker::CheckListenAddress(listen); !address.ok()) {
+    Say(log::Level::kError, std::string(address.message()));
+    return kExitUsage;
+  }
+  absl::Status address = tessera::worker::CheckUnixSocketNotInUse(listen);
   if (address.ok()) address = tessera::worker::CheckCanBind(listen);
   if (!address.ok()) {
-    std::fprintf(stderr, "tessera-worker: %s\n", std::string(address.message()).c_str());
-    return 2;
+    Say(log::Level::kError, std::string(address.message()));
+    return kExitCannotStart;
+  }
+  if (!status_listen.empty()) {
+    if (absl::Status parsed = tessera::worker::ParseStatusAddress(status_listen).status();
+        !parsed.ok()) {
+      Say(log::Level::kError, std::string(parsed.message()));
+      return kExitUsage;
+    }
   }
   absl::StatusOr<std::string> token = tessera::worker::ResolveToken(
       security.token_file, std::getenv(tessera::worker::kWorkerTokenEnv));
@@ -56,29 +150,20 @@ int Serve(const std::string& listen, int threads, tessera::transport::ResultAren
   Credentials credentials =
       allowed.ok() ? tessera::worker::MakeServerCredentials(security) : Credentials(allowed);
   if (!credentials.ok()) {
-    std::fprintf(stderr, "tessera-worker: %s\n",
-                 std::string(credentials.status().message()).c_str());
-    return 2;
+    Say(log::Level::kError, std::string(credentials.status().message()));
+    return kExitUsage;
   }
   // From here on the token is known (possibly empty: no token required).
 
-  // Stop signals are taken by sigwait below; blocked here, before gRPC starts its threads, so that
-  // they inherit the mask and none of them receives the signal instead.
-  sigset_t stop;
-  sigemptyset(&stop);
-  sigaddset(&stop, SIGTERM);
-  sigaddset(&stop, SIGINT);
-  sigaddset(&stop, SIGHUP);
-  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
+  const sigset_t stop = StopSignals();
   // Nothing reads stdout after the ready line (the host closes its end): a stray printf from a
   // program module must not kill the worker.
   signal(SIGPIPE, SIG_IGN);
 
   tessera::worker::WorkerService service(threads, arena, limits);
   // One line per refused call on stderr, where the host's log of a spawned worker also goes.
-  tessera::worker::AuthenticatedWorker authenticated(&service, *token, [](const std::string& line) {
-    std::fprintf(stderr, "%s\n", line.c_str());
-  });
+  tessera::worker::AuthenticatedWorker authenticated(
+      &service, *token, [](const std::string& line) { Say(log::Level::kWarn, line); });
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(listen, *credentials, &port);
@@ -91,40 +176,66 @@ int Serve(const std::string& listen, int threads, tessera::transport::ResultAren
   tessera::worker::ConfigureServer(&builder, limits.max_sessions);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (server == nullptr || port == 0) {
-    std::fprintf(stderr, "tessera-worker: cannot listen on %s (address in use or not allowed%s?)\n",
-                 listen.c_str(),
-                 security.tls() ? ", or the TLS key does not match the certificate" : "");
-    return 1;
+    Say(log::Level::kError,
+        absl::StrCat("cannot listen on ", listen, " (address in use or not allowed",
+                     security.tls() ? ", or the TLS key does not match the certificate" : "",
+                     "?)"));
+    return kExitCannotStart;
+  }
+  std::unique_ptr<tessera::worker::StatusServer> status;
+  if (!status_listen.empty()) {
+    absl::StatusOr<std::unique_ptr<tessera::worker::StatusServer>> started =
+        tessera::worker::StatusServer::Start(
+            status_listen, tessera::worker::MakeStatusHandler(&service, TESSERA_VERSION));
+    if (!started.ok()) {
+      Say(log::Level::kError, std::string(started.status().message()));
+      server->Shutdown(std::chrono::system_clock::now());
+      return kExitCannotStart;
+    }
+    status = *std::move(started);
   }
   if (security.tls() || !token->empty()) {
-    std::fprintf(stderr, "tessera-worker: %s; %s\n",
-                 !security.tls()                       ? "no TLS"
-                 : security.tls_client_ca_file.empty() ? "TLS"
-                                                       : "TLS with client certificates",
-                 token->empty() ? "no token" : "every call must carry the token");
+    Say(log::Level::kInfo,
+        absl::StrCat(!security.tls()                       ? "no TLS"
+                     : security.tls_client_ca_file.empty() ? "TLS"
+                                                           : "TLS with client certificates",
+                     "; ", token->empty() ? "no token" : "every call must carry the token"));
   }
-  std::printf("tessera-worker listening on %s\n",
-              tessera::worker::ResolvedListenAddress(listen, port).c_str());
+  const std::string resolved = tessera::worker::ResolvedListenAddress(listen, port);
+  Say(log::Level::kInfo,
+      absl::StrCat("tessera-worker ", TESSERA_VERSION, " (pid ", getpid(), ") serves ", resolved,
+                   " with ", service.thread_count(), " threads; sessions: at most ",
+                   limits.max_sessions, ", dropped after ",
+                   absl::ToDoubleSeconds(limits.idle_timeout), " s idle",
+                   status != nullptr ? absl::StrCat("; status on http://", status->address())
+                                     : std::string()));
+  std::printf("tessera-worker listening on %s\n", resolved.c_str());
   std::fflush(stdout);
 
-  int signal_number = 0;
-  sigwait(&stop, &signal_number);
-  // In-flight calls get a moment to finish; launches still running are cancelled.
-  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
-  server->Wait();
+  const char* signal_name = AwaitStop(stop, &service, server.get());
+  status.reset();
+  Say(log::Level::kInfo, absl::StrCat("stopped (", signal_name, ")"));
   // Skip the orderly teardown: gRPC 1.51's library shutdown can block for up to 10 s joining an
   // executor thread that sits in epoll_wait, and a parent waiting for us would SIGKILL us first.
   // Nothing is left to save (stdout is flushed; sessions live in memory only), and a temporary
   // module cache goes with us.
   std::fflush(nullptr);
   tessera::RemoveTemporaryModuleCaches();
-  std::_Exit(0);
+  std::_Exit(kExitStopped);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  const sigset_t stop = StopSignals();
+  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
   tessera::InstallCrashReporter();
+  // A worker its host spawned (local:N) dies with that host (PR_SET_PDEATHSIG, which survives
+  // exec): its sessions end with the host, and one idle for long (an interactive application
+  // between renders) must not cost a resend of its whole state.
+  int parent_death_signal = 0;
+  const bool dies_with_parent =
+      prctl(PR_GET_PDEATHSIG, &parent_death_signal) == 0 && parent_death_signal != 0;
   // Whoever can connect to a unix socket, or write a module into the cache, runs code as this
   // worker's user: everything the worker creates is owner-only, whatever umask it inherited (000
   // or 002 would let other users or the group in). The umask is the only way to have bind()
@@ -173,12 +284,6 @@ int main(int argc, char** argv) {
                  "directory of the program modules hosts send, by content hash (default: "
                  "$TESSERA_MODULE_CACHE, else $TESSERA_CACHE_DIR, else "
                  "$XDG_CACHE_HOME/tessera/modules, else ~/.cache/tessera/modules)");
-  // A worker its host spawned (local:N) dies with that host (PR_SET_PDEATHSIG, which survives
-  // exec): its sessions end with the host, and one idle for long (an interactive application
-  // between renders) must not cost a resend of its whole state.
-  int parent_death_signal = 0;
-  const bool dies_with_parent =
-      prctl(PR_GET_PDEATHSIG, &parent_death_signal) == 0 && parent_death_signal != 0;
   double idle_timeout_seconds = 600;
   constexpr double kMaxIdleTimeoutSeconds = 365.0 * 24 * 3600;
   CLI::Option* idle_option =
@@ -201,18 +306,40 @@ int main(int argc, char** argv) {
                  "dropping those idle past --session-idle-timeout (0: no limit)")
       ->check(CLI::Range(0, 1 << 20))
       ->capture_default_str();
+  std::string status_listen;
+  app.add_option("--status-listen", status_listen,
+                 "serve GET /healthz and GET /status (JSON) over plain HTTP on [HOST:]PORT (no "
+                 "host: 127.0.0.1; port 0: any free one, said in the log); off by default");
+  std::string log_level;
+  app.add_option("--log-level", log_level,
+                 "trace, debug, info, warn, error or off (default: $TESSERA_LOG_LEVEL, else info)")
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            absl::StatusOr<log::Level> level = log::ParseLevel(text);
+            return level.ok() ? std::string() : std::string(level.status().message());
+          },
+          "LEVEL", "log level"));
+  app.set_version_flag("--version", std::string("tessera-worker ") + TESSERA_VERSION,
+                       "print the version and exit");
   app.footer(
       "Examples:\n"
       "  tessera-worker --listen unix:/run/tessera/w0.sock --threads 16\n"
       "  tessera-worker --listen 0.0.0.0:7000 --tls-cert worker.pem --tls-key worker.key \\\n"
       "      --token-file tessera.token --session-idle-timeout 300 --max-sessions 16\n"
+      "  tessera-worker --listen 127.0.0.1:7000 --status-listen 9100 --log-level warn\n"
+      "Exit status: 0 after SIGTERM, SIGINT or SIGHUP (launches under way finish first), 1 when "
+      "it\n"
+      "cannot start (an address in use), 2 for a usage error.\n"
       "See docs/devices.md and docs/security.md.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // CLI11 says which flag and why; a usage error exits 2, as the address checks do (--help: 0).
-    return app.exit(e) == 0 ? 0 : 2;
+    // CLI11 says which flag and why; a usage error exits 2, as the address checks do (--help and
+    // --version: 0).
+    return app.exit(e) == 0 ? 0 : kExitUsage;
   }
+  if (!log_level.empty()) log::SetLevel(*log::ParseLevel(log_level));
+  tessera::transport::RouteGrpcLogs();
   tessera::SetModuleCacheDirectory(module_cache);
   // Resolved now, so that falling back to a temporary directory or ignoring a malformed bound is
   // reported at startup, where a host that spawned this worker passes it on.
@@ -224,8 +351,8 @@ int main(int argc, char** argv) {
         tessera::transport::ResultArena::Map(arena_fd);
     if (!mapped.ok()) {
       // Results still travel, through the socket.
-      std::fprintf(stderr, "tessera-worker: %s; results go through the socket\n",
-                   std::string(mapped.status().message()).c_str());
+      Say(log::Level::kWarn,
+          absl::StrCat(mapped.status().message(), "; results go through the socket"));
     } else {
       arena = *std::move(mapped);
       arena->CloseFd();  // the mapping stays
@@ -236,5 +363,18 @@ int main(int argc, char** argv) {
   limits.idle_timeout = idle_option->count() == 0 && dies_with_parent
                             ? absl::ZeroDuration()
                             : absl::Seconds(idle_timeout_seconds);
-  return Serve(listen, threads, arena.get(), security, limits);
+  // A worker that serves hosts which come and go must give their memory back when their sessions
+  // end. glibc keeps a heap per thread (up to 8 per core), and the free space at the top of such a
+  // heap is never returned (malloc_trim releases the main heap's only; the trim threshold above
+  // keeps the others whole): every host that crashed left the peak of its session in the heaps of
+  // whichever threads served it, 18 MB growing to 74 MB over four hosts. One heap, trimmed when a
+  // session ends, returns to the worker's size after its first host. Set before any thread starts;
+  // MALLOC_ARENA_MAX in the environment still decides. A worker its host spawned (local:N) ends
+  // with that host's context and drops no sessions (unless given --session-idle-timeout): it keeps
+  // glibc's heap per thread.
+  if ((!dies_with_parent || limits.idle_timeout > absl::ZeroDuration()) &&
+      std::getenv("MALLOC_ARENA_MAX") == nullptr) {
+    mallopt(M_ARENA_MAX, 1);
+  }
+  return Serve(listen, threads, arena.get(), security, limits, status_listen);
 }

@@ -19,6 +19,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "tessera/scheduler/launch_timing.h"
+#include "tessera/scheduler/log.h"
 #include "tessera/scheduler/system_info.h"
 #include "tessera/worker/inproc_device.h"
 #include "transport/worker_wire.h"
@@ -83,17 +84,17 @@ class CallTiming {
     auto ms = [](Clock::duration d) {
       return std::chrono::duration<double, std::milli>(d).count();
     };
-    std::fprintf(stderr,
-                 "tessera-worker: call of launch %llu (%d tiles): waited %.1fms, ran %.1fms, "
-                 "sent the rest in %.1fms; cpu user %.1fms sys %.1fms, page faults %ld, "
-                 "context switches %ld voluntary %ld involuntary; monotonic clock %.3f to %.3fms\n",
-                 static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
-                 ms(locked_ - arrived_), ms(ran_ - locked_), ms(end - ran_),
-                 scheduler::Milliseconds(after.ru_utime, before_.ru_utime),
-                 scheduler::Milliseconds(after.ru_stime, before_.ru_stime),
-                 after.ru_minflt - before_.ru_minflt, after.ru_nvcsw - before_.ru_nvcsw,
-                 after.ru_nivcsw - before_.ru_nivcsw, ms(arrived_.time_since_epoch()),
-                 ms(end.time_since_epoch()));
+    log::Info(log::Component::kWorker,
+              "call of launch %llu (%d tiles): waited %.1fms, ran %.1fms, sent the rest in %.1fms; "
+              "cpu user %.1fms sys %.1fms, page faults %ld, context switches %ld voluntary %ld "
+              "involuntary; monotonic clock %.3f to %.3fms",
+              static_cast<unsigned long long>(request.launch_id()), request.tiles_size(),
+              ms(locked_ - arrived_), ms(ran_ - locked_), ms(end - ran_),
+              scheduler::Milliseconds(after.ru_utime, before_.ru_utime),
+              scheduler::Milliseconds(after.ru_stime, before_.ru_stime),
+              after.ru_minflt - before_.ru_minflt, after.ru_nvcsw - before_.ru_nvcsw,
+              after.ru_nivcsw - before_.ru_nivcsw, ms(arrived_.time_since_epoch()),
+              ms(end.time_since_epoch()));
   }
 
  private:
@@ -183,7 +184,57 @@ WorkerService::Use WorkerService::UseExisting(uint64_t id) {
   return Use(this, it->second);
 }
 
+absl::Status WorkerService::ShuttingDown(absl::string_view what) {
+  absl::MutexLock lock(&mu_);
+  return absl::UnavailableError(absl::StrCat(name_, " (pid ", getpid(), ") is shutting down (",
+                                             shutdown_reason_, "): it refused ", what,
+                                             "; it finishes only launches already under way"));
+}
+
+void WorkerService::BeginShutdown(const std::string& why) {
+  {
+    absl::MutexLock lock(&mu_);
+    shutdown_reason_ = why;
+  }
+  shutting_down_ = true;
+}
+
+void WorkerService::CountTiles(uint64_t tiles) {
+  tiles_ += tiles;
+  const int64_t second =
+      std::chrono::duration_cast<std::chrono::seconds>(Clock::now() - started_).count();
+  absl::MutexLock lock(&rate_mu_);
+  TileSecond& slot = tile_seconds_[second % 60];
+  if (slot.second != second) slot = TileSecond{second, 0};
+  slot.tiles += tiles;
+}
+
+WorkerService::Stats WorkerService::GetStats() {
+  Stats stats;
+  {
+    absl::MutexLock lock(&mu_);
+    stats.sessions = static_cast<uint32_t>(sessions_.size());
+  }
+  stats.launches = launches_.load();
+  stats.tiles = tiles_.load();
+  const double uptime = std::chrono::duration<double>(Clock::now() - started_).count();
+  const int64_t now = static_cast<int64_t>(uptime);
+  uint64_t recent = 0;
+  {
+    absl::MutexLock lock(&rate_mu_);
+    for (const TileSecond& slot : tile_seconds_) {
+      if (slot.second >= 0 && slot.second > now - 60 && slot.second <= now) recent += slot.tiles;
+    }
+  }
+  stats.tiles_per_s = static_cast<double>(recent) / std::clamp(uptime, 1.0, 60.0);
+  return stats;
+}
+
 absl::StatusOr<WorkerService::Use> WorkerService::UseForDelta(uint64_t id, uint64_t sequence) {
+  // A state update comes before a launch: a stopping worker takes none.
+  if (shutting_down()) {
+    return ShuttingDown(sequence == 1 ? "a new session" : "a state update");
+  }
   std::vector<std::shared_ptr<Session>> dropped;  // destroyed after mu_ is released
   absl::MutexLock lock(&mu_);
   auto it = sessions_.find(id);
@@ -275,11 +326,10 @@ void WorkerService::ReapLoop() {
         continue;
       }
     }
-    std::fprintf(stderr,
-                 "tessera-worker: dropped %zu session(s) without a call for %g s "
-                 "(--session-idle-timeout); %s\n",
-                 dropped.size(), absl::ToDoubleSeconds(limits_.idle_timeout),
-                 "their hosts, should they come back, are told so and start afresh");
+    log::Info(log::Component::kWorker,
+              "dropped %zu session(s) without a call for %g s (--session-idle-timeout); %s",
+              dropped.size(), absl::ToDoubleSeconds(limits_.idle_timeout),
+              "their hosts, should they come back, are told so and start afresh");
     dropped.clear();  // the devices, replicas and plans go here, outside mu_
     // Give what they held back to the system: the worker keeps freed memory in its heap
     // otherwise (worker_main.cc raises glibc's trim threshold for its calls' messages).
@@ -290,6 +340,7 @@ void WorkerService::ReapLoop() {
 grpc::Status WorkerService::Apply(grpc::ServerContext* context,
                                   grpc::ServerReader<v1::ApplyChunk>* reader,
                                   v1::ApplyReply* reply) {
+  InProgress in_progress(this);
   // gRPC would answer an exception with "Unexpected error in RPC handling", naming nothing.
   try {
     return ApplyStream(context, reader);
@@ -363,12 +414,22 @@ grpc::Status WorkerService::ApplyStream(grpc::ServerContext* context,
 
 grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::LaunchRequest* request,
                                    grpc::ServerWriter<v1::TileResult>* writer) {
+  InProgress in_progress(this);
   Use use = UseExisting(request->session_id());
   if (!use) {
     absl::MutexLock lock(&mu_);
     return ToGrpcStatus(Missing(request->session_id(), "a state delta must come first"));
   }
   Session* session = use.get();
+  // Calls of one launch carry its id; a call with another starts the next launch.
+  if (session->last_launch_id.load() != request->launch_id()) {
+    if (shutting_down()) {
+      return ToGrpcStatus(ShuttingDown(absl::StrCat("launch ", request->launch_id())));
+    }
+    if (session->last_launch_id.exchange(request->launch_id()) != request->launch_id()) {
+      ++launches_;
+    }
+  }
   CallTiming timing;
   // The host keeps a second call queued behind the running one; it says it is alive while it
   // waits, or the host would take the wait for a hung worker.
@@ -462,28 +523,36 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
   if (cancel.load() || context->IsCancelled()) {
     return grpc::Status(grpc::StatusCode::CANCELLED, "launch cancelled");
   }
+  if (results.status().ok()) CountTiles(static_cast<uint64_t>(request->tiles_size()));
   return ToGrpcStatus(results.status());
 }
 
 grpc::Status WorkerService::EndSession(grpc::ServerContext* context,
                                        const v1::EndSessionRequest* request,
                                        v1::EndSessionReply* reply) {
-  Use use = UseExisting(request->session_id());
-  if (!use) {
-    absl::MutexLock lock(&mu_);
-    dropped_.erase(request->session_id());  // its host is done with it: nothing left to tell
-    return grpc::Status::OK;
+  InProgress in_progress(this);
+  {
+    Use use = UseExisting(request->session_id());
+    if (!use) {
+      absl::MutexLock lock(&mu_);
+      dropped_.erase(request->session_id());  // its host is done with it: nothing left to tell
+      return grpc::Status::OK;
+    }
+    use.get()->mu.Lock();  // after the running Apply or Launch
+    Held held{use.get()};
+    use.get()->device.reset();
+    ForgetIfEmpty(request->session_id(), use.shared());
   }
-  use.get()->mu.Lock();  // after the running Apply or Launch
-  Held held{use.get()};
-  use.get()->device.reset();
-  ForgetIfEmpty(request->session_id(), use.shared());
+  // The session is gone with its last reference (above): its memory goes back to the system, as
+  // for a session dropped for idleness.
+  malloc_trim(0);
   return grpc::Status::OK;
 }
 
 grpc::Status WorkerService::AccelerationBounds(grpc::ServerContext* context,
                                                const v1::AccelerationBoundsRequest* request,
                                                v1::AccelerationBoundsReply* reply) {
+  InProgress in_progress(this);
   Use use = UseExisting(request->session_id());
   if (!use) {
     absl::MutexLock lock(&mu_);
@@ -504,6 +573,9 @@ grpc::Status WorkerService::AccelerationBounds(grpc::ServerContext* context,
 
 grpc::Status WorkerService::Health(grpc::ServerContext* context, const v1::HealthRequest* request,
                                    v1::HealthReply* reply) {
+  // A host looking for devices (a first launch, a late worker probed in the background) must not
+  // take one that is going away.
+  if (shutting_down()) return ToGrpcStatus(ShuttingDown("a new host"));
   reply->set_device_name(name_);
   reply->set_thread_count(static_cast<uint32_t>(threads_));
   reply->set_pid(getpid());

@@ -52,6 +52,24 @@ class WorkerService final : public v1::Worker::Service {
   int thread_count() const { return threads_; }
   const SessionLimits& limits() const { return limits_; }
 
+  // What the worker did since it started, for its status endpoint (--status-listen, GET /status).
+  struct Stats {
+    uint32_t sessions = 0;
+    uint64_t launches = 0;   // distinct launches over all sessions
+    uint64_t tiles = 0;      // tiles of calls that finished
+    double tiles_per_s = 0;  // over the last minute (since the start, while that is shorter)
+  };
+  Stats GetStats();
+
+  // A graceful stop (SIGTERM): from now on new sessions, state updates and launches not already
+  // under way are refused as UNAVAILABLE naming `why` (the hosts run them on their other devices),
+  // and so is Health (a host looking for devices does not take this one); calls of launches under
+  // way go on. Thread-safety: any thread.
+  void BeginShutdown(const std::string& why);
+  bool shutting_down() const { return shutting_down_.load(); }
+  // Apply, Launch, EndSession and AccelerationBounds calls running now.
+  int calls_in_progress() const { return calls_in_progress_.load(); }
+
   // A delta with sequence 1 starts the session afresh (a host that re-creates its devices starts
   // over with the same session id); any other goes to the session's device, which rejects
   // out-of-order and inconsistent deltas and then keeps its state.
@@ -94,6 +112,8 @@ class WorkerService final : public v1::Worker::Service {
     // heartbeats, so the host sees a hung worker after TESSERA_WORKER_TIMEOUT instead of
     // waiting forever.
     std::atomic<bool> holder_cancelled{false};
+    // The launch of the last Launch call: a call with another id starts a new launch.
+    std::atomic<uint64_t> last_launch_id{0};
     CallThread calls_thread;  // runs the session's launch calls, one after the other
     void Release() {
       holder_cancelled = false;
@@ -161,6 +181,19 @@ class WorkerService final : public v1::Worker::Service {
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
   // The thread that drops idle sessions (only with an idle timeout).
   void ReapLoop();
+  // UNAVAILABLE once BeginShutdown was called, naming `what` was refused.
+  absl::Status ShuttingDown(absl::string_view what);
+  // Counts a call in calls_in_progress_ while it runs.
+  class InProgress {
+   public:
+    explicit InProgress(WorkerService* s) : s_(s) { ++s_->calls_in_progress_; }
+    ~InProgress() { --s_->calls_in_progress_; }
+    InProgress(const InProgress&) = delete;
+    InProgress& operator=(const InProgress&) = delete;
+
+   private:
+    WorkerService* s_;
+  };
 
   const int threads_;
   const std::string name_;
@@ -175,6 +208,21 @@ class WorkerService final : public v1::Worker::Service {
   bool stopping_ ABSL_GUARDED_BY(mu_) = false;
   absl::CondVar reap_cv_;
   std::thread reaper_;
+
+  std::atomic<bool> shutting_down_{false};
+  std::string shutdown_reason_ ABSL_GUARDED_BY(mu_);
+  std::atomic<int> calls_in_progress_{0};
+  std::atomic<uint64_t> launches_{0};
+  std::atomic<uint64_t> tiles_{0};
+  const Clock::time_point started_ = Clock::now();
+  // Tiles finished in each of the last 60 seconds, by second since started_.
+  struct TileSecond {
+    int64_t second = -1;
+    uint64_t tiles = 0;
+  };
+  absl::Mutex rate_mu_;
+  TileSecond tile_seconds_[60] ABSL_GUARDED_BY(rate_mu_);
+  void CountTiles(uint64_t tiles);
 };
 
 }  // namespace tessera::worker

@@ -78,10 +78,10 @@ class WorkerServiceTest : public ::testing::Test {
   }
 
   grpc::Status Launch(uint64_t session, uint64_t w, uint64_t h,
-                      std::vector<v1::TileResult>* results) {
+                      std::vector<v1::TileResult>* results, uint64_t launch_id = 1) {
     v1::LaunchRequest request;
     request.set_session_id(session);
-    request.set_launch_id(1);
+    request.set_launch_id(launch_id);
     request.add_dims(w);
     request.add_dims(h);
     v1::Tile* tile = request.add_tiles();
@@ -135,6 +135,47 @@ TEST_F(WorkerServiceTest, HealthReportsThreadsPidAndVersion) {
   EXPECT_EQ(reply.pid(), getpid());
   EXPECT_FALSE(reply.version().empty());
   EXPECT_EQ(reply.device_name().rfind("tessera-worker", 0), 0u) << reply.device_name();
+}
+
+// What the status endpoint reports: launches (not calls) and tiles.
+TEST_F(WorkerServiceTest, StatsCountSessionsLaunchesAndTiles) {
+  ASSERT_TRUE(Apply(WriteIndexDelta(5, 1, 16, 16)).ok());
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(5, 16, 16, &results, 1).ok());
+  ASSERT_TRUE(Launch(5, 16, 16, &results, 1).ok());  // a second call of launch 1
+  ASSERT_TRUE(Launch(5, 16, 16, &results, 2).ok());
+  const WorkerService::Stats stats = service_.GetStats();
+  EXPECT_EQ(stats.sessions, 1u);
+  EXPECT_EQ(stats.launches, 2u);
+  EXPECT_EQ(stats.tiles, 3u);
+  EXPECT_GT(stats.tiles_per_s, 0.0);
+  EXPECT_LE(stats.tiles_per_s, 3.0);
+}
+
+// A stopping worker (SIGTERM) finishes the launches under way and takes nothing new: no session,
+// no state update, no other launch, no host looking for devices.
+TEST_F(WorkerServiceTest, AStoppingWorkerFinishesLaunchesUnderWayAndRefusesNewWork) {
+  ASSERT_TRUE(Apply(WriteIndexDelta(6, 1, 16, 16)).ok());
+  std::vector<v1::TileResult> results;
+  ASSERT_TRUE(Launch(6, 16, 16, &results, 7).ok());
+  service_.BeginShutdown("SIGTERM");
+  EXPECT_TRUE(service_.shutting_down());
+  EXPECT_TRUE(Launch(6, 16, 16, &results, 7).ok()) << "a call of the launch under way";
+  grpc::Status s = Launch(6, 16, 16, &results, 8);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::UNAVAILABLE) << s.error_message();
+  for (const char* part : {"tessera-worker@", "is shutting down (SIGTERM)", "refused launch 8"}) {
+    EXPECT_NE(s.error_message().find(part), std::string::npos) << part << ": " << s.error_message();
+  }
+  s = Apply(WriteIndexDelta(9, 1, 8, 8));
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::UNAVAILABLE) << s.error_message();
+  EXPECT_NE(s.error_message().find("refused a new session"), std::string::npos);
+  s = Apply(WriteIndexDelta(6, 2, 16, 16, /*ship_module=*/false));
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::UNAVAILABLE) << s.error_message();
+  grpc::ClientContext context;
+  v1::HealthReply reply;
+  s = stub_->Health(&context, v1::HealthRequest(), &reply);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::UNAVAILABLE) << s.error_message();
+  EXPECT_EQ(service_.calls_in_progress(), 0);
 }
 
 TEST_F(WorkerServiceTest, MalformedStreamsAreRejectedAndTheWorkerStaysUsable) {

@@ -4,6 +4,7 @@
 #define TESSERA_RT_EXT_H_
 
 #include "tessera/accuracy.h"
+#include "tessera/log.h" /* tesseraSetLogCallback */
 #include "tessera/rt.h"
 
 #ifdef __cplusplus

@@ -5,6 +5,7 @@
 
 #include "optix_types.h"
 #include "tessera/accuracy.h"
+#include "tessera/log.h" /* tesseraSetLogCallback */
 
 #ifdef __cplusplus
 extern "C" {
