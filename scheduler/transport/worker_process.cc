@@ -426,6 +426,9 @@ absl::StatusOr<std::unique_ptr<WorkerProcess>> WorkerProcess::Spawn(Options opti
       // A host that dies, however it dies, takes the worker along.
       prctl(PR_SET_PDEATHSIG, SIGKILL);
       if (getppid() != parent) _exit(126);  // the host died before prctl took effect
+      // A process group of its own: Ctrl-C at a terminal signals the host, which decides (tessera
+      // render writes the image so far), not its workers in the middle of a pass.
+      setpgid(0, 0);
       dup2(null_fd, STDIN_FILENO);
       dup2(out[1], STDOUT_FILENO);
       dup2(log_fd, STDERR_FILENO);
