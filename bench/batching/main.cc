@@ -4,7 +4,7 @@
 //    (batches must be formed from launch indices alone when they do: docs/programs.md);
 //    `packet<N>_ratio=<packet time / single time>`.
 //  - What a suspended program's round trip costs (scheduler -> program -> scheduler): Boost.Context
-//    fibers, a switch of our own (stack_switch.S), ucontext.
+//    fibers, the engine's lane switch (worker/core/lane_switch.S), ucontext.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>

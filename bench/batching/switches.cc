@@ -9,8 +9,7 @@
 #include <memory>
 #include <utility>
 
-extern "C" void tessera_bench_switch(void** from, void* to);
-extern "C" void tessera_bench_start();
+#include "lanes.h"
 
 namespace tessera::bench {
 namespace {
@@ -42,28 +41,18 @@ struct OwnStack {
   void* fiber_sp = nullptr;
 };
 
-void OwnLoop(OwnStack* s) {
-  for (;;) tessera_bench_switch(&s->fiber_sp, s->scheduler_sp);
+void OwnLoop(void* arg) {
+  auto* s = static_cast<OwnStack*>(arg);
+  for (;;) tessera_lane_switch(&s->fiber_sp, s->scheduler_sp);
 }
 
+// The engine's own lanes (worker/core/lanes.h, lane_switch.S).
 double OwnSwitch(int n) {
-  auto stack = std::make_unique<unsigned char[]>(kStackBytes);
+  worker::LaneStack stack(kStackBytes);
   OwnStack s;
-  // tessera_bench_switch pops r15, r14, r13, r12, rbx, rbp and returns into tessera_bench_start,
-  // which calls r13(r12) on a 16-byte aligned stack (stack_switch.S).
-  auto top = reinterpret_cast<uintptr_t>(stack.get() + kStackBytes) & ~uintptr_t{15};
-  auto* slot = reinterpret_cast<uintptr_t*>(top - 8);
-  slot[0] = reinterpret_cast<uintptr_t>(&tessera_bench_start);
-  uintptr_t* regs = slot - 6;
-  regs[0] = 0;                                      // r15
-  regs[1] = 0;                                      // r14
-  regs[2] = reinterpret_cast<uintptr_t>(&OwnLoop);  // r13
-  regs[3] = reinterpret_cast<uintptr_t>(&s);        // r12
-  regs[4] = 0;                                      // rbx
-  regs[5] = 0;                                      // rbp
-  s.fiber_sp = regs;
+  s.fiber_sp = stack.Start(&OwnLoop, &s);
   return NsPer(n, [&] {
-    for (int i = 0; i < n; ++i) tessera_bench_switch(&s.scheduler_sp, s.fiber_sp);
+    for (int i = 0; i < n; ++i) tessera_lane_switch(&s.scheduler_sp, s.fiber_sp);
   });
 }
 
@@ -95,7 +84,7 @@ double Median(std::vector<double> v) {
 std::vector<SwitchTime> TimeSwitches(int round_trips, int rounds) {
   const std::pair<const char*, double (*)(int)> ways[] = {
       {"boost::context::fiber", &BoostFiber},
-      {"own switch (stack_switch.S)", &OwnSwitch},
+      {"lane switch (worker/core)", &OwnSwitch},
       {"ucontext swapcontext", &Ucontext},
   };
   std::vector<SwitchTime> out;

@@ -1,6 +1,7 @@
 // What suspending a program at a trace and resuming it costs: a round trip (scheduler -> program
 // -> scheduler) through Boost.Context's fiber, through a stack switch of our own
-// (stack_switch.S), and through ucontext (swapcontext, which also saves the signal mask).
+// (worker/core/lane_switch.S, the engine's), and through ucontext (swapcontext, which also
+// saves the signal mask).
 #ifndef TESSERA_BENCH_BATCHING_SWITCHES_H_
 #define TESSERA_BENCH_BATCHING_SWITCHES_H_
 
