@@ -114,11 +114,8 @@ std::vector<uint64_t> EffectiveTileSize(const std::vector<uint64_t>& dims,
   std::vector<uint64_t> size(n);
   for (size_t d = 0; d < n; ++d) {
     if (dims[d] == 0) return {};
-    // Whole blocks, so that no tiling splits one; a side longer than the launch covers the same
-    // indices as one of the launch's length.
-    const uint64_t block = n == 1 ? kBatchBlockRun : d < 2 ? kBatchBlockSide : 1;
-    const uint64_t wanted = std::max<uint64_t>(d < tile_size.size() ? tile_size[d] : 1, 1);
-    size[d] = wanted >= dims[d] ? dims[d] : std::min((wanted + block - 1) / block * block, dims[d]);
+    // A side longer than the launch covers the same indices as one of the launch's length.
+    size[d] = std::clamp<uint64_t>(d < tile_size.size() ? tile_size[d] : 1, 1, dims[d]);
   }
   return LimitTileCount(dims, std::move(size));
 }

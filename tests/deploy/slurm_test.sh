@@ -163,7 +163,7 @@ grep -q '^tessera-farm: 3 workers on 1 nodes: localhost:[0-9]*,localhost:[0-9]*,
 grep -q "^tessera-farm: workers stopped (their step's exit status: 0)" "$work/farm.out" ||
   fail "the workers did not stop gracefully (exit 0 on SIGTERM)"
 for task in 0 1 2; do
-  grep -q "^$task: tessera-worker: TLS; every call must carry the token$" "$work/farm.out" ||
+  grep -q "^$task: \[.*\] \[worker\] \[info\] TLS; every call must carry the token$" "$work/farm.out" ||
     fail "worker task $task did not serve TLS with a token"
 done
 if compgen -G "$work/tessera-job-*" >/dev/null; then

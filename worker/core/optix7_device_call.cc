@@ -214,7 +214,8 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
   std::mutex result_mu;
   std::atomic<bool> stop{false};
   absl::Status failure;
-  const std::vector<TilePiece> pieces = SplitTiles(request.tiles(), dims, threads);
+  const std::vector<TilePiece> pieces =
+      SplitTiles(request.tiles(), dims, threads, request.optix7().batched());
   std::vector<TileState> tile_states(request.tiles_size());
   CallProgress progress(started);
   for (const TilePiece& p : pieces) ++tile_states[p.tile].pieces_left;

@@ -7,7 +7,7 @@
 namespace tessera::worker {
 
 std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::Tile>& tiles,
-                                  const Index3& dims, int threads) {
+                                  const Index3& dims, int threads, bool whole_blocks) {
   std::vector<TilePiece> pieces;
   if (tiles.empty()) return pieces;
   const int axis = dims[1] > 1 || dims[2] > 1 ? 1 : 0;  // rows of 2D/3D tiles, runs of 1D ones
@@ -29,7 +29,9 @@ std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::T
     // Rows inside the launch, in bands of whole blocks.
     const uint64_t begin = whole.origin[axis];
     const uint64_t end = std::min<uint64_t>(begin + whole.size[axis], dims[axis]);
-    const uint64_t block = axis == 1 ? BatchBlock(dims)[1] : BatchBlock(dims)[0];
+    const uint64_t block = !whole_blocks ? 1
+                           : axis == 1   ? BatchBlock(dims)[1]
+                                         : BatchBlock(dims)[0];
     const uint64_t first = begin / block, last = end > begin ? (end + block - 1) / block : first;
     const uint64_t blocks = last - first;
     const uint64_t n = std::max<uint64_t>(1, std::min(per_tile, blocks));

@@ -22,13 +22,13 @@ struct TilePiece {
 inline constexpr int kPiecesPerThread = 128;
 
 // Splits every tile of `tiles` into bands of whole rows (along y for 2D and 3D launches, along x
-// for 1D), as many per tile as make about kPiecesPerThread * threads pieces in all. Bands begin
-// and end at the launch grid's batch blocks (batch_block.h: every fourth row, every sixteenth
-// index in 1D) or the tile's edges, so that no thread count splits a block the tile holds whole.
-// A tile is never split when threads is 1. Pieces of a tile are adjacent in the result, in row
-// order, and clipped to `dims`.
+// for 1D), as many per tile as make about kPiecesPerThread * threads pieces in all. With
+// `whole_blocks` (batched launches), bands begin and end at the launch grid's batch blocks
+// (batch_block.h: every fourth row, every sixteenth index in 1D) or the tile's edges, so that no
+// thread count splits a block the tile holds whole. A tile is never split when threads is 1.
+// Pieces of a tile are adjacent in the result, in row order, and clipped to `dims`.
 std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::Tile>& tiles,
-                                  const Index3& dims, int threads);
+                                  const Index3& dims, int threads, bool whole_blocks = false);
 
 }  // namespace tessera::worker
 

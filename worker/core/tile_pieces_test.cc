@@ -47,17 +47,20 @@ TEST(SplitTiles, EdgeTilesSplitOnlyTheirRowsInsideTheLaunch) {
   const Index3 dims{10, 5, 1};
   auto tiles = Tiles({10, 5}, {8, 8});
   std::vector<TilePiece> pieces = SplitTiles(tiles, dims, 64);
-  // Two tiles of five rows each, split at the batch blocks' rows: 0-3 and 4.
+  EXPECT_EQ(pieces.size(), 10u);  // two tiles of five rows each
+  ExpectExactCover(pieces, dims);
+  // A batched launch's: split at the batch blocks' rows, 0-3 and 4.
+  pieces = SplitTiles(tiles, dims, 64, /*whole_blocks=*/true);
   EXPECT_EQ(pieces.size(), 4u);
   ExpectExactCover(pieces, dims);
 }
 
 TEST(SplitTiles, PiecesBeginAtBatchBlocks) {
   const Index3 dims{1920, 1080, 1};
-  for (const TilePiece& p : SplitTiles(Tiles({1920, 1080}, {64, 64}), dims, 64)) {
+  for (const TilePiece& p : SplitTiles(Tiles({1920, 1080}, {64, 64}), dims, 64, true)) {
     EXPECT_EQ(p.origin[1] % 4, 0u);
   }
-  for (const TilePiece& p : SplitTiles(Tiles({100000}, {4096}), {100000, 1, 1}, 64)) {
+  for (const TilePiece& p : SplitTiles(Tiles({100000}, {4096}), {100000, 1, 1}, 64, true)) {
     EXPECT_EQ(p.origin[0] % 16, 0u);
   }
 }

@@ -12,9 +12,10 @@
 
 namespace tessera::scheduler {
 
-// The blocks of launch indices a device traces together (worker/core/batch_block.h): 4x4 of one
-// z slice in 2D and 3D launches, 16 in a row in 1D ones, aligned to the launch grid. Tiles are
-// made of whole blocks (EffectiveTileSize), so that no tiling splits one.
+// The blocks of launch indices a device traces together when a launch is batched
+// (worker/core/batch_block.h): 4x4 of one z slice in 2D and 3D launches, 16 in a row in 1D ones,
+// aligned to the launch grid. The tile sizes ChooseTileSize picks are whole blocks; an override
+// that is not cuts blocks at tile edges (the same cut on every device set).
 inline constexpr uint64_t kBatchBlockSide = 4;
 inline constexpr uint64_t kBatchBlockRun = 16;
 
@@ -43,9 +44,8 @@ inline constexpr uint64_t kMaxTiles = uint64_t{1} << 18;
 std::vector<v1::Tile> MakeTiles(const std::vector<uint64_t>& dims,
                                 const std::vector<uint64_t>& tile_size);
 
-// The tile size MakeTiles cuts `dims` with for `tile_size`: x and y rounded up to whole batch
-// blocks (a multiple of kBatchBlockRun in 1D, of kBatchBlockSide in x and y otherwise), each side
-// clamped to 1..its extent, grown where the launch would get more than kMaxTiles tiles. Two sizes with the same effective
+// The tile size MakeTiles cuts `dims` with for `tile_size`: each side clamped to 1..its extent,
+// grown where the launch would get more than kMaxTiles tiles. Two sizes with the same effective
 // size cut a launch into the same tiles. Empty when `dims` is empty or has a 0.
 std::vector<uint64_t> EffectiveTileSize(const std::vector<uint64_t>& dims,
                                         const std::vector<uint64_t>& tile_size);
