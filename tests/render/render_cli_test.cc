@@ -433,3 +433,37 @@ TEST_F(RenderCliTest, UsageErrorsExit2NamingTheFlag) {
 }
 
 }  // namespace
+
+namespace {
+
+// An OBJ with no light and no emissive material (a quad facing the camera) renders lit by a white
+// sky, with a warning saying so, and `--background 0,0,0` keeps it black.
+TEST_F(RenderCliTest, AnUnlitSceneIsLitByAWhiteSkyWithAWarning) {
+  const std::string obj = Path("unlit.obj");
+  {
+    std::ofstream f(obj);
+    f << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
+  }
+  const std::string lit = Path("lit.png"), black = Path("black.png");
+  Result r = Run({"render", obj, "-o", lit, kWidth, kHeight, "--spp=2", "--log-level=warn"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("has no lights and no emissive surfaces: lit by a white sky"),
+            std::string::npos)
+      << r.err;
+  const Image a = Read(lit);
+  float sum = 0.f;
+  for (float v : a.pixels) sum += v;
+  EXPECT_GT(sum, 0.1f * static_cast<float>(a.pixels.size()));
+  r = Run({"render", obj, "-o", black, kWidth, kHeight, "--spp=2", "--log-level=warn",
+           "--background=0,0,0"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("white sky"), std::string::npos) << r.err;
+  const Image b = Read(black);
+  float rgb = 0.f;
+  for (size_t i = 0; i < b.pixels.size(); i += b.channels.size()) {
+    rgb += b.pixels[i] + b.pixels[i + 1] + b.pixels[i + 2];
+  }
+  EXPECT_EQ(rgb, 0.f);
+}
+
+}  // namespace

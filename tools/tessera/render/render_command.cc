@@ -27,6 +27,16 @@
 namespace tessera::render {
 namespace {
 
+// Whether anything in `scene` gives light: a punctual light at its first frame or an emissive
+// material.
+bool Lit(const SceneFile& scene) {
+  if (!scene.FrameAt(scene.time_begin()).lights.empty()) return true;
+  for (const Material& m : scene.assets().materials) {
+    if (m.emissive[0] > 0.f || m.emissive[1] > 0.f || m.emissive[2] > 0.f) return true;
+  }
+  return false;
+}
+
 constexpr int kExitFailure = 1;
 constexpr double kPassSeconds = 1.0;  // what automatic pass sizes aim for
 
@@ -90,9 +100,12 @@ absl::StatusOr<std::unique_ptr<SceneFile>> OpenScene(const std::string& scene) {
 std::string AccumulationKey(const RenderOptions& o, const std::string& camera, double time) {
   std::string key = absl::StrFormat(
       "tessera %s; scene %s; camera %s; time %.9g; seed %u; max-depth %d; clamp %.9g; "
-      "env %s x %.9g; background %.9g %.9g %.9g",
+      "env %s x %.9g; background %s",
       SoftwareName(), o.scene, camera, time, o.seed, o.max_depth, o.clamp_indirect, o.environment,
-      o.environment_intensity, o.background[0], o.background[1], o.background[2]);
+      o.environment_intensity,
+      o.background.empty()
+          ? std::string("auto")
+          : absl::StrFormat("%.9g %.9g %.9g", o.background[0], o.background[1], o.background[2]));
   std::replace(key.begin(), key.end(), '\n', ' ');
   return key;
 }
@@ -172,7 +185,15 @@ int RenderRun::Run() {
   settings.seed = options_.seed;
   settings.environment = options_.environment;
   settings.environment_intensity = options_.environment_intensity;
-  std::copy_n(options_.background.begin(), 3, settings.background.begin());
+  if (!options_.background.empty()) {
+    std::copy_n(options_.background.begin(), 3, settings.background.begin());
+  } else if (options_.environment.empty() && !Lit(*scene_)) {
+    settings.background = {1.f, 1.f, 1.f};
+    log_(LogLevel::kWarn,
+         "%s has no lights and no emissive surfaces: lit by a white sky (--background 0,0,0 "
+         "keeps it black)",
+         options_.scene);
+  }
   settings.aov_samples = options_.aov_samples;
   absl::StatusOr<std::unique_ptr<Renderer>> renderer = Renderer::Create(*scene_, settings);
   if (!renderer.ok()) {
@@ -418,8 +439,7 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
       ->check(CLI::NonNegativeNumber);
   render->add_option("--background", o.background, "background colour R,G,B (linear) without --env")
       ->delimiter(',')
-      ->expected(3)
-      ->capture_default_str();
+      ->expected(3);
   render
       ->add_option("--seed", o.seed,
                    "random seed: the same seed, scene and --spp give the same "

@@ -29,7 +29,9 @@ struct RenderOptions {
   bool skip_existing = false;
   std::string environment;
   float environment_intensity = 1.f;
-  std::vector<float> background{0.f, 0.f, 0.f};
+  // Empty: black, or a white sky for a scene with no lights and no emissive surfaces (an OBJ
+  // without Ke materials would otherwise render black).
+  std::vector<float> background;
   uint32_t seed = 0;
   std::string devices;
   std::string tile_size;

@@ -6,7 +6,7 @@
 
 #include "absl/status/statusor.h"
 #include "gltf_document.h"
-#include "scene_graph.h"
+#include "loaded_scene.h"
 #include "warnings.h"
 
 namespace tessera::render {

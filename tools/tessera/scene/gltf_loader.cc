@@ -11,7 +11,7 @@
 #include "gltf_document.h"
 #include "gltf_material.h"
 #include "gltf_mesh.h"
-#include "scene_graph.h"
+#include "loaded_scene.h"
 #include "warnings.h"
 
 namespace tessera::render {
@@ -187,7 +187,7 @@ class GltfSceneBuilder {
                        ": its scene holds no triangles (tessera render renders triangle "
                        "meshes only)"));
     }
-    return std::make_unique<SceneGraph>(std::move(assets_), std::move(graph_), warnings_.Lines());
+    return std::make_unique<LoadedScene>(std::move(assets_), std::move(graph_), warnings_.Lines());
   }
 
  private:

@@ -14,7 +14,7 @@
 #include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
-#include "scene_graph.h"
+#include "loaded_scene.h"
 #include "textures.h"
 #include "warnings.h"
 
@@ -93,7 +93,7 @@ class ObjSceneBuilder {
     }
     SceneGraphData graph;
     graph.nodes.push_back(std::move(root));
-    return std::make_unique<SceneGraph>(std::move(assets_), std::move(graph), warnings_.Lines());
+    return std::make_unique<LoadedScene>(std::move(assets_), std::move(graph), warnings_.Lines());
   }
 
  private:

@@ -1,7 +1,7 @@
 // The one SceneFile both loaders build: a forest of nodes (glTF nodes; one identity node per OBJ
 // mesh) whose transforms animation channels change, evaluated per frame time by FrameAt.
-#ifndef TESSERA_TOOLS_TESSERA_SCENE_SCENE_GRAPH_H_
-#define TESSERA_TOOLS_TESSERA_SCENE_SCENE_GRAPH_H_
+#ifndef TESSERA_TOOLS_TESSERA_SCENE_LOADED_SCENE_H_
+#define TESSERA_TOOLS_TESSERA_SCENE_LOADED_SCENE_H_
 
 #include <array>
 #include <string>
@@ -32,10 +32,10 @@ struct SceneGraphData {
   double time_begin = 0.0, time_end = 0.0;
 };
 
-class SceneGraph final : public SceneFile {
+class LoadedScene final : public SceneFile {
  public:
   // `graph` refers to `assets` by index; the loaders check every index before building this.
-  SceneGraph(Assets assets, SceneGraphData graph, std::vector<std::string> warnings);
+  LoadedScene(Assets assets, SceneGraphData graph, std::vector<std::string> warnings);
 
   Frame FrameAt(double time) const override;
 
@@ -46,4 +46,4 @@ class SceneGraph final : public SceneFile {
 
 }  // namespace tessera::render
 
-#endif  // TESSERA_TOOLS_TESSERA_SCENE_SCENE_GRAPH_H_
+#endif  // TESSERA_TOOLS_TESSERA_SCENE_LOADED_SCENE_H_

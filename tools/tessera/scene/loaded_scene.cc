@@ -1,4 +1,4 @@
-#include "scene_graph.h"
+#include "loaded_scene.h"
 
 #include <algorithm>
 #include <limits>
@@ -6,7 +6,7 @@
 
 namespace tessera::render {
 
-SceneGraph::SceneGraph(Assets assets, SceneGraphData graph, std::vector<std::string> warnings)
+LoadedScene::LoadedScene(Assets assets, SceneGraphData graph, std::vector<std::string> warnings)
     : graph_(std::move(graph)) {
   assets_ = std::move(assets);
   warnings_ = std::move(warnings);
@@ -27,7 +27,7 @@ SceneGraph::SceneGraph(Assets assets, SceneGraphData graph, std::vector<std::str
   }
 }
 
-Frame SceneGraph::FrameAt(double time) const {
+Frame LoadedScene::FrameAt(double time) const {
   Frame frame;
   frame.time = time;
 
