@@ -17,6 +17,7 @@ build_packages=(
   libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev libabsl-dev
   libtinyobjloader-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libboost-context-dev
   libtinygltf-dev  # tessera render's glTF loader (tools/tessera/scene)
+  libxxhash-dev  # XXH64 (api/src/hash.cc)
 )
 test_packages=(
   openssl  # the security tests make their certificates with it

@@ -1,5 +1,5 @@
-// Content hashes. Buffer chunks and compile-cache keys: XXH64 (Yann Collet's algorithm, written
-// here from its public specification), chosen for speed on multi-megabyte chunks. Program
+// Content hashes. Buffer chunks and compile-cache keys: XXH64 (libxxhash), chosen for speed on
+// multi-megabyte chunks. Program
 // modules: SHA-256 (ModuleHash), because a device trusts a module's hash as its name for good,
 // in a cache shared by every host and session it serves.
 #ifndef TESSERA_API_SRC_HASH_H_
