@@ -40,6 +40,23 @@ Camera FramingCamera(const Frame& frame) {
 
 }  // namespace
 
+absl::StatusOr<Camera> LookAtCamera(const float from[3], const float at[3]) {
+  const Vec forward = Normalize({at[0] - from[0], at[1] - from[1], at[2] - from[2]});
+  const Vec z{-forward.x, -forward.y, -forward.z};  // a camera looks down its -Z
+  const Vec x = Normalize(Cross({0.f, 1.f, 0.f}, z));
+  if ((z.x == 0.f && z.y == 0.f && z.z == 0.f) || (x.x == 0.f && x.y == 0.f && x.z == 0.f)) {
+    return absl::InvalidArgumentError(
+        "--look-from and --look-at: the two points must differ, and the view must not be "
+        "straight up or down");
+  }
+  const Vec y = Cross(z, x);
+  Camera camera;
+  camera.name = absl::StrCat("look-from ", from[0], ",", from[1], ",", from[2], " at ", at[0], ",",
+                             at[1], ",", at[2]);
+  camera.to_world = {x.x, y.x, z.x, from[0], x.y, y.y, z.y, from[1], x.z, y.z, z.z, from[2]};
+  return camera;
+}
+
 absl::StatusOr<Camera> SelectCamera(const Frame& frame, const std::string& spec) {
   if (spec.empty()) return frame.cameras.empty() ? FramingCamera(frame) : frame.cameras.front();
   int index = -1;

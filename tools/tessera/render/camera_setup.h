@@ -15,6 +15,11 @@ namespace tessera::render {
 // them. NOT_FOUND lists the cameras there are.
 absl::StatusOr<Camera> SelectCamera(const Frame& frame, const std::string& spec);
 
+// A perspective camera at `from` looking at `at`, +Y up (`--look-from`, `--look-at`), with the
+// default field of view. INVALID_ARGUMENT when the two points are the same or the view is straight
+// up or down.
+absl::StatusOr<Camera> LookAtCamera(const float from[3], const float at[3]);
+
 // The image size: what was asked for (0: not given). With neither given, 1280 wide and as high as
 // the camera's aspect ratio says (720 without one); with one given, the other from the aspect
 // ratio (16:9 without one).

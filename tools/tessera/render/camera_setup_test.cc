@@ -71,5 +71,21 @@ TEST(CameraSetupTest, BasisLooksDownMinusZWithTheImagesAspect) {
   EXPECT_NEAR(b.u[0], 1.0f, 1e-6f);  // twice as wide
 }
 
+TEST(CameraSetupTest, LookAtCameraLooksFromOnePointAtTheOther) {
+  // Embree viewer's view of its Cornell box: from z = -800 towards the open side.
+  const float from[3] = {278.f, 273.f, -800.f}, at[3] = {278.f, 273.f, 0.f};
+  const absl::StatusOr<Camera> camera = LookAtCamera(from, at);
+  ASSERT_TRUE(camera.ok()) << camera.status();
+  const CameraBasis b = ComputeCameraBasis(*camera, 100, 100);
+  EXPECT_FLOAT_EQ(b.eye[2], -800.f);
+  EXPECT_GT(b.w[2], 0.f);  // towards +z
+  EXPECT_NEAR(b.w[0], 0.f, 1e-6f);
+  EXPECT_GT(b.v[1], 0.f);  // +Y up
+  EXPECT_LT(b.u[0], 0.f);  // right is -x seen from -z, +Y up
+  EXPECT_FALSE(LookAtCamera(from, from).ok());
+  const float above[3] = {278.f, 1000.f, 0.f};
+  EXPECT_FALSE(LookAtCamera(at, above).ok());  // straight up
+}
+
 }  // namespace
 }  // namespace tessera::render

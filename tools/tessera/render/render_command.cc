@@ -235,6 +235,13 @@ int RenderRun::RenderFrame(const FrameJob& job) {
   }
   const Frame frame = scene_->FrameAt(job.time);
   absl::StatusOr<Camera> camera = SelectCamera(frame, options_.camera);
+  if (!options_.look_from.empty()) {
+    // At the middle of the scene's bounds unless --look-at says where.
+    const float* b = frame.bounds;
+    const float middle[3] = {0.5f * (b[0] + b[3]), 0.5f * (b[1] + b[4]), 0.5f * (b[2] + b[5])};
+    camera = LookAtCamera(options_.look_from.data(),
+                          options_.look_at.empty() ? middle : options_.look_at.data());
+  }
   if (!camera.ok()) {
     log_(LogLevel::kError, "%s", camera.status().message());
     return kExitFailure;
@@ -437,6 +444,16 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
   render->add_option("--env-intensity", o.environment_intensity, "scale of the environment map")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  render
+      ->add_option("--look-from", o.look_from,
+                   "look from this point X,Y,Z instead of a camera of the scene (at the middle of "
+                   "the scene, or --look-at)")
+      ->delimiter(',')
+      ->expected(3);
+  render->add_option("--look-at", o.look_at, "the point X,Y,Z --look-from looks at")
+      ->delimiter(',')
+      ->expected(3)
+      ->needs("--look-from");
   render->add_option("--background", o.background, "background colour R,G,B (linear) without --env")
       ->delimiter(',')
       ->expected(3);

@@ -24,7 +24,8 @@ struct RenderOptions {
   float clamp_indirect = 0.f;  // 0: off
   int width = 0, height = 0;   // 0: from the camera's aspect ratio (docs/render.md)
   std::string camera;
-  std::string frames;  // "" : one image at time 0
+  std::vector<float> look_from, look_at;  // --look-from, --look-at: empty when not given
+  std::string frames;                     // "" : one image at time 0
   double fps = 24.0;
   bool skip_existing = false;
   std::string environment;
