@@ -14,6 +14,9 @@ import shutil
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outcome  # noqa: E402
+
 ALWAYS_THERE = {"libc6", "libgcc-s1"}
 
 
@@ -77,11 +80,7 @@ def main():
                 failures.append(f"{os.path.basename(binary)} links {library} from {package}, "
                                 "which deploy/install-deps.sh --runtime does not install")
         print(f"{os.path.basename(binary)}: {', '.join(sorted(packages))}")
-    if failures:
-        print("FAIL:\n  " + "\n  ".join(failures))
-        return 1
-    print("PASS")
-    return 0
+    return outcome.report(failures)
 
 
 if __name__ == "__main__":

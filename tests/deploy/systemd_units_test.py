@@ -21,6 +21,7 @@ import tempfile
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outcome  # noqa: E402
 import systemd_unit  # noqa: E402
 
 UNITS = ("tessera-worker.service", "tessera-worker@.service")
@@ -187,11 +188,7 @@ def main():
                       f"--prefix {prefix}: {rel} is not executable")
             if prefix == "/usr":
                 analyze(unit_dir, worker)
-    if failures:
-        print("FAIL:\n  " + "\n  ".join(failures))
-        return 1
-    print("PASS")
-    return 0
+    return outcome.report(failures)
 
 
 if __name__ == "__main__":

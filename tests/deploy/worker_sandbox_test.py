@@ -38,6 +38,7 @@ import urllib.request
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outcome  # noqa: E402
 import systemd_unit  # noqa: E402
 
 # The render command, one place to switch it: tessera-tutorial (the test's third argument) until
@@ -474,11 +475,7 @@ def main():
             worker_process.kill()
             worker_process.wait()
         shutil.rmtree(top, ignore_errors=True)
-    if failures:
-        print("FAIL:\n  " + "\n  ".join(failures))
-        return 1
-    print("PASS")
-    return 0
+    return outcome.report(failures)
 
 
 if __name__ == "__main__":

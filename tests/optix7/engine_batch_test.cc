@@ -9,19 +9,6 @@
 namespace tessera::optix7_test {
 namespace {
 
-// One triangle of the z = 0 plane at x0, winding counter-clockwise seen from +z.
-std::vector<float> Triangle(float x0) { return {x0, 0, 0, x0 + 1, 0, 0, x0, 1, 0}; }
-
-OptixInstance Moved(float dx, unsigned id, OptixTraversableHandle child) {
-  OptixInstance inst{};
-  const float m[12] = {1, 0, 0, dx, 0, 1, 0, 0, 0, 0, 1, 0};
-  std::memcpy(inst.transform, m, sizeof(m));
-  inst.instanceId = id;
-  inst.visibilityMask = 0xFF;
-  inst.traversableHandle = child;
-  return inst;
-}
-
 class BatchTest : public EngineTest {
  protected:
   // The launch run one ray at a time and in lanes (one thread, then two with tiles of one
@@ -64,11 +51,11 @@ TEST_F(BatchTest, TrianglesAndInstancesSeeWhatSingleRaysSee) {
   p.step.x = 0.75f;  // hits and misses alternate irregularly over 40 indices: 3 blocks, one part
   p.handle = gas;
   ExpectSameAsSingleRays(sbt, p, 40);
-  p.handle = Build({Instances({Moved(0.f, 7, gas), Moved(24.f, 9, gas)})});
+  p.handle = Build({Instances({Translated(0.f, 7, gas), Translated(24.f, 9, gas)})});
   p.step.x = 1.5f;  // over both instances
   ExpectSameAsSingleRays(sbt, p, 40);
   // Two instances in the same place: every hit is a tie between them.
-  p.handle = Build({Instances({Moved(0.f, 7, gas), Moved(0.f, 9, gas)})});
+  p.handle = Build({Instances({Translated(0.f, 7, gas), Translated(0.f, 9, gas)})});
   ExpectSameAsSingleRays(sbt, p, 40, 2, 0, /*ties=*/true);
 }
 

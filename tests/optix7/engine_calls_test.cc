@@ -7,8 +7,6 @@
 namespace tessera::optix7_test {
 namespace {
 
-std::vector<float> Triangle() { return {0, 0, 0, 1, 0, 0, 0, 1, 0}; }
-
 TEST_F(EngineTest, DirectAndContinuationCallables) {
   EngineParams p = DownZ(0.25f, 0.5f);
   p.step.x = 2.f;  // the continuation callable's ray: x = 0.25 hits, 2.25 and 4.25 miss

@@ -11,17 +11,6 @@
 namespace tessera::optix7_test {
 namespace {
 
-std::vector<float> UnitTriangle() { return {0, 0, 0, 1, 0, 0, 0, 1, 0}; }
-
-OptixInstance At(OptixTraversableHandle child) {
-  OptixInstance inst{};
-  const float identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
-  std::memcpy(inst.transform, identity, sizeof(identity));
-  inst.visibilityMask = 0xFF;
-  inst.traversableHandle = child;
-  return inst;
-}
-
 class CompileOptionsTest : public EngineTest {
  protected:
   CompileOptionsTest() {
@@ -61,8 +50,8 @@ class CompileOptionsTest : public EngineTest {
 };
 
 TEST_F(CompileOptionsTest, ScenesWithinTheOptionsAreTraced) {
-  const OptixTraversableHandle gas = Build({Triangles(UnitTriangle(), {0, 1, 2})});
-  const OptixTraversableHandle ias = Build({Instances({At(gas)})});
+  const OptixTraversableHandle gas = Build({Triangles(Triangle(), {0, 1, 2})});
+  const OptixTraversableHandle ias = Build({Instances({Translated(0.f, 0, gas)})});
   graph_flags_ = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_GAS;
   primitive_flags_ = OPTIX_PRIMITIVE_TYPE_FLAGS_TRIANGLE;
   motion_blur_ = false;
@@ -75,8 +64,8 @@ TEST_F(CompileOptionsTest, ScenesWithinTheOptionsAreTraced) {
 }
 
 TEST_F(CompileOptionsTest, AnInstanceAccelerationUnderSingleGasFailsTheLaunch) {
-  const OptixTraversableHandle gas = Build({Triangles(UnitTriangle(), {0, 1, 2})});
-  const OptixTraversableHandle ias = Build({Instances({At(gas)})});
+  const OptixTraversableHandle gas = Build({Triangles(Triangle(), {0, 1, 2})});
+  const OptixTraversableHandle ias = Build({Instances({Translated(0.f, 0, gas)})});
   graph_flags_ = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_GAS;
   const std::string error = TraceOnto(ias);
   EXPECT_NE(error.find("optixTrace"), std::string::npos) << error;
@@ -85,9 +74,9 @@ TEST_F(CompileOptionsTest, AnInstanceAccelerationUnderSingleGasFailsTheLaunch) {
 }
 
 TEST_F(CompileOptionsTest, NestedInstancesUnderSingleLevelInstancingFailTheLaunch) {
-  const OptixTraversableHandle gas = Build({Triangles(UnitTriangle(), {0, 1, 2})});
-  const OptixTraversableHandle inner = Build({Instances({At(gas)})});
-  const OptixTraversableHandle outer = Build({Instances({At(inner)})});
+  const OptixTraversableHandle gas = Build({Triangles(Triangle(), {0, 1, 2})});
+  const OptixTraversableHandle inner = Build({Instances({Translated(0.f, 0, gas)})});
+  const OptixTraversableHandle outer = Build({Instances({Translated(0.f, 0, inner)})});
   graph_flags_ = OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_LEVEL_INSTANCING;
   const std::string error = TraceOnto(outer);
   EXPECT_NE(error.find("single-level instancing"), std::string::npos) << error;
@@ -96,8 +85,8 @@ TEST_F(CompileOptionsTest, NestedInstancesUnderSingleLevelInstancingFailTheLaunc
 }
 
 TEST_F(CompileOptionsTest, PrimitivesTheOptionsLeaveOutFailTheLaunch) {
-  const OptixTraversableHandle gas = Build({Triangles(UnitTriangle(), {0, 1, 2})});
-  const OptixTraversableHandle ias = Build({Instances({At(gas)})});
+  const OptixTraversableHandle gas = Build({Triangles(Triangle(), {0, 1, 2})});
+  const OptixTraversableHandle ias = Build({Instances({Translated(0.f, 0, gas)})});
   primitive_flags_ = OPTIX_PRIMITIVE_TYPE_FLAGS_CUSTOM;
   for (const OptixTraversableHandle h : {gas, ias}) {
     const std::string error = TraceOnto(h);
@@ -108,11 +97,11 @@ TEST_F(CompileOptionsTest, PrimitivesTheOptionsLeaveOutFailTheLaunch) {
 
 TEST_F(CompileOptionsTest, MotionUnderUsesMotionBlurZeroFailsTheLaunch) {
   // Two keys of the same triangle: it has motion, though nothing moves.
-  const CUdeviceptr keys[2] = {Upload(UnitTriangle()), Upload(UnitTriangle())};
-  OptixBuildInput in = Triangles(UnitTriangle(), {0, 1, 2});
+  const CUdeviceptr keys[2] = {Upload(Triangle()), Upload(Triangle())};
+  OptixBuildInput in = Triangles(Triangle(), {0, 1, 2});
   in.triangleArray.vertexBuffers = keys;
   const OptixTraversableHandle moving = Build({in}, OptixMotionOptions{2, 0, 0.f, 1.f});
-  const OptixTraversableHandle ias = Build({Instances({At(moving)})});
+  const OptixTraversableHandle ias = Build({Instances({Translated(0.f, 0, moving)})});
   motion_blur_ = false;
   for (const OptixTraversableHandle h : {moving, ias}) {
     const std::string error = TraceOnto(h);

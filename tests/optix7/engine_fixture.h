@@ -50,6 +50,22 @@ struct Result {
   float real(unsigned index, unsigned k) const;
 };
 
+// One triangle of the z plane at x0, winding counter-clockwise seen from +z.
+inline std::vector<float> Triangle(float x0 = 0.f, float z = 0.f) {
+  return {x0, 0, z, x0 + 1, 0, z, x0, 1, z};
+}
+
+// An instance of `child` moved by tx along x, all visibility bits set.
+inline OptixInstance Translated(float tx, unsigned id, OptixTraversableHandle child) {
+  OptixInstance inst{};
+  const float t[12] = {1, 0, 0, tx, 0, 1, 0, 0, 0, 0, 1, 0};
+  std::memcpy(inst.transform, t, sizeof(t));
+  inst.instanceId = id;
+  inst.visibilityMask = 0xFF;
+  inst.traversableHandle = child;
+  return inst;
+}
+
 class EngineTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite();

@@ -12,19 +12,6 @@
 namespace tessera::optix7_test {
 namespace {
 
-// One triangle of the z = 0 plane at x0, winding counter-clockwise seen from +z.
-std::vector<float> Triangle(float x0) { return {x0, 0, 0, x0 + 1, 0, 0, x0, 1, 0}; }
-
-OptixInstance Instance(float tx, unsigned id, OptixTraversableHandle child) {
-  OptixInstance inst{};
-  const float t[12] = {1, 0, 0, tx, 0, 1, 0, 0, 0, 0, 1, 0};
-  std::memcpy(inst.transform, t, sizeof(t));
-  inst.instanceId = id;
-  inst.visibilityMask = 0xFF;
-  inst.traversableHandle = child;
-  return inst;
-}
-
 class MotionTest : public EngineTest {
  protected:
   MotionTest() {
@@ -103,7 +90,7 @@ TEST_F(MotionTest, TrianglesMoveBetweenKeysAndClampOrVanishOutsideTheirRange) {
   EXPECT_TRUE(Hit(At(three, 5.25f, 0.25f, 2.5f)));
 
   // Instanced directly by an IAS (an Embree instance: the GAS's range is the IAS's time).
-  const OptixTraversableHandle ias = Build({Instances({Instance(100.f, 5, gas)})});
+  const OptixTraversableHandle ias = Build({Instances({Translated(100.f, 5, gas)})});
   r = At(ias, 105.25f, 0.25f, 0.5f);
   ASSERT_TRUE(Hit(r));
   EXPECT_EQ(r.word(0, 1), 1u);
@@ -112,7 +99,7 @@ TEST_F(MotionTest, TrianglesMoveBetweenKeysAndClampOrVanishOutsideTheirRange) {
   EXPECT_FLOAT_EQ(r.real(0, 12), 105.25f);
   // Two moving GASes of different ranges under one IAS: the second becomes a node.
   const OptixTraversableHandle both =
-      Build({Instances({Instance(100.f, 5, gas), Instance(200.f, 6, three)})});
+      Build({Instances({Translated(100.f, 5, gas), Translated(200.f, 6, three)})});
   EXPECT_TRUE(Hit(At(both, 105.25f, 0.25f, 0.5f)));
   r = At(both, 220.25f, 0.25f, 3.5f);
   ASSERT_TRUE(Hit(r));
@@ -155,7 +142,7 @@ TEST_F(MotionTest, MatrixMotionTransformMovesItsChildAndShowsInTheTransformList)
   std::memcpy(mt.transform, keys, sizeof(keys));
   const OptixTraversableHandle motion =
       Transform(&mt, sizeof(mt), OPTIX_TRANSFORM_TYPE_MATRIX_MOTION_TRANSFORM);
-  const OptixTraversableHandle ias = Build({Instances({Instance(0.f, 7, motion)})});
+  const OptixTraversableHandle ias = Build({Instances({Translated(0.f, 7, motion)})});
   for (float time : {0.f, 0.5f, 1.f}) {
     SCOPED_TRACE(time);
     const float x = 10.f * time + 0.25f;
@@ -184,7 +171,7 @@ TEST_F(MotionTest, SrtMotionTransformRotatesByNlerp) {
   srt.srtData[1] = OptixSRTData{1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, s, s, 0, 0, 0};  // 90 degrees
   const OptixTraversableHandle motion =
       Transform(&srt, sizeof(srt), OPTIX_TRANSFORM_TYPE_SRT_MOTION_TRANSFORM);
-  const OptixTraversableHandle ias = Build({Instances({Instance(0.f, 3, motion)})});
+  const OptixTraversableHandle ias = Build({Instances({Translated(0.f, 3, motion)})});
   // At time 1 the triangle lies at x in [-1, 0]; at 0.5 it is turned by 45 degrees (the nlerp of
   // two keys is exact half way): object (0.5, 0.25) lies at world (0.17678, 0.53033).
   EXPECT_FALSE(Hit(At(ias, -0.25f, 0.25f, 0.f)));
@@ -212,8 +199,8 @@ TEST_F(MotionTest, ThreeLevelGraphWithAStaticTransform) {
   const OptixTraversableHandle fixed =
       Transform(&st, sizeof(st), OPTIX_TRANSFORM_TYPE_STATIC_TRANSFORM);
   const OptixTraversableHandle mid =
-      Build({Instances({Instance(1000.f, 20, gas), Instance(0.f, 21, fixed)})});
-  const OptixTraversableHandle top = Build({Instances({Instance(100.f, 1, mid)})});
+      Build({Instances({Translated(1000.f, 20, gas), Translated(0.f, 21, fixed)})});
+  const OptixTraversableHandle top = Build({Instances({Translated(100.f, 1, mid)})});
 
   Result r = At(top, 110.25f, 0.25f, 0.f);
   ASSERT_TRUE(Hit(r));
@@ -240,7 +227,7 @@ TEST_F(MotionTest, ThreeLevelGraphWithAStaticTransform) {
   const OptixTraversableHandle near_gas =
       Build({Triangles({109.f, 0, 0.5f, 112.f, 0, 0.5f, 109.f, 1, 0.5f}, {0, 1, 2})});
   const OptixTraversableHandle top2 =
-      Build({Instances({Instance(100.f, 1, mid), Instance(0.f, 2, near_gas)})});
+      Build({Instances({Translated(100.f, 1, mid), Translated(0.f, 2, near_gas)})});
   r = At(top2, 110.25f, 0.25f, 0.f);
   ASSERT_TRUE(Hit(r));
   EXPECT_EQ(r.word(0, 6), 2u);

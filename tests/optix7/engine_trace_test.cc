@@ -10,9 +10,6 @@
 namespace tessera::optix7_test {
 namespace {
 
-// One triangle of the z = 0 plane at x0, winding counter-clockwise seen from +z.
-std::vector<float> Triangle(float x0, float z = 0.f) { return {x0, 0, z, x0 + 1, 0, z, x0, 1, z}; }
-
 TEST_F(EngineTest, TrianglesHitAndMissWithPayloadsBarycentricsAndSbtIndexing) {
   // Input 0: one triangle, one record. Input 1: two triangles with their own records (SBT index
   // offsets 0 and 1) and primitive index offset 10. SBT-GAS indices: 0, then 1 and 2.

@@ -22,14 +22,14 @@ Optix7Batch::Optix7Batch() {
 void Optix7Batch::LaneMain(void* arg) {
   auto& lane = *static_cast<Optix7Lane*>(arg);
   Optix7Batch& batch = *lane.batch;
-  // One launch index per resumption after `done`: the lane's stack stays laid out for the tile.
+  // One launch index per resumption once the last one ended: the lane's stack stays laid out for
+  // the tile.
   for (;;) {
     try {
       batch.run_(lane.ts);
     } catch (...) {
       lane.error = std::current_exception();
     }
-    lane.done = true;
     tessera_lane_switch(&lane.sp, batch.scheduler_sp_);
   }
 }
@@ -50,7 +50,7 @@ void Optix7Batch::BeginTile(Optix7Thread& thread, void (*run)(Optix7Thread&)) {
     ts.stack_floor = stacks_[k]->base();
     // Afresh each tile: a tile that was interrupted or failed left its lanes anywhere.
     lane.sp = stacks_[k]->Start(&LaneMain, &lane);
-    lane.waiting = lane.done = false;
+    lane.waiting = false;
     lane.error = nullptr;
   }
 }
@@ -122,7 +122,7 @@ void Optix7Batch::RunBlock(const Index3& origin, const Index3& size) {
       for (uint32_t x = origin[0]; x < origin[0] + size[0]; ++x) {
         Optix7Lane& lane = lanes_[n++];
         lane.ts.index = {x, y, z};
-        lane.waiting = lane.done = false;
+        lane.waiting = false;
       }
     }
   }

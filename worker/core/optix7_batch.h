@@ -26,7 +26,7 @@ struct Optix7Lane {
   Optix7Batch* batch = nullptr;
   unsigned slot = 0;   // its place in the block and in the packet
   void* sp = nullptr;  // where its stack resumes
-  bool waiting = false, done = false;
+  bool waiting = false;
   // While waiting: the ray (answered in place) and the scene it is traced in.
   RTCRayHit* ray = nullptr;
   const Optix7Scene* scene = nullptr;

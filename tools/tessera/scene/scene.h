@@ -48,10 +48,10 @@ struct Material {
 // its own object space. Optional attributes are empty when the file has none.
 struct Mesh {
   std::string name;
-  std::vector<float> positions;  // xyz per vertex
-  std::vector<float> normals;    // xyz per vertex, or empty
-  std::vector<float> texcoords;  // uv per vertex (TEXCOORD_0), or empty
-  std::vector<float> tangents;   // xyzw per vertex, or empty
+  std::vector<float> positions;   // xyz per vertex
+  std::vector<float> normals;     // xyz per vertex, or empty
+  std::vector<float> texcoords;   // uv per vertex (TEXCOORD_0), or empty
+  std::vector<float> tangents;    // xyzw per vertex, or empty
   std::vector<uint32_t> indices;  // three per triangle
   int material = -1;              // into Assets::materials; -1: the default material
 };
@@ -71,11 +71,11 @@ struct Instance {
 };
 
 struct Camera {
-  std::string name;  // glTF camera or node name ("" if neither has one)
+  std::string name;   // glTF camera or node name ("" if neither has one)
   Affine to_world{};  // the camera looks down its -Z, +Y up
   bool orthographic = false;
-  float yfov = 0.7f;    // perspective: vertical field of view, radians
-  float aspect = 0.f;   // width / height from the file; 0: the image's
+  float yfov = 0.7f;             // perspective: vertical field of view, radians
+  float aspect = 0.f;            // width / height from the file; 0: the image's
   float xmag = 1.f, ymag = 1.f;  // orthographic half extents
   float znear = 0.f;
 };

@@ -12,13 +12,6 @@
 
 namespace tessera::scheduler {
 
-// The blocks of launch indices a device traces together when a launch is batched
-// (worker/core/batch_block.h): 4x4 of one z slice in 2D and 3D launches, 16 in a row in 1D ones,
-// aligned to the launch grid. The tile sizes ChooseTileSize picks are whole blocks; an override
-// that is not cuts blocks at tile edges (the same cut on every device set).
-inline constexpr uint64_t kBatchBlockSide = 4;
-inline constexpr uint64_t kBatchBlockRun = 16;
-
 // The largest tiles: 4096 (1D), 64x64 (2D), 16x16x4 (3D).
 std::vector<uint64_t> MaxTileSize(size_t dimensionality);
 
