@@ -1,7 +1,5 @@
 #include "optix7_batch.h"
 
-#include <cstring>
-
 namespace tessera::worker {
 namespace {
 
@@ -13,10 +11,7 @@ constexpr size_t kLaneStackBytes = kOptix7StackBudget + 768 * 1024;
 }  // namespace
 
 Optix7Batch::Optix7Batch() {
-  for (unsigned k = 0; k < kLanes; ++k) {
-    lanes_[k].batch = this;
-    lanes_[k].slot = k;
-  }
+  for (Optix7Lane& lane : lanes_) lane.batch = this;
 }
 
 void Optix7Batch::LaneMain(void* arg) {

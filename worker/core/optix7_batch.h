@@ -24,7 +24,6 @@ class Optix7Batch;
 struct Optix7Lane {
   Optix7Thread ts;  // the launch index's state, Optix7TS() while the lane runs
   Optix7Batch* batch = nullptr;
-  unsigned slot = 0;   // its place in the block and in the packet
   void* sp = nullptr;  // where its stack resumes
   bool waiting = false;
   // While waiting: the ray (answered in place) and the scene it is traced in.

@@ -194,19 +194,20 @@ namespace {
 void CheckCompileOptions(const Optix7Thread& ts, const Optix7Scene& s, uint64_t handle,
                          const char* call) {
   const Optix7Launch& l = *ts.launch;
-  const std::string scene = absl::StrCat("traversable 0x", absl::Hex(handle));
+  // Made only for a message: a program alternating between two roots comes here per trace.
+  auto scene = [handle] { return absl::StrCat("traversable 0x", absl::Hex(handle)); };
   const unsigned graph = l.graph_flags;
   const bool instances = s.kind == memory::AccelKind::kInstances;
   if (graph == OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_GAS && instances) {
     Fail(ts, call,
-         absl::StrCat(scene,
+         absl::StrCat(scene(),
                       " is an instance acceleration, but the pipeline's "
                       "traversableGraphFlags allow a single GAS only"));
   }
   if ((graph & OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_SINGLE_LEVEL_INSTANCING) != 0 && instances &&
       !s.single_level) {
     Fail(ts, call,
-         absl::StrCat(scene,
+         absl::StrCat(scene(),
                       " has transforms or instance accelerations below its instances, but "
                       "the pipeline's traversableGraphFlags allow single-level instancing "
                       "(use OPTIX_TRAVERSABLE_GRAPH_FLAG_ALLOW_ANY)"));
@@ -217,14 +218,14 @@ void CheckCompileOptions(const Optix7Thread& ts, const Optix7Scene& s, uint64_t 
                                         static_cast<unsigned>(OPTIX_PRIMITIVE_TYPE_FLAGS_TRIANGLE);
   if ((s.primitive_types & ~primitives) != 0) {
     Fail(ts, call,
-         absl::StrCat(scene, " holds primitives of types 0x", absl::Hex(s.primitive_types),
+         absl::StrCat(scene(), " holds primitives of types 0x", absl::Hex(s.primitive_types),
                       " (OptixPrimitiveTypeFlags), but the pipeline's usesPrimitiveTypeFlags "
                       "are 0x",
                       absl::Hex(primitives)));
   }
   if (s.any_motion && !l.motion_blur) {
     Fail(ts, call,
-         absl::StrCat(scene,
+         absl::StrCat(scene(),
                       " has motion (an acceleration or transform with motion keys), but "
                       "the pipeline was compiled with usesMotionBlur 0"));
   }
