@@ -19,13 +19,16 @@ void Optix7Batch::LaneMain(void* arg) {
   Optix7Batch& batch = *lane.batch;
   // One launch index per resumption once the last one ended: the lane's stack stays laid out for
   // the tile.
+  lane.sanitizer.After();
   for (;;) {
     try {
       batch.run_(lane.ts);
     } catch (...) {
       lane.error = std::current_exception();
     }
+    lane.sanitizer.BeforeBack();
     tessera_lane_switch(&lane.sp, batch.scheduler_sp_);
+    lane.sanitizer.After();
   }
 }
 
@@ -52,7 +55,10 @@ void Optix7Batch::BeginTile(Optix7Thread& thread, void (*run)(Optix7Thread&)) {
 
 inline void Optix7Batch::Resume(Optix7Lane& lane) {
   t_optix7 = &lane.ts;
+  const LaneStack& stack = *stacks_[&lane - lanes_.data()];
+  sanitizer_.Before(stack.base(), stack.size());
   tessera_lane_switch(&scheduler_sp_, lane.sp);
+  sanitizer_.After();
   t_optix7 = thread_;
   if (lane.error) {
     std::exception_ptr e = lane.error;

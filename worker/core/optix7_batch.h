@@ -26,6 +26,7 @@ struct Optix7Lane {
   Optix7Batch* batch = nullptr;
   void* sp = nullptr;  // where its stack resumes
   bool waiting = false;
+  LaneSanitizer sanitizer;  // the lane's side of its switches
   // While waiting: the ray (answered in place) and the scene it is traced in.
   RTCRayHit* ray = nullptr;
   const Optix7Scene* scene = nullptr;
@@ -55,7 +56,9 @@ class Optix7Batch {
     lane.ray = &ray;
     lane.scene = &scene;
     lane.waiting = true;
+    lane.sanitizer.BeforeBack();
     tessera_lane_switch(&lane.sp, lane.batch->scheduler_sp_);
+    lane.sanitizer.After();
   }
 
  private:
@@ -70,6 +73,7 @@ class Optix7Batch {
   void (*run_)(Optix7Thread&) = nullptr;
   Optix7Thread* thread_ = nullptr;
   void* scheduler_sp_ = nullptr;
+  LaneSanitizer sanitizer_;  // the scheduler's side
 };
 
 }  // namespace tessera::worker
