@@ -9,8 +9,6 @@
 #include <stdexcept>
 
 namespace tessera::bench {
-namespace {
-
 std::string ShellQuote(const std::string& s) {
   std::string q = "'";
   for (char c : s) {
@@ -22,8 +20,6 @@ std::string ShellQuote(const std::string& s) {
   }
   return q + "'";
 }
-
-}  // namespace
 
 std::optional<std::string> FindExecutable(const std::string& name) {
   if (name.empty()) return std::nullopt;
@@ -41,17 +37,37 @@ std::optional<std::string> FindExecutable(const std::string& name) {
   return std::nullopt;
 }
 
-std::optional<double> ParseMraysAverage(const std::string& output) {
-  static const std::string kKey = "BENCHMARK_RENDER_MRAYPS_AVG ";
+std::optional<double> ParseBenchmarkValue(const std::string& output, const std::string& key) {
+  const std::string prefix = key + " ";
   std::stringstream lines(output);
   std::string line;
   while (std::getline(lines, line)) {
-    if (line.compare(0, kKey.size(), kKey) != 0) continue;
+    if (line.compare(0, prefix.size(), prefix) != 0) continue;
     char* end = nullptr;
-    double value = std::strtod(line.c_str() + kKey.size(), &end);
-    if (end != line.c_str() + kKey.size()) return value;
+    double value = std::strtod(line.c_str() + prefix.size(), &end);
+    if (end != line.c_str() + prefix.size()) return value;
   }
   return std::nullopt;
+}
+
+std::optional<double> ParseMraysAverage(const std::string& output) {
+  return ParseBenchmarkValue(output, "BENCHMARK_RENDER_MRAYPS_AVG");
+}
+
+std::string RunCommand(const std::string& command, const std::string& what) {
+  const std::string cmd = command + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) throw std::runtime_error("cannot run: " + command);
+  std::string output;
+  char chunk[4096];
+  size_t n;
+  while ((n = std::fread(chunk, 1, sizeof(chunk), pipe)) > 0) output.append(chunk, n);
+  int status = pclose(pipe);
+  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    throw std::runtime_error(what + " failed (status " + std::to_string(status) + "): " + command +
+                             "\n" + output);
+  }
+  return output;
 }
 
 double RunEmbreeViewer(const ViewerRun& run, std::string* command_out) {
@@ -62,19 +78,7 @@ double RunEmbreeViewer(const ViewerRun& run, std::string* command_out) {
   if (run.threads > 0) cmd += " --threads " + std::to_string(run.threads);
   for (const std::string& flag : run.camera_flags) cmd += " " + ShellQuote(flag);
   if (command_out != nullptr) *command_out = cmd;
-  cmd += " 2>&1";
-
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) throw std::runtime_error("cannot run: " + cmd);
-  std::string output;
-  char chunk[4096];
-  size_t n;
-  while ((n = std::fread(chunk, 1, sizeof(chunk), pipe)) > 0) output.append(chunk, n);
-  int status = pclose(pipe);
-  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    throw std::runtime_error("Embree viewer failed (status " + std::to_string(status) +
-                             "): " + cmd + "\n" + output);
-  }
+  const std::string output = RunCommand(cmd, "Embree viewer");
   std::optional<double> mrays = ParseMraysAverage(output);
   if (!mrays) {
     throw std::runtime_error("Embree viewer printed no BENCHMARK_RENDER_MRAYPS_AVG line:\n" +

@@ -25,6 +25,16 @@ std::optional<std::string> FindExecutable(const std::string& name);
 // The number on the line `BENCHMARK_RENDER_MRAYPS_AVG <x>` of viewer's output, if any.
 std::optional<double> ParseMraysAverage(const std::string& output);
 
+// The number on the line `<key> <x>` of an Embree tutorial's benchmark output, if any.
+std::optional<double> ParseBenchmarkValue(const std::string& output, const std::string& key);
+
+// Runs a shell command line, returning what it wrote to stdout and stderr; throws
+// std::runtime_error with that output when it does not exit 0. `what` names it in the message.
+std::string RunCommand(const std::string& command, const std::string& what);
+
+// `s` quoted for a POSIX shell.
+std::string ShellQuote(const std::string& s);
+
 // Runs `viewer -i MODEL --size W H --shader eyelight --benchmark WARMUP RUNS [--threads N]
 // <camera flags>` and returns BENCHMARK_RENDER_MRAYPS_AVG. Throws std::runtime_error (with viewer's
 // output) when it fails or prints no such line. `command_out` receives the command line as run.

@@ -214,6 +214,7 @@ TEST_F(RenderCliTest, SameBitsOnEveryDeviceSetAndTileSize) {
   const std::vector<std::vector<std::string>> runs = {
       {"--devices=inproc"},
       {"--devices=local:1"},
+      {"--devices=inproc", "--threads=1"},
       {"--devices=local:2", "--pass-samples=1"},
       {"--devices=local:3", "--tile-size=8x4", "--pass-samples=2"},
   };
@@ -417,6 +418,11 @@ TEST_F(RenderCliTest, UsageErrorsExit2NamingTheFlag) {
       {{"render", "builtin:cornell", "-o", Path("x.png"), "--no-such-flag"}, "--no-such-flag"},
       {{"render", "builtin:cornell", "-o", Path("x.png"), "--frames=5-2"}, "--frames"},
       {{"render", "builtin:cornell", "-o", Path("x.jpg")}, "--output"},
+      {{"render", "builtin:cornell", "-o", Path("x.png"), "--point-light=1,2,3"}, "--point-light"},
+      {{"render", "builtin:cornell", "-o", Path("x.png"), "--point-light=0,0,0,-1,1,1"},
+       "--point-light"},
+      {{"render", "builtin:cornell", "-o", Path("x.png"), "--fov=180"}, "--fov"},
+      {{"render", "builtin:cornell", "-o", Path("x.png"), "--threads=0"}, "--threads"},
   };
   for (const Case& c : cases) {
     const Result r = Run(c.args);
@@ -425,9 +431,10 @@ TEST_F(RenderCliTest, UsageErrorsExit2NamingTheFlag) {
   }
   const Result help = Run({"render", "--help"});
   EXPECT_EQ(help.status, 0);
-  for (const char* flag : {"--spp", "--time-limit", "--max-depth", "--width", "--height",
-                           "--camera", "--frames", "--fps", "--skip-existing", "--env", "--seed",
-                           "--devices", "--tile-size", "--log-level", "--resume"}) {
+  for (const char* flag :
+       {"--spp", "--time-limit", "--max-depth", "--width", "--height", "--camera", "--frames",
+        "--fps", "--skip-existing", "--env", "--seed", "--devices", "--tile-size", "--log-level",
+        "--resume", "--threads", "--fov", "--point-light", "--look-from"}) {
     EXPECT_NE(help.out.find(flag), std::string::npos) << flag;
   }
 }
@@ -464,6 +471,47 @@ TEST_F(RenderCliTest, AnUnlitSceneIsLitByAWhiteSkyWithAWarning) {
     rgb += b.pixels[i] + b.pixels[i + 1] + b.pixels[i + 2];
   }
   EXPECT_EQ(rgb, 0.f);
+}
+
+// A Lambertian quad (Kd 0.5, no Ks) lit by `--point-light` alone, seen head-on through `--fov`:
+// at its middle, straight below the light, radiance is Kd / pi * I / d^2 (I = 4 pi, d = 2: 0.5),
+// with no white sky (the light counts as the scene's); a narrower field of view fills the image
+// with the quad, a wider one shows the black background around it.
+TEST_F(RenderCliTest, PointLightAndFieldOfViewFromTheCommandLine) {
+  const std::string obj = Path("quad.obj"), mtl = Path("quad.mtl");
+  {
+    std::ofstream m(mtl);
+    m << "newmtl grey\nKd 0.5 0.5 0.5\n";
+    std::ofstream f(obj);
+    f << "mtllib quad.mtl\nusemtl grey\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 "
+         "4\n";
+  }
+  const std::vector<std::string> common = {"render",
+                                           obj,
+                                           kWidth,
+                                           kHeight,
+                                           "--spp=4",
+                                           "--max-depth=1",
+                                           "--exr-float",
+                                           "--look-from=0,0,5",
+                                           "--look-at=0,0,0",
+                                           "--point-light=0,0,2,12.566371,12.566371,12.566371",
+                                           "--log-level=warn"};
+  std::vector<std::string> narrow = common, wide = common;
+  narrow.insert(narrow.end(), {"-o", Path("narrow.exr"), "--fov=10"});
+  wide.insert(wide.end(), {"-o", Path("wide.exr"), "--fov=40"});
+  Result r = Run(narrow);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("white sky"), std::string::npos) << r.err;
+  ASSERT_EQ((r = Run(wide)).status, 0) << r.err;
+  const Image a = Read(Path("narrow.exr")), b = Read(Path("wide.exr"));
+  ASSERT_EQ(a.width, 64);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(a.At(32, 24, c), 0.5f, 0.01f) << c;  // cos and d barely change across a pixel
+    EXPECT_GT(a.At(0, 0, c), 0.05f) << c;            // the quad reaches the corners
+    EXPECT_EQ(b.At(0, 0, c), 0.f) << c;              // past the quad: black background
+    EXPECT_NEAR(b.At(32, 24, c), 0.5f, 0.01f) << c;
+  }
 }
 
 }  // namespace

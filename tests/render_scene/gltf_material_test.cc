@@ -41,6 +41,7 @@ nlohmann::json FullMaterial() {
           {"extensions",
            {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}},
             {"KHR_materials_ior", {{"ior", 1.33}}},
+            {"KHR_materials_specular", {{"specularFactor", 0.4}}},
             {"KHR_materials_transmission", {{"transmissionFactor", 0.7}}}}}};
 }
 
@@ -58,7 +59,7 @@ TEST(RenderSceneGltfMaterialTest, FactorsExtensionsAndTexturesFromDataUriAndFile
   gltf.json["meshes"][0]["primitives"][1].erase("material");
   gltf.AddRoot(node);
   gltf.json["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_ior",
-                                 "KHR_materials_transmission"};
+                                 "KHR_materials_specular", "KHR_materials_transmission"};
   gltf.json["materials"] = {FullMaterial()};
   gltf.json["images"] = {
       {{"uri", "data:image/png;base64," + Base64(ReadBytes(dir + "/base.png"))}},
@@ -85,6 +86,7 @@ TEST(RenderSceneGltfMaterialTest, FactorsExtensionsAndTexturesFromDataUriAndFile
   EXPECT_TRUE(m.double_sided);
   EXPECT_FLOAT_EQ(m.ior, 1.33f);
   EXPECT_FLOAT_EQ(m.transmission, 0.7f);
+  EXPECT_FLOAT_EQ(m.specular, 0.4f);
 
   // Colour (sRGB) base colour; the metallic-roughness and normal maps share one linear image.
   ASSERT_EQ(assets.textures.size(), 2u);
@@ -133,6 +135,7 @@ TEST(RenderSceneGltfMaterialTest, GlbWithAnImageInABufferView) {
   EXPECT_THAT(assets.materials[0].base_color, ElementsAre(1.f, 1.f, 1.f, 1.f));
   EXPECT_FLOAT_EQ(assets.materials[0].metallic, 1.f);
   EXPECT_FLOAT_EQ(assets.materials[0].ior, 1.5f);
+  EXPECT_FLOAT_EQ(assets.materials[0].specular, 1.f);
   EXPECT_FALSE(assets.materials[0].double_sided);
   ASSERT_EQ(assets.materials[0].base_color_texture, 0);
   EXPECT_NEAR(assets.textures.at(0).rgba[0], kLinear188, 1e-5f);

@@ -44,6 +44,7 @@ f 1/1 3/3 4/4
 
 constexpr char kMtl[] = R"(newmtl red
 Kd 1 0 0
+Ks 0.2 0.5 0.1
 Ns 98
 d 0.5
 newmtl lamp
@@ -103,11 +104,13 @@ TEST(RenderSceneObjTest, ShapesMaterialsAndTextures) {
   EXPECT_THAT(red.base_color, ElementsAre(1.f, 0.f, 0.f, 0.5f));
   EXPECT_FLOAT_EQ(red.metallic, 0.f);
   EXPECT_FLOAT_EQ(red.roughness, std::sqrt(2.f / 100.f));
+  EXPECT_FLOAT_EQ(red.specular, 0.5f);  // Ks's largest channel
   EXPECT_TRUE(red.double_sided);
   EXPECT_EQ(red.base_color_texture, -1);
   const Material& emitter = assets.materials[lamp.material];
   EXPECT_EQ(emitter.name, "lamp");
   EXPECT_THAT(emitter.emissive, ElementsAre(5.f, 4.f, 3.f));
+  EXPECT_FLOAT_EQ(emitter.specular, 0.f);  // no Ks: Lambertian
   const Material& checker = assets.materials[textured.material];
   ASSERT_EQ(checker.base_color_texture, 0);
   ASSERT_EQ(assets.textures.size(), 1u);

@@ -11,6 +11,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "float_steps.h"
 #include "interrupt.h"
 #include "optix7_batch.h"
 #include "optix7_engine.h"
@@ -366,7 +367,7 @@ void IntersectCustom(const RTCIntersectFunctionNArguments* args) {
 // before it; hits that land before tmin are refused by the filter or by IntersectClosed. Embree
 // refuses a negative tnear, so from tmin 0 a native triangle at exactly t = 0 (the ray's origin
 // on it) is not hit; watertight triangles and intersection programs are.
-float EmbreeTnear(float tmin) { return tmin > 0.f ? std::nextafter(tmin, 0.f) : 0.f; }
+float EmbreeTnear(float tmin) { return tmin > 0.f ? NextFloatDown(tmin) : 0.f; }
 
 // rtcIntersect1 over OptiX's closed [tmin, tmax]. Without the filter, a triangle hit whose t
 // rounds below tmin is traversed again from tmin itself (Embree's open end, rare); a t past tmax

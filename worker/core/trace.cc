@@ -10,6 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "callbacks.h"
+#include "float_steps.h"
 #include "interrupt.h"
 #include "tessera/accuracy.h"
 #include "tessera/rt.h"
@@ -247,7 +248,7 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   RTCRayHit rh;
   ToEmbree(ray, rh);
   if (scene.tnear_inclusive) {
-    rh.ray.tnear = std::nextafter(ray.tmin, std::numeric_limits<float>::infinity());
+    rh.ray.tnear = NextFloatUp(ray.tmin);
   }
   TraceContext ctx;
   rtcInitIntersectContext(&ctx.embree);
@@ -786,13 +787,21 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
       TraverseVerified(ts, node, top, ray);
     }
     if (f.hit.instance != nullptr && f.hit.deferred && f.hit.instance->builtin_triangles) {
-      TriangleAttributes(ts, f.hit, f.hit.object_ray);
+      // Built-in triangles' attributes are for the closest-hit program alone: a ray that runs
+      // none (a shadow ray with DISABLE_CLOSESTHIT, a ray type without one) skips the attribute
+      // program, as OptiX runs it only where its results are read.
+      const InstancePlan& ip = *f.hit.instance;
+      f.hit.material = ip.TriangleMaterial(f.hit.primitive);
+      const auto& types = ip.materials[f.hit.material];
+      if (!(flags & kRayFlagDisableClosestHit) && ray.ray_type < types.size() &&
+          types[ray.ray_type].closest_hit != nullptr) {
+        TriangleAttributes(ts, f.hit, f.hit.object_ray);
+      }
     }
   }
-  if (f.hit.instance != nullptr) {
+  if (f.hit.instance != nullptr && !(flags & kRayFlagDisableClosestHit)) {
     const auto& groups = f.hit.instance->materials;
-    if (f.hit.material < groups.size() && ray.ray_type < groups[f.hit.material].size() &&
-        !(flags & kRayFlagDisableClosestHit)) {
+    if (f.hit.material < groups.size() && ray.ray_type < groups[f.hit.material].size()) {
       if (const BoundProgram* ch = groups[f.hit.material][ray.ray_type].closest_hit) {
         Shade(ts, *ch, f);
       }

@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "float_steps.h"
+
 // Contracting a*b - c*d into a fused multiply-add would round the two products differently, and
 // the edge function of a shared edge would no longer be exactly the negation of its neighbour's.
 #pragma GCC push_options
@@ -192,9 +194,9 @@ inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const floa
     const float offset = d * nn[k];
     float o = pt.p[k] + offset;
     if (offset > 0.f) {
-      o = std::nextafter(o, std::numeric_limits<float>::infinity());
+      o = NextFloatUp(o);
     } else if (offset < 0.f) {
-      o = std::nextafter(o, -std::numeric_limits<float>::infinity());
+      o = NextFloatDown(o);
     }
     out[k] = o;
   }

@@ -26,14 +26,20 @@ void Store(Vec v, float scale, float out[3]) {
   out[2] = v.z * scale;
 }
 
-Camera FramingCamera(const Frame& frame) {
+// Looks down -Z (glTF's front view) from as close as keeps all eight corners of the bounds inside
+// an image of this aspect ratio, with a small margin: a bounding sphere would leave long or flat
+// objects small in the frame.
+Camera FramingCamera(const Frame& frame, float image_aspect) {
   const float* b = frame.bounds;
   const float cx = 0.5f * (b[0] + b[3]), cy = 0.5f * (b[1] + b[4]), cz = 0.5f * (b[2] + b[5]);
-  const float dx = b[3] - b[0], dy = b[4] - b[1], dz = b[5] - b[2];
-  const float radius = std::max(0.5f * std::sqrt(dx * dx + dy * dy + dz * dz), 1e-3f);
+  const float hx = 0.5f * (b[3] - b[0]), hy = 0.5f * (b[4] - b[1]), hz = 0.5f * (b[5] - b[2]);
   Camera camera;
   camera.name = "(framing the scene)";
-  const float distance = 1.1f * radius / std::sin(0.5f * camera.yfov);
+  const float tan_y = std::tan(0.5f * camera.yfov);
+  const float tan_x = tan_y * (image_aspect > 0.f ? image_aspect : 16.f / 9.f);
+  // The nearest corners (z = +hz) are the widest in the image; far ones never need more room.
+  float distance = hz + std::max(hx / tan_x, hy / tan_y) * 1.08f;
+  distance = std::max(distance, hz + std::max({hx, hy, hz, 1e-3f}));  // never inside the box
   camera.to_world = {1, 0, 0, cx, 0, 1, 0, cy, 0, 0, 1, cz + distance};
   return camera;
 }
@@ -57,8 +63,11 @@ absl::StatusOr<Camera> LookAtCamera(const float from[3], const float at[3]) {
   return camera;
 }
 
-absl::StatusOr<Camera> SelectCamera(const Frame& frame, const std::string& spec) {
-  if (spec.empty()) return frame.cameras.empty() ? FramingCamera(frame) : frame.cameras.front();
+absl::StatusOr<Camera> SelectCamera(const Frame& frame, const std::string& spec,
+                                    float image_aspect) {
+  if (spec.empty()) {
+    return frame.cameras.empty() ? FramingCamera(frame, image_aspect) : frame.cameras.front();
+  }
   int index = -1;
   if (absl::SimpleAtoi(spec, &index)) {
     if (index >= 0 && static_cast<size_t>(index) < frame.cameras.size()) {

@@ -11,9 +11,10 @@
 namespace tessera::render {
 
 // `spec` names a camera of `frame` by index ("0", "1", ...) or by name; "" takes the first, or,
-// in a scene without cameras, one looking down -Z at the middle of its bounds that sees all of
-// them. NOT_FOUND lists the cameras there are.
-absl::StatusOr<Camera> SelectCamera(const Frame& frame, const std::string& spec);
+// in a scene without cameras, one looking down -Z at the middle of its bounds that fills an image
+// of `image_aspect` (width / height) with them. NOT_FOUND lists the cameras there are.
+absl::StatusOr<Camera> SelectCamera(const Frame& frame, const std::string& spec,
+                                    float image_aspect = 16.f / 9.f);
 
 // A perspective camera at `from` looking at `at`, +Y up (`--look-from`, `--look-at`), with the
 // default field of view. INVALID_ARGUMENT when the two points are the same or the view is straight

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace tessera::render {
@@ -39,6 +40,33 @@ TEST(CameraSetupTest, FramesASceneWithoutCameras) {
   EXPECT_FALSE(camera->orthographic);
   EXPECT_GT(camera->to_world[11], 2.f);  // in front of the box, looking down -Z at it
   EXPECT_EQ(camera->to_world[3], 0.f);
+}
+
+// The made-up camera fills the image with the bounds: every corner inside, the widest near an edge.
+TEST(CameraSetupTest, FramingFillsTheImageWithALongBox) {
+  Frame frame;
+  const float bounds[6] = {-4, -0.5f, -0.5f, 4, 0.5f, 0.5f};
+  std::copy(bounds, bounds + 6, frame.bounds);
+  for (const float aspect : {16.f / 9.f, 1.f, 0.5f}) {
+    const auto camera = SelectCamera(frame, "", aspect);
+    ASSERT_TRUE(camera.ok());
+    const float eye_z = camera->to_world[11];
+    const float tan_y = std::tan(0.5f * camera->yfov), tan_x = tan_y * aspect;
+    float widest = 0.f;
+    for (const float x : {-4.f, 4.f}) {
+      for (const float y : {-0.5f, 0.5f}) {
+        for (const float z : {-0.5f, 0.5f}) {
+          const float depth = eye_z - z;
+          ASSERT_GT(depth, 0.f);
+          const float ndc_x = x / depth / tan_x, ndc_y = y / depth / tan_y;
+          EXPECT_LE(std::abs(ndc_x), 1.f) << aspect;
+          EXPECT_LE(std::abs(ndc_y), 1.f) << aspect;
+          widest = std::max({widest, std::abs(ndc_x), std::abs(ndc_y)});
+        }
+      }
+    }
+    EXPECT_GT(widest, 0.85f) << aspect;
+  }
 }
 
 TEST(CameraSetupTest, ImageSizeFollowsTheAspectRatio) {

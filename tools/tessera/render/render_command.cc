@@ -10,9 +10,11 @@
 #include <memory>
 
 #include "absl/status/status.h"
+#include "absl/strings/ascii.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "tessera/rt_ext.h"
 #include "tools/tessera/render/accumulation_file.h"
@@ -35,6 +37,26 @@ bool Lit(const SceneFile& scene) {
     if (m.emissive[0] > 0.f || m.emissive[1] > 0.f || m.emissive[2] > 0.f) return true;
   }
   return false;
+}
+
+// "X,Y,Z,R,G,B" (`--point-light`) into a light at X,Y,Z with intensity R,G,B; false when it is not
+// six finite numbers with a non-negative intensity.
+bool ParsePointLight(const std::string& text, Light* light) {
+  const std::vector<std::string> parts = absl::StrSplit(text, ',');
+  float v[6];
+  if (parts.size() != 6) return false;
+  for (int i = 0; i < 6; ++i) {
+    if (!absl::SimpleAtof(absl::StripAsciiWhitespace(parts[i]), &v[i]) || !std::isfinite(v[i])) {
+      return false;
+    }
+    if (i >= 3 && v[i] < 0.f) return false;
+  }
+  light->name = absl::StrCat("--point-light ", text);
+  light->type = Light::Type::kPoint;
+  std::copy(v + 3, v + 6, light->color);
+  light->intensity = 1.f;
+  light->to_world = {1, 0, 0, v[0], 0, 1, 0, v[1], 0, 0, 1, v[2]};
+  return true;
 }
 
 constexpr int kExitFailure = 1;
@@ -100,12 +122,13 @@ absl::StatusOr<std::unique_ptr<SceneFile>> OpenScene(const std::string& scene) {
 std::string AccumulationKey(const RenderOptions& o, const std::string& camera, double time) {
   std::string key = absl::StrFormat(
       "tessera %s; scene %s; camera %s; time %.9g; seed %u; max-depth %d; clamp %.9g; "
-      "env %s x %.9g; background %s",
+      "env %s x %.9g; background %s; fov %.9g; point lights %s",
       SoftwareName(), o.scene, camera, time, o.seed, o.max_depth, o.clamp_indirect, o.environment,
       o.environment_intensity,
       o.background.empty()
           ? std::string("auto")
-          : absl::StrFormat("%.9g %.9g %.9g", o.background[0], o.background[1], o.background[2]));
+          : absl::StrFormat("%.9g %.9g %.9g", o.background[0], o.background[1], o.background[2]),
+      o.fov_degrees, absl::StrJoin(o.point_lights, " "));
   std::replace(key.begin(), key.end(), '\n', ' ');
   return key;
 }
@@ -180,6 +203,7 @@ int RenderRun::Run() {
   settings.module_dir = DefaultModuleDir();
   settings.devices = options_.devices;
   if (!options_.tile_size.empty()) ParseTileSize(options_.tile_size, &settings.tile_size);
+  settings.threads = options_.threads;
   settings.max_depth = options_.max_depth;
   settings.clamp_indirect = options_.clamp_indirect;
   settings.seed = options_.seed;
@@ -187,7 +211,7 @@ int RenderRun::Run() {
   settings.environment_intensity = options_.environment_intensity;
   if (!options_.background.empty()) {
     std::copy_n(options_.background.begin(), 3, settings.background.begin());
-  } else if (options_.environment.empty() && !Lit(*scene_)) {
+  } else if (options_.environment.empty() && options_.point_lights.empty() && !Lit(*scene_)) {
     settings.background = {1.f, 1.f, 1.f};
     log_(LogLevel::kWarn,
          "%s has no lights and no emissive surfaces: lit by a white sky (--background 0,0,0 "
@@ -233,8 +257,15 @@ int RenderRun::RenderFrame(const FrameJob& job) {
     log_(LogLevel::kError, "%s", s.message());
     return kExitFailure;
   }
-  const Frame frame = scene_->FrameAt(job.time);
-  absl::StatusOr<Camera> camera = SelectCamera(frame, options_.camera);
+  Frame frame = scene_->FrameAt(job.time);
+  for (const std::string& text : options_.point_lights) {
+    Light light;
+    if (ParsePointLight(text, &light)) frame.lights.push_back(light);  // checked when parsed
+  }
+  int framed_width = 0, framed_height = 0;  // the image a camera made up to frame the scene fills
+  ResolveImageSize(Camera{}, options_.width, options_.height, &framed_width, &framed_height);
+  absl::StatusOr<Camera> camera = SelectCamera(
+      frame, options_.camera, static_cast<float>(framed_width) / static_cast<float>(framed_height));
   if (!options_.look_from.empty()) {
     // At the middle of the scene's bounds unless --look-at says where.
     const float* b = frame.bounds;
@@ -246,6 +277,7 @@ int RenderRun::RenderFrame(const FrameJob& job) {
     log_(LogLevel::kError, "%s", camera.status().message());
     return kExitFailure;
   }
+  if (options_.fov_degrees > 0.f) camera->yfov = options_.fov_degrees * 3.14159265f / 180.f;
   int width = 0, height = 0;
   ResolveImageSize(*camera, options_.width, options_.height, &width, &height);
   if (absl::Status s = renderer_->SetView(frame, *camera, width, height); !s.ok()) {
@@ -277,8 +309,11 @@ int RenderRun::RenderFrame(const FrameJob& job) {
 
   const std::string label = options_.frames.empty() ? job.path : absl::StrCat("frame ", job.frame);
   const uint32_t target = options_.spp > 0 ? options_.spp : UINT32_MAX;
-  log_(LogLevel::kDebug, "%s: %dx%d, camera \"%s\", time %g s, %zu emissive triangles", job.path,
-       width, height, camera->name, job.time, renderer_->emissive_triangle_count());
+  const float* b = frame.bounds;
+  log_(LogLevel::kDebug,
+       "%s: %dx%d, camera \"%s\", time %g s, %zu emissive triangles, bounds (%g %g %g)-(%g %g %g)",
+       job.path, width, height, camera->name, job.time, renderer_->emissive_triangle_count(), b[0],
+       b[1], b[2], b[3], b[4], b[5]);
   progress_.StartFrame(label, options_.spp, options_.time_limit, renderer_->samples_done());
   bool stopped_early = false;
   while (renderer_->samples_done() < target) {
@@ -454,6 +489,21 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
       ->delimiter(',')
       ->expected(3)
       ->needs("--look-from");
+  render
+      ->add_option("--fov", o.fov_degrees,
+                   "vertical field of view in degrees, for whichever camera the render looks "
+                   "through (default: the scene camera's, else 40)")
+      ->check(CLI::Range(0.01f, 179.f));
+  render
+      ->add_option("--point-light", o.point_lights,
+                   "a point light at X,Y,Z with intensity R,G,B (radiance R/d^2 at distance d, as "
+                   "Embree's pathtracer --pointlight), added to the scene's lights; repeatable")
+      ->check([](const std::string& text) -> std::string {
+        Light light;
+        return ParsePointLight(text, &light)
+                   ? ""
+                   : "expected X,Y,Z,R,G,B: six numbers, the last three not negative";
+      });
   render->add_option("--background", o.background, "background colour R,G,B (linear) without --env")
       ->delimiter(',')
       ->expected(3);
@@ -471,6 +521,10 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
         if (tesseraDeviceSpecValidate(spec.c_str(), &error) == RT_SUCCESS) return "";
         return error != nullptr ? error : "not a device spec";
       });
+  render
+      ->add_option("--threads", o.threads,
+                   "threads per device (default: every core, shared by the local devices)")
+      ->check(CLI::Range(1, 4096));
   render
       ->add_option("--tile-size", o.tile_size,
                    "launch tile size W or WxH (default: Tessera's choice; results do not depend "

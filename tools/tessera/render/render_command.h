@@ -25,6 +25,8 @@ struct RenderOptions {
   int width = 0, height = 0;   // 0: from the camera's aspect ratio (docs/render.md)
   std::string camera;
   std::vector<float> look_from, look_at;  // --look-from, --look-at: empty when not given
+  float fov_degrees = 0.f;                // --fov: vertical field of view; 0: the camera's own
+  std::vector<std::string> point_lights;  // --point-light X,Y,Z,R,G,B, added to every frame
   std::string frames;                     // "" : one image at time 0
   double fps = 24.0;
   bool skip_existing = false;
@@ -36,6 +38,7 @@ struct RenderOptions {
   uint32_t seed = 0;
   std::string devices;
   std::string tile_size;
+  int threads = 0;  // --threads: per device; 0: the devices' default (every core between them)
   std::string log_level = "info";
   bool resume = false;
   bool keep_accumulation = false;

@@ -111,6 +111,7 @@ absl::Status Renderer::Init(const SceneFile& scene, const RendererSettings& sett
                                       context_->getErrorString(r));
       }
     }
+    if (settings.threads > 0) context_->setCPUNumThreads(settings.threads);
     if (!settings.tile_size.empty()) {
       if (RTresult r = tesseraContextSetTileSize(context_->get(),
                                                  static_cast<unsigned>(settings.tile_size.size()),

@@ -32,6 +32,7 @@ struct RendererSettings {
   std::string module_dir;         // where the tessera_render_*.so modules are
   std::string devices;            // a device spec; "" for TESSERA_DEVICES or the default
   std::vector<RTsize> tile_size;  // empty: Tessera's choice
+  int threads = 0;                // per device (CPU_NUM_THREADS); 0: the devices' own
   int max_depth = 8;
   float clamp_indirect = 0.f;  // 0: off
   uint32_t seed = 0;

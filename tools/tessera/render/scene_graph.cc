@@ -133,6 +133,7 @@ absl::StatusOr<SceneGraph> SceneGraph::Build(optix::Context context, const Progr
     material["normal_scale"]->setFloat(m.normal_scale);
     material["ior"]->setFloat(m.ior);
     material["transmission"]->setFloat(m.transmission);
+    material["specular_factor"]->setFloat(m.specular);
     material["double_sided"]->setInt(m.double_sided ? 1 : 0);
     materials.push_back(material);
   }

@@ -206,6 +206,7 @@ class ObjSceneBuilder {
     }
     out.base_color[3] = Clamp01(in.dissolve);  // tinyobjloader turns Tr into d = 1 - Tr
     out.metallic = 0.f;
+    out.specular = Clamp01(std::max({in.specular[0], in.specular[1], in.specular[2]}));
     // The Blinn-Phong exponent's usual mapping to a microfacet roughness (alpha = sqrt(2 / (n +
     // 2)), as in Walter et al. 2007), taken as glTF's perceptual roughness.
     const float ns = std::isfinite(in.shininess) ? std::max(in.shininess, 0.f) : 0.f;

@@ -1,12 +1,14 @@
 // The material model: glTF 2.0 metallic-roughness (the specification's appendix B), with
 // KHR_materials_transmission as smooth glass.
 //
-//   f = (1 - metallic) (1 - transmission) [ (1 - F_d) base / pi + F_d * specular ]   dielectric
+//   f = (1 - metallic) (1 - transmission) [ (1 - s F_d) base / pi + s F_d * specular ] dielectric
 //     + metallic F_m * specular                                                     metal
 //     + (1 - metallic) transmission * (smooth dielectric: reflect or refract)       glass (delta)
 //
 // `specular` is GGX (Trowbridge-Reitz) with alpha = roughness^2 and Smith's separable masking,
-// F_d is Schlick's Fresnel with F0 from the IOR (0.04 at 1.5), F_m Schlick's with F0 = base colour.
+// F_d is Schlick's Fresnel with F0 from the IOR (0.04 at 1.5), s the specular layer's weight
+// (KHR_materials_specular; 0 for an OBJ material without Ks, which is then Lambertian and skips
+// the GGX terms), F_m Schlick's with F0 = base colour.
 // Sampling picks one lobe by an estimate of its share at the outgoing direction and evaluates the
 // others for the density (one-sample MIS over lobes); GGX directions come from its distribution
 // of visible normals (Heitz 2018). All directions here are in the shading frame, z along the
@@ -22,6 +24,7 @@ struct SurfaceMaterial {
   float roughness;
   float transmission;
   float ior;
+  float specular;  // the dielectric specular layer's weight, 0..1
 };
 
 // An orthonormal frame around unit `n` (Duff et al. 2017: no branch on the normal's direction).
@@ -115,7 +118,7 @@ static __device__ __inline__ float DielectricF0(float ior) {
 static __device__ __inline__ LobeProbabilities ChooseLobes(const SurfaceMaterial& m,
                                                            const float3& wo) {
   const float kd = (1.0f - m.metallic) * (1.0f - m.transmission);
-  const float f_d = SchlickF(DielectricF0(m.ior), wo.z);
+  const float f_d = m.specular * SchlickF(DielectricF0(m.ior), wo.z);
   const float3 f_m = SchlickF(m.base_color, wo.z);
   LobeProbabilities p;
   p.diffuse = kd * (1.0f - f_d) * Luminance(m.base_color);
@@ -139,14 +142,18 @@ static __device__ __inline__ float3 EvalBsdf(const SurfaceMaterial& m, const Lob
                                              const float3& wo, const float3& wi, float* pdf) {
   *pdf = 0.0f;
   if (wo.z <= 0.0f || wi.z <= 0.0f) return make_float3(0.0f);
+  const float kd = (1.0f - m.metallic) * (1.0f - m.transmission);
+  if (m.metallic == 0.0f && (m.specular == 0.0f || kd == 0.0f)) {  // no glossy layer: Lambert
+    *pdf = p.diffuse * wi.z * M_1_PIf;
+    return kd * M_1_PIf * m.base_color;
+  }
   const float3 h = normalize(wo + wi);
   const float v_dot_h = fmaxf(0.0f, dot(wo, h));
   const float a2 = GgxAlpha(m.roughness) * GgxAlpha(m.roughness);
   const float d = GgxD(h.z, a2);
   const float g1_o = SmithG1(wo.z, a2);
   const float specular = d * g1_o * SmithG1(wi.z, a2) / (4.0f * wo.z * wi.z);
-  const float kd = (1.0f - m.metallic) * (1.0f - m.transmission);
-  const float f_d = SchlickF(DielectricF0(m.ior), v_dot_h);
+  const float f_d = m.specular * SchlickF(DielectricF0(m.ior), v_dot_h);
   const float3 f_m = SchlickF(m.base_color, v_dot_h);
   const float3 diffuse = kd * (1.0f - f_d) * M_1_PIf * m.base_color;
   const float3 f = diffuse + (kd * f_d * make_float3(1.0f) + m.metallic * f_m) * specular;

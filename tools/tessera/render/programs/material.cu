@@ -20,6 +20,7 @@ rtDeclareVariable(int, normal_texture, , );
 rtDeclareVariable(float, normal_scale, , );
 rtDeclareVariable(float, ior, , );
 rtDeclareVariable(float, transmission, , );
+rtDeclareVariable(float, specular_factor, , );  // the dielectric specular layer's weight
 rtDeclareVariable(int, double_sided, , );
 
 // ---- Scene (Context scope) ----------------------------------------------------------------------
@@ -74,6 +75,7 @@ static __device__ __inline__ SurfaceMaterial LoadMaterial() {
   m.metallic = clamp(metallic, 0.0f, 1.0f);
   m.roughness = clamp(roughness, 0.0f, 1.0f);
   m.transmission = clamp(transmission, 0.0f, 1.0f);
+  m.specular = clamp(specular_factor, 0.0f, 1.0f);
   m.ior = ior > 0.0f ? ior : 1.5f;
   return m;
 }
