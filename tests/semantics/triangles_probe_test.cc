@@ -239,6 +239,56 @@ TEST_P(TrianglesProbeTest, NestedTraceKeepsTheOuterHit) {
   }
 }
 
+// Shadow rays (terminate on first hit, no closest hit) through built-in triangles: Embree's
+// occlusion query answers them unless an any-hit program of their ray type must see the
+// candidates. Blocked or open, whichever the flags, ray type and any-hit program make it, and the
+// caller's hit intact after.
+TEST_P(TrianglesProbeTest, ShadowRaysAskOnlyWhetherSomethingIsInTheWay) {
+  // A second square below the first (z = -1), as two more triangles of the same mesh.
+  const float vertices[] = {0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0,
+                            0, 0, -1, 1, 0, -1, 0, 1, -1, 1, 1, -1};
+  const unsigned indices[] = {0, 1, 2, 1, 2, 3, 4, 5, 6, 5, 6, 7};
+  RTbuffer v = InputBuffer(RT_FORMAT_FLOAT3, 8, vertices, sizeof(vertices));
+  RTbuffer i = InputBuffer(RT_FORMAT_UNSIGNED_INT3, 4, indices, sizeof(indices));
+  Ok(rtGeometryTrianglesSetPrimitiveCount(triangles_, 4));
+  Ok(rtGeometryTrianglesSetVertices(triangles_, 8, v, 0, 0, RT_FORMAT_FLOAT3));
+  Ok(rtGeometryTrianglesSetTriangleIndices(triangles_, i, 0, 0, RT_FORMAT_UNSIGNED_INT3));
+  Ok(rtContextSetRayTypeCount(ctx_, 2));
+  Ok(rtContextSetMissProgram(ctx_, 1, Prog("miss")));
+  RTmaterial m = Material("closest_shadow");
+  Ok(rtMaterialSetAnyHitProgram(m, 1, Prog("any_hit_ignore_all")));  // ray type 1 sees nothing
+  Scene({m});
+  constexpr unsigned kDisableAnyHit = 1u << 0, kTerminate = 1u << 2, kDisableClosest = 1u << 3;
+  constexpr unsigned kShadow = kTerminate | kDisableClosest;
+  struct Case {
+    float dz;
+    unsigned type, flags;
+    float blocked;
+  };
+  const Case cases[] = {
+      {-1.f, 0, kShadow, 1.f},                   // the square below is in the way
+      {1.f, 0, kShadow, 0.f},                    // nothing above
+      {-1.f, 1, kShadow, 0.f},                   // ray type 1's any-hit ignores every candidate
+      {-1.f, 1, kShadow | kDisableAnyHit, 1.f},  // unless disabled
+      {-1.f, 0, kDisableClosest, 1.f},           // the closest hit found in full, not shaded
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(::testing::Message()
+                 << "dz " << c.dz << ", type " << c.type << ", flags " << c.flags);
+    Ok(rtVariableSet1f(ContextVar("shadow_dz"), c.dz));
+    Ok(rtVariableSet1ui(ContextVar("shadow_type"), c.type));
+    Ok(rtVariableSet1ui(ContextVar("shadow_flags"), c.flags));
+    const std::vector<Float4> out = Launch();
+    for (unsigned y = 0; y < kSize; ++y) {
+      for (unsigned x = 0; x < kSize; ++x) {
+        const Float4& o = out[y * kSize + x];
+        EXPECT_EQ(o[0], c.blocked) << x << "," << y;
+        EXPECT_EQ(o[1], OnFirst(x, y) ? 0.f : 1.f) << x << "," << y;
+      }
+    }
+  }
+}
+
 TEST_P(TrianglesProbeTest, AnyHitTerminateAndIgnore) {
   RTmaterial m = Material("closest_tag", 4);
   Ok(rtMaterialSetAnyHitProgram(m, 0, Prog("any_hit_terminate")));

@@ -134,3 +134,20 @@ RT_PROGRAM void animate_vertices() {
                             make_float3(0.f, 1.f, 0.f), make_float3(1.f, 1.f, 0.f)};
   animated[vertex_index] = square[vertex_index] + make_float3(shift, 0.f, 0.f);
 }
+
+// A shadow ray from the hit along (0, 0, shadow_dz), of ray type shadow_type with ray flags
+// shadow_flags, asking only whether anything is there: (1 blocked or 0 open, this hit's
+// primitive, read again after the trace).
+rtDeclareVariable(float, shadow_dz, , );
+rtDeclareVariable(unsigned int, shadow_type, , );
+rtDeclareVariable(unsigned int, shadow_flags, , );
+RT_PROGRAM void closest_shadow() {
+  const unsigned prim = rtGetPrimitiveIndex();
+  const float3 p = ray.origin + hit_t * ray.direction;
+  const Ray r = make_Ray(p, make_float3(0.f, 0.f, shadow_dz), shadow_type, 1e-3f, RT_DEFAULT_MAX);
+  float4 probe = make_float4(5.f, 5.f, 5.f, 5.f);  // the miss program overwrites it
+  rtTrace(top_object, r, probe, RT_VISIBILITY_ALL, static_cast<RTrayflags>(shadow_flags));
+  const bool same = rtGetPrimitiveIndex() == prim;
+  result = make_float4(probe.x == 5.f ? 1.f : 0.f, same ? static_cast<float>(prim) : -100.f, 0.f,
+                       0.f);
+}

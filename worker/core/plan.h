@@ -159,6 +159,13 @@ struct SceneEntry {
   // Robust or watertight: the traversal takes t == tnear, so rays enter with the float after
   // their tmin (the default takes t > tnear; trace.cc).
   bool tnear_inclusive = false;
+  // Whether a ray that only asks "hit or not" (terminate on first hit, no closest hit, and no
+  // any-hit program for its type among `any_hit_types`) may take Embree's occlusion query: every
+  // geometry below is built-in triangles, which Embree tests alone (SummarizeOcclusion,
+  // scene.cc). `occluder` is the plan of one of them, which such a ray's hit names.
+  bool occludable = false;
+  uint64_t any_hit_types = 0;
+  const InstancePlan* occluder = nullptr;
   std::array<float, 6> bounds{};
   ~SceneEntry();
 };
@@ -290,6 +297,7 @@ class SceneCache {
                               const AccelRec& accel, const SceneOptions& options, SceneEntry& entry,
                               bool refit);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
+  static void SummarizeOcclusion(SceneEntry& entry);
   // Flattening a Group's children into Embree instances (scene.cc, "Flattened groups").
   struct FlatLeaf {
     const SceneEntry* scene;

@@ -215,6 +215,35 @@ absl::Status TooDeep(uint64_t id) {
 }
 }  // namespace
 
+// SceneEntry::occludable and what goes with it, for this plan: a GeometryGroup of built-in
+// triangles (no intersection program, not the watertight test's user geometry), or a Group whose
+// every child is an Embree instance of such a GeometryGroup (its children were summarized first:
+// Node builds them before their parent). Selectors and children traversed by IntersectChild run
+// programs, so their scenes are not.
+void SceneCache::SummarizeOcclusion(SceneEntry& e) {
+  e.occludable = e.children.empty();
+  e.any_hit_types = 0;
+  e.occluder = nullptr;
+  for (const auto& info : e.geometries) {
+    if (info->plan == nullptr || !info->triangles || info->watertight ||
+        !info->plan->builtin_triangles) {
+      e.occludable = false;
+      continue;
+    }
+    e.any_hit_types |= info->plan->any_hit_types;
+    if (e.occluder == nullptr) e.occluder = info->plan;
+  }
+  for (const FlatInstance& instance : e.instances) {
+    if (instance.scene == nullptr || !instance.scene->occludable) {
+      e.occludable = false;
+      continue;
+    }
+    e.any_hit_types |= instance.scene->any_hit_types;
+    if (e.occluder == nullptr) e.occluder = instance.scene->occluder;
+  }
+  if (e.occluder == nullptr) e.occludable = false;  // nothing to hit: the usual path is as quick
+}
+
 absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref, int depth) {
   if (depth > kMaxGraphDepth) return TooDeep(ref.id);
   if (ref.type == RT_OBJECTTYPE_GROUP || ref.type == RT_OBJECTTYPE_GEOMETRY_GROUP ||
@@ -250,6 +279,11 @@ absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref
     default:
       return absl::InvalidArgumentError(
           absl::StrCat("object #", ref.id, " is not a graph node (type ", ref.type, ")"));
+  }
+  if (built.ok()) {
+    if (const auto it = entries_.find(ref.id); it != entries_.end() && it->second.get() == *built) {
+      SummarizeOcclusion(*it->second);
+    }
   }
   // Traversal that reaches this node below a Transform or Selector root finds no scene here and
   // reports why (trace.cc TraverseNode), not only traversal from the root itself.

@@ -238,6 +238,28 @@ __attribute__((noinline)) void IntersectSingleInstance(ThreadState& ts, const Sc
   f.xform = saved;
 }
 
+// A ray that asks only whether anything is in its way through a scene Embree can answer for alone
+// (SceneEntry::occludable): Embree's occlusion query, which stops at the first triangle it finds,
+// as Embree's own renderers trace shadow rays. A hit names the scene's `occluder` plan and ends
+// the ray; nothing reads more of it, since no closest-hit program runs.
+__attribute__((noinline)) void OccludeScene(ThreadState& ts, const SceneEntry& scene,
+                                            const RayData& ray) {
+  RTCRayHit rh;
+  ToEmbree(ray, rh);
+  if (scene.tnear_inclusive) rh.ray.tnear = NextFloatUp(ray.tmin);
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  rtcOccluded1(scene.scene, &ctx, &rh.ray);
+  if (rh.ray.tfar >= 0.f) return;  // Embree sets -inf when something is in the way
+  Frame& f = ts.top();
+  f.hit.instance = scene.occluder;
+  f.hit.geometry = nullptr;
+  f.hit.deferred = false;
+  f.terminated = true;
+}
+
+constexpr unsigned kOcclusionFlags = kRayFlagTerminateOnFirstHit | kRayFlagDisableClosestHit;
+
 void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
                     bool geometry_group) {
   if (__builtin_expect(scene.single_instance, 0)) {
@@ -245,6 +267,12 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
     return;
   }
   Frame& f = ts.top();
+  if ((f.flags & kOcclusionFlags) == kOcclusionFlags && scene.occludable &&
+      !(scene.any_hit_types & AnyHitBit(ray.ray_type, f.flags & kRayFlagDisableAnyHit)) &&
+      !ts.verify_triangles) {
+    OccludeScene(ts, scene, ray);
+    return;
+  }
   RTCRayHit rh;
   ToEmbree(ray, rh);
   if (scene.tnear_inclusive) {
@@ -799,9 +827,10 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
       }
     }
   }
-  if (f.hit.instance != nullptr && !(flags & kRayFlagDisableClosestHit)) {
+  if (f.hit.instance != nullptr) {
     const auto& groups = f.hit.instance->materials;
-    if (f.hit.material < groups.size() && ray.ray_type < groups[f.hit.material].size()) {
+    if (!(flags & kRayFlagDisableClosestHit) && f.hit.material < groups.size() &&
+        ray.ray_type < groups[f.hit.material].size()) {
       if (const BoundProgram* ch = groups[f.hit.material][ray.ray_type].closest_hit) {
         Shade(ts, *ch, f);
       }

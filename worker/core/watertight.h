@@ -179,26 +179,25 @@ inline BoundedPoint TransformPoint(const float* m, const BoundedPoint& pt) {
 // OffsetRayOrigin). A ray from there cannot hit the surface `pt` lies on again at t >= 0.
 inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const float dir[3],
                             float out[3]) {
-  const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  if (!(len > 0.f) || !std::isfinite(len)) {
+  // The bound projected on the unit normal, times the unit normal, is (sum |n_k| err_k) n / |n|^2:
+  // no square root, and n scaled by its largest component first keeps |n|^2 in [1, 3] whatever
+  // the triangle's size (every ray leaving a surface comes here twice in a path tracer).
+  const float sum = std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]);  // NaN stays NaN
+  if (!(sum > 0.f) || !(sum <= std::numeric_limits<float>::max())) {
     for (int k = 0; k < 3; ++k) out[k] = pt.p[k];
     return;
   }
-  float nn[3] = {n[0] / len, n[1] / len, n[2] / len};
-  const float d =
-      std::fabs(nn[0]) * pt.err[0] + std::fabs(nn[1]) * pt.err[1] + std::fabs(nn[2]) * pt.err[2];
-  if (dir[0] * nn[0] + dir[1] * nn[1] + dir[2] * nn[2] < 0.f) {
-    for (float& x : nn) x = -x;
-  }
+  const float largest = std::fmax(std::fabs(n[0]), std::fmax(std::fabs(n[1]), std::fabs(n[2])));
+  const float inv = 1.f / largest;
+  const float m[3] = {n[0] * inv, n[1] * inv, n[2] * inv};
+  float scale = (std::fabs(m[0]) * pt.err[0] + std::fabs(m[1]) * pt.err[1] +
+                 std::fabs(m[2]) * pt.err[2]) /
+                (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+  if (dir[0] * m[0] + dir[1] * m[1] + dir[2] * m[2] < 0.f) scale = -scale;
   for (int k = 0; k < 3; ++k) {
-    const float offset = d * nn[k];
-    float o = pt.p[k] + offset;
-    if (offset > 0.f) {
-      o = NextFloatUp(o);
-    } else if (offset < 0.f) {
-      o = NextFloatDown(o);
-    }
-    out[k] = o;
+    const float offset = scale * m[k];
+    const float o = pt.p[k] + offset;
+    out[k] = offset > 0.f ? NextFloatUp(o) : offset < 0.f ? NextFloatDown(o) : o;
   }
 }
 
