@@ -12,6 +12,8 @@
 //     (N = cores) and by one process with one thread; frames per minute of the whole command and
 //     sequence_parallel_efficiency=<speedup / N>. Every frame's image must be the same bits
 //     whatever the devices (FAILED otherwise).
+//   --check: the sequence mode on 3 tiny frames and local:2, for ctest: exits 1 when a frame's bits
+//     differ between the device sets (correctness only; no timing is judged).
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -20,6 +22,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <optional>
@@ -48,6 +51,7 @@ struct Options {
   int sequence_width = 320, sequence_height = 180;
   int cores = 0;  // 0: the machine's
   std::string work_dir = "/tmp/tessera-bench-render";
+  bool check = false;
 };
 
 // Embree's Cornell box as its cornell_box.ecs sets it up: camera and one point light.
@@ -245,7 +249,18 @@ int main(int argc, char** argv) {
   app.add_option("--sequence-spp", o.sequence_spp, "spp of each frame")->capture_default_str();
   app.add_option("--cores", o.cores, "N of local:N (default: the machine's cores)");
   app.add_option("--work-dir", o.work_dir, "where images go")->capture_default_str();
+  app.add_flag("--check", o.check, "3 tiny frames on local:2 and one thread: same bits or exit 1");
   CLI11_PARSE(app, argc, argv);
+  if (o.check) {
+    o.mode = "sequence";
+    o.frames = 3;
+    o.rounds = 1;
+    o.sequence_spp = 2;
+    o.sequence_width = 32;
+    o.sequence_height = 18;
+    o.cores = 2;
+    o.work_dir += "-check-" + std::to_string(getpid());
+  }
   const int cores =
       o.cores > 0 ? o.cores : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   mkdir(o.work_dir.c_str(), 0755);
@@ -253,6 +268,7 @@ int main(int argc, char** argv) {
     int status = 0;
     if (o.mode != "sequence") status |= tessera::bench::RunPathtrace(o, cores);
     if (o.mode != "pathtrace") status |= tessera::bench::RunSequence(o, cores);
+    if (o.check) std::filesystem::remove_all(o.work_dir);
     return status;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tessera-bench-render: %s\n", e.what());

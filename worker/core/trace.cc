@@ -795,6 +795,7 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   f.hit.instance = nullptr;
   f.hit.geometry = nullptr;
   f.terminated = false;
+  f.spawn_ready = false;
   f.flags = flags;
   f.time = time;
   f.xform.active = false;
@@ -1159,8 +1160,22 @@ void RtSpawnPoint(const float* dir, float* origin) {
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kClosestHit), "tesseraSpawnPoint");
   const Hit& h = CurrentHit(ts);
+  Frame& f = ts.top();
   float n[3];
-  const BoundedPoint p = HitPoint(ts.top(), h, n);
+  BoundedPoint p;
+  if (&h != &f.hit) {  // an any-hit program's candidate
+    p = HitPoint(f, h, n);
+  } else if (f.spawn_ready) {
+    std::memcpy(p.p, f.spawn_point, sizeof(p.p));
+    std::memcpy(p.err, f.spawn_error, sizeof(p.err));
+    std::memcpy(n, f.spawn_normal, sizeof(n));
+  } else {
+    p = HitPoint(f, h, n);
+    std::memcpy(f.spawn_point, p.p, sizeof(p.p));
+    std::memcpy(f.spawn_error, p.err, sizeof(p.err));
+    std::memcpy(f.spawn_normal, n, sizeof(n));
+    f.spawn_ready = true;
+  }
   if (n[0] == 0.f && n[1] == 0.f && n[2] == 0.f) {
     // No surface normal (an intersection program's hit): move along `dir` itself.
     for (int k = 0; k < 3; ++k) n[k] = dir[k];
