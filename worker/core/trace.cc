@@ -92,17 +92,25 @@ __attribute__((always_inline)) inline void StoreAttributes(const ModuleState& ms
   for (const auto& a : p.attributes) CopyWords(block + a.offset, ms.slots[a.var], a.size);
 }
 
-// Whether the payload comes back from the program's one payload variable of the traced size
-// (the usual case), or ChoosePayload must pick among several and so needs the payload as it was
-// before the program ran.
-inline bool OnePayloadVariable(const BoundProgram& p, size_t size) {
-  return p.payload.size() == 1 && p.payload.front().size == size;
+// The payload variable the payload comes back from whatever the program changes: the program's
+// only payload variable of the traced size (a module declaring a radiance and a shadow payload of
+// different sizes has one of each, and ChoosePayload's rule then always picks it). Null when
+// there are several of that size or none: ChoosePayload must compare, and so needs the payload
+// as it was before the program ran.
+inline const BoundProgram::SlotRef* SolePayloadOfSize(const BoundProgram& p, size_t size) {
+  const BoundProgram::SlotRef* sole = nullptr;
+  for (const BoundProgram::SlotRef& r : p.payload) {
+    if (r.size != size) continue;
+    if (sole != nullptr) return nullptr;
+    sole = &r;
+  }
+  return sole;
 }
 
 // Keeps the payload as the program receives it (ChoosePayload compares with it, since `dst` may be
 // one of the slots itself: a program that traces its own rtPayload variable).
 inline void KeepPayloadBefore(const BoundProgram& p, Frame& f) {
-  if (OnePayloadVariable(p, f.payload_size)) return;
+  if (SolePayloadOfSize(p, f.payload_size) != nullptr) return;
   const auto* bytes = static_cast<const unsigned char*>(f.payload);
   f.payload_before.assign(bytes, bytes + f.payload_size);
 }
@@ -133,9 +141,9 @@ __attribute__((noinline)) void ChoosePayload(const ModuleState& ms, const BoundP
 }
 
 inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, const Frame& f) {
-  if (OnePayloadVariable(p, f.payload_size)) {
+  if (const BoundProgram::SlotRef* sole = SolePayloadOfSize(p, f.payload_size)) {
     // The program has just written it.
-    CopyWords(f.payload, ms.slots[p.payload.front().var], f.payload_size);
+    CopyWords(f.payload, ms.slots[sole->var], f.payload_size);
   } else {
     ChoosePayload(ms, p, f);
   }
