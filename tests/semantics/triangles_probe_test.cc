@@ -14,7 +14,20 @@
 namespace tessera::testing {
 namespace {
 
-class TrianglesProbeTest : public TrianglesFixture {};
+class TrianglesProbeTest : public TrianglesFixture {
+ protected:
+  // A second square below the first (z = -1), as two more triangles of the same mesh.
+  void AddSquareBelow() {
+    const float vertices[] = {0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0,
+                              0, 0, -1, 1, 0, -1, 0, 1, -1, 1, 1, -1};
+    const unsigned indices[] = {0, 1, 2, 1, 2, 3, 4, 5, 6, 5, 6, 7};
+    RTbuffer v = InputBuffer(RT_FORMAT_FLOAT3, 8, vertices, sizeof(vertices));
+    RTbuffer i = InputBuffer(RT_FORMAT_UNSIGNED_INT3, 4, indices, sizeof(indices));
+    Ok(rtGeometryTrianglesSetPrimitiveCount(triangles_, 4));
+    Ok(rtGeometryTrianglesSetVertices(triangles_, 8, v, 0, 0, RT_FORMAT_FLOAT3));
+    Ok(rtGeometryTrianglesSetTriangleIndices(triangles_, i, 0, 0, RT_FORMAT_UNSIGNED_INT3));
+  }
+};
 
 TEST_P(TrianglesProbeTest, DestroyedVertexBufferFailsByName) {
   Scene({Material("closest_tag")});
@@ -216,15 +229,7 @@ TEST_P(TrianglesProbeTest, UnderTransformAndGroup) {
 }
 
 TEST_P(TrianglesProbeTest, NestedTraceKeepsTheOuterHit) {
-  // A second square below the first (z = -1), as two more triangles of the same mesh.
-  const float vertices[] = {0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0,
-                            0, 0, -1, 1, 0, -1, 0, 1, -1, 1, 1, -1};
-  const unsigned indices[] = {0, 1, 2, 1, 2, 3, 4, 5, 6, 5, 6, 7};
-  RTbuffer v = InputBuffer(RT_FORMAT_FLOAT3, 8, vertices, sizeof(vertices));
-  RTbuffer i = InputBuffer(RT_FORMAT_UNSIGNED_INT3, 4, indices, sizeof(indices));
-  Ok(rtGeometryTrianglesSetPrimitiveCount(triangles_, 4));
-  Ok(rtGeometryTrianglesSetVertices(triangles_, 8, v, 0, 0, RT_FORMAT_FLOAT3));
-  Ok(rtGeometryTrianglesSetTriangleIndices(triangles_, i, 0, 0, RT_FORMAT_UNSIGNED_INT3));
+  AddSquareBelow();
   Scene({Material("closest_nested")});
   std::vector<Float4> out = Launch();
   for (unsigned y = 0; y < kSize; ++y) {
@@ -244,15 +249,7 @@ TEST_P(TrianglesProbeTest, NestedTraceKeepsTheOuterHit) {
 // candidates. Blocked or open, whichever the flags, ray type and any-hit program make it, and the
 // caller's hit intact after.
 TEST_P(TrianglesProbeTest, ShadowRaysAskOnlyWhetherSomethingIsInTheWay) {
-  // A second square below the first (z = -1), as two more triangles of the same mesh.
-  const float vertices[] = {0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0,
-                            0, 0, -1, 1, 0, -1, 0, 1, -1, 1, 1, -1};
-  const unsigned indices[] = {0, 1, 2, 1, 2, 3, 4, 5, 6, 5, 6, 7};
-  RTbuffer v = InputBuffer(RT_FORMAT_FLOAT3, 8, vertices, sizeof(vertices));
-  RTbuffer i = InputBuffer(RT_FORMAT_UNSIGNED_INT3, 4, indices, sizeof(indices));
-  Ok(rtGeometryTrianglesSetPrimitiveCount(triangles_, 4));
-  Ok(rtGeometryTrianglesSetVertices(triangles_, 8, v, 0, 0, RT_FORMAT_FLOAT3));
-  Ok(rtGeometryTrianglesSetTriangleIndices(triangles_, i, 0, 0, RT_FORMAT_UNSIGNED_INT3));
+  AddSquareBelow();
   Ok(rtContextSetRayTypeCount(ctx_, 2));
   Ok(rtContextSetMissProgram(ctx_, 1, Prog("miss")));
   RTmaterial m = Material("closest_shadow");
