@@ -430,9 +430,12 @@ TEST_F(WorkerAsServiceTest, CrashedHostsLeaveNoMemoryBehind) {
   for (uint64_t rss : after) figures += ", " + std::to_string(rss >> 10);
   std::printf("worker RSS over %d crashed hosts: %s KiB\n", kRounds, figures.c_str());
   // The first host leaves what any first host leaves (the module loaded, the threads of its
-  // launches); each later one leaves next to nothing.
+  // launches); each later one leaves next to nothing. Not under AddressSanitizer, whose quarantine
+  // holds freed memory back (hundreds of MB): there the sessions' drop above is what is checked.
+#ifndef TESSERA_SANITIZER_BUILD
   EXPECT_LT(after.back(), after.front() + (4u << 20)) << figures;
   EXPECT_LT(after.back(), before + (16u << 20)) << figures;
+#endif
   kill(worker.pid(), SIGTERM);
   EXPECT_EQ(worker.Exit(std::chrono::seconds(10)), 0);
 }
