@@ -21,7 +21,7 @@ inline float NextFloatUp(float v) {
 
 inline float NextFloatDown(float v) {
   if (!(v == v) || v == -__builtin_inff()) return v;  // NaN and -inf stay
-  if (v == 0.f) v = -0.f;                              // +0 steps down like -0
+  if (v == 0.f) v = -0.f;                             // +0 steps down like -0
   uint32_t bits;
   std::memcpy(&bits, &v, sizeof(bits));
   bits = v > 0.f ? bits - 1 : bits + 1;

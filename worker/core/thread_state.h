@@ -59,11 +59,6 @@ struct Frame {
   Xform xform;         // the traversal's current transform
   // The payload before a program with several payload variables ran (ChoosePayload).
   std::vector<unsigned char> payload_before;
-  // The closest hit's world point, its error bound and the surface normal, worked out by the
-  // first tesseraSpawnPoint of the closest-hit program and kept for the others (a path tracer
-  // asks twice per hit: a shadow ray and the next bounce). Reset by every trace.
-  bool spawn_ready = false;
-  float spawn_point[3], spawn_error[3], spawn_normal[3];
 };
 
 // What IntersectScene passes Embree as the intersect context, which Embree hands to every

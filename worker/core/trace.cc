@@ -98,6 +98,7 @@ __attribute__((always_inline)) inline void StoreAttributes(const ModuleState& ms
 // there are several of that size or none: ChoosePayload must compare, and so needs the payload
 // as it was before the program ran.
 inline const BoundProgram::SlotRef* SolePayloadOfSize(const BoundProgram& p, size_t size) {
+  if (p.payload.size() == 1) return p.payload.front().size == size ? &p.payload.front() : nullptr;
   const BoundProgram::SlotRef* sole = nullptr;
   for (const BoundProgram::SlotRef& r : p.payload) {
     if (r.size != size) continue;
@@ -246,6 +247,13 @@ __attribute__((noinline)) void IntersectSingleInstance(ThreadState& ts, const Sc
   f.xform = saved;
 }
 
+// `ray` for Embree in `scene`: robust and watertight scenes take t == tnear, so the ray enters with
+// the float after its tmin (the default takes t > tnear).
+inline void ToEmbree(const SceneEntry& scene, const RayData& ray, RTCRayHit& rh) {
+  ToEmbree(ray, rh);
+  if (scene.tnear_inclusive) rh.ray.tnear = NextFloatUp(ray.tmin);
+}
+
 // A ray that asks only whether anything is in its way through a scene Embree can answer for alone
 // (SceneEntry::occludable): Embree's occlusion query, which stops at the first triangle it finds,
 // as Embree's own renderers trace shadow rays. A hit names the scene's `occluder` plan and ends
@@ -253,8 +261,7 @@ __attribute__((noinline)) void IntersectSingleInstance(ThreadState& ts, const Sc
 __attribute__((noinline)) void OccludeScene(ThreadState& ts, const SceneEntry& scene,
                                             const RayData& ray) {
   RTCRayHit rh;
-  ToEmbree(ray, rh);
-  if (scene.tnear_inclusive) rh.ray.tnear = NextFloatUp(ray.tmin);
+  ToEmbree(scene, ray, rh);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   rtcOccluded1(scene.scene, &ctx, &rh.ray);
@@ -282,10 +289,7 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
     return;
   }
   RTCRayHit rh;
-  ToEmbree(ray, rh);
-  if (scene.tnear_inclusive) {
-    rh.ray.tnear = NextFloatUp(ray.tmin);
-  }
+  ToEmbree(scene, ray, rh);
   TraceContext ctx;
   rtcInitIntersectContext(&ctx.embree);
   if (__builtin_expect(ts.verify_triangles, 0)) ctx.embree.filter = &VerifyTriangles;
@@ -514,13 +518,13 @@ bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& 
   return accepted;
 }
 
-// The material and attributes of a hit on built-in triangles (GeometryTriangles): zeros, the
-// barycentrics where a program declares attribute rtTriangleBarycentrics, then what the
-// attribute program, if any, writes. `object_ray` is the ray in the triangles' space.
+// The attributes of a hit on built-in triangles (GeometryTriangles) whose material the caller
+// has set: zeros, the barycentrics where a program declares attribute rtTriangleBarycentrics,
+// then what the attribute program, if any, writes. `object_ray` is the ray in the triangles'
+// space.
 void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
   const LaunchPlan& plan = *ts.plan;
   const InstancePlan& ip = *h.instance;
-  h.material = ip.TriangleMaterial(h.primitive);
   h.deferred = false;
   // A fixed size is two vector stores, not a call; the block holds kMaxBytes.
   constexpr size_t kUsual = 64;
@@ -572,6 +576,7 @@ bool FilterBuiltin(ThreadState& ts, Frame& f, const GeometryInfo* info, const RT
     if (f.flags & kRayFlagTerminateOnFirstHit) f.terminated = true;
     return true;
   }
+  c.material = material;
   TriangleAttributes(ts, c, object_ray);
   return OfferToAnyHit(ts, f, c, *ah, object_ray);
 }
@@ -803,7 +808,6 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   f.hit.instance = nullptr;
   f.hit.geometry = nullptr;
   f.terminated = false;
-  f.spawn_ready = false;
   f.flags = flags;
   f.time = time;
   f.xform.active = false;
@@ -813,34 +817,26 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
     Traverse(ts, node, top, ray);
   }
 
-  if (f.hit.instance != nullptr) {
-    if (f.hit.deferred && !f.hit.instance->builtin_triangles &&
-        !RunIntersection(ts, f.hit.instance, f.hit.primitive, f.hit.object_ray,
-                         IntersectMode::kDeferred, f.hit.t) &&
-        !AttributesInside(ts, f.hit)) {
-      // The intersection program did not report the triangle Embree found (its own test rejected
-      // it): traversal goes on past it, as the program's hit would in OptiX. The ray is traced
-      // again with every triangle candidate put to the program first.
-      TraverseVerified(ts, node, top, ray);
-    }
-    if (f.hit.instance != nullptr && f.hit.deferred && f.hit.instance->builtin_triangles) {
-      // Built-in triangles' attributes are for the closest-hit program alone: a ray that runs
-      // none (a shadow ray with DISABLE_CLOSESTHIT, a ray type without one) skips the attribute
-      // program, as OptiX runs it only where its results are read.
-      const InstancePlan& ip = *f.hit.instance;
-      f.hit.material = ip.TriangleMaterial(f.hit.primitive);
-      const auto& types = ip.materials[f.hit.material];
-      if (!(flags & kRayFlagDisableClosestHit) && ray.ray_type < types.size() &&
-          types[ray.ray_type].closest_hit != nullptr) {
-        TriangleAttributes(ts, f.hit, f.hit.object_ray);
-      }
-    }
+  if (f.hit.instance != nullptr && f.hit.deferred && !f.hit.instance->builtin_triangles &&
+      !RunIntersection(ts, f.hit.instance, f.hit.primitive, f.hit.object_ray,
+                       IntersectMode::kDeferred, f.hit.t) &&
+      !AttributesInside(ts, f.hit)) {
+    // The intersection program did not report the triangle Embree found (its own test rejected
+    // it): traversal goes on past it, as the program's hit would in OptiX. The ray is traced
+    // again with every triangle candidate put to the program first.
+    TraverseVerified(ts, node, top, ray);
   }
   if (f.hit.instance != nullptr) {
+    const bool builtin_pending = f.hit.deferred && f.hit.instance->builtin_triangles;
+    if (builtin_pending) f.hit.material = f.hit.instance->TriangleMaterial(f.hit.primitive);
     const auto& groups = f.hit.instance->materials;
     if (!(flags & kRayFlagDisableClosestHit) && f.hit.material < groups.size() &&
         ray.ray_type < groups[f.hit.material].size()) {
       if (const BoundProgram* ch = groups[f.hit.material][ray.ray_type].closest_hit) {
+        // Built-in triangles' attributes are for the closest-hit program alone: a ray that runs
+        // none (a shadow ray with DISABLE_CLOSESTHIT, a ray type without one) skips the attribute
+        // program, as OptiX runs it only where its results are read.
+        if (builtin_pending) TriangleAttributes(ts, f.hit, f.hit.object_ray);
         Shade(ts, *ch, f);
       }
     }
@@ -1168,22 +1164,8 @@ void RtSpawnPoint(const float* dir, float* origin) {
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kClosestHit), "tesseraSpawnPoint");
   const Hit& h = CurrentHit(ts);
-  Frame& f = ts.top();
   float n[3];
-  BoundedPoint p;
-  if (&h != &f.hit) {  // an any-hit program's candidate
-    p = HitPoint(f, h, n);
-  } else if (f.spawn_ready) {
-    std::memcpy(p.p, f.spawn_point, sizeof(p.p));
-    std::memcpy(p.err, f.spawn_error, sizeof(p.err));
-    std::memcpy(n, f.spawn_normal, sizeof(n));
-  } else {
-    p = HitPoint(f, h, n);
-    std::memcpy(f.spawn_point, p.p, sizeof(p.p));
-    std::memcpy(f.spawn_error, p.err, sizeof(p.err));
-    std::memcpy(f.spawn_normal, n, sizeof(n));
-    f.spawn_ready = true;
-  }
+  const BoundedPoint p = HitPoint(ts.top(), h, n);
   if (n[0] == 0.f && n[1] == 0.f && n[2] == 0.f) {
     // No surface normal (an intersection program's hit): move along `dir` itself.
     for (int k = 0; k < 3; ++k) n[k] = dir[k];

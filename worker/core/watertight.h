@@ -190,9 +190,9 @@ inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const floa
   const float largest = std::fmax(std::fabs(n[0]), std::fmax(std::fabs(n[1]), std::fabs(n[2])));
   const float inv = 1.f / largest;
   const float m[3] = {n[0] * inv, n[1] * inv, n[2] * inv};
-  float scale = (std::fabs(m[0]) * pt.err[0] + std::fabs(m[1]) * pt.err[1] +
-                 std::fabs(m[2]) * pt.err[2]) /
-                (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+  float scale =
+      (std::fabs(m[0]) * pt.err[0] + std::fabs(m[1]) * pt.err[1] + std::fabs(m[2]) * pt.err[2]) /
+      (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
   if (dir[0] * m[0] + dir[1] * m[1] + dir[2] * m[2] < 0.f) scale = -scale;
   for (int k = 0; k < 3; ++k) {
     const float offset = scale * m[k];

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "absl/strings/ascii.h"
@@ -154,6 +156,9 @@ class RenderRun {
  private:
   // 0 when the frame was written, else the exit status.
   int RenderFrame(const FrameJob& job);
+  // The camera of `frame` the options ask for: --look-from/--look-at, else --camera (or one made
+  // up to frame the scene), with --fov applied.
+  absl::StatusOr<Camera> ChooseCamera(const Frame& frame) const;
   uint32_t NextPassSize(uint32_t target) const;
 
   const RenderOptions& options_;
@@ -161,6 +166,7 @@ class RenderRun {
   Progress progress_;
   std::unique_ptr<SceneFile> scene_;
   std::unique_ptr<Renderer> renderer_;
+  std::vector<Light> extra_lights_;  // --point-light, added to every frame
   double seconds_per_sample_ = 0.0;  // measured on the last pass
   double rays_per_second_ = 0.0;
   int passes_repeated_ = 0;  // already reported
@@ -219,6 +225,10 @@ int RenderRun::Run() {
          options_.scene);
   }
   settings.aov_samples = options_.aov_samples;
+  for (const std::string& text : options_.point_lights) {
+    Light light;
+    if (ParsePointLight(text, &light)) extra_lights_.push_back(light);  // checked when parsed
+  }
   absl::StatusOr<std::unique_ptr<Renderer>> renderer = Renderer::Create(*scene_, settings);
   if (!renderer.ok()) {
     log_(LogLevel::kError, "%s", renderer.status().message());
@@ -232,6 +242,26 @@ int RenderRun::Run() {
     if (const int status = RenderFrame(job); status != 0) return status;
   }
   return 0;
+}
+
+absl::StatusOr<Camera> RenderRun::ChooseCamera(const Frame& frame) const {
+  absl::StatusOr<Camera> camera;
+  if (!options_.look_from.empty()) {
+    // At the middle of the scene's bounds unless --look-at says where.
+    const float* b = frame.bounds;
+    const float middle[3] = {0.5f * (b[0] + b[3]), 0.5f * (b[1] + b[4]), 0.5f * (b[2] + b[5])};
+    camera = LookAtCamera(options_.look_from.data(),
+                          options_.look_at.empty() ? middle : options_.look_at.data());
+  } else {
+    int width = 0, height = 0;  // the image a camera made up to frame the scene fills
+    ResolveImageSize(Camera{}, options_.width, options_.height, &width, &height);
+    camera = SelectCamera(frame, options_.camera,
+                          static_cast<float>(width) / static_cast<float>(height));
+  }
+  if (camera.ok() && options_.fov_degrees > 0.f) {
+    camera->yfov = options_.fov_degrees * 3.14159265f / 180.f;
+  }
+  return camera;
 }
 
 uint32_t RenderRun::NextPassSize(uint32_t target) const {
@@ -258,26 +288,12 @@ int RenderRun::RenderFrame(const FrameJob& job) {
     return kExitFailure;
   }
   Frame frame = scene_->FrameAt(job.time);
-  for (const std::string& text : options_.point_lights) {
-    Light light;
-    if (ParsePointLight(text, &light)) frame.lights.push_back(light);  // checked when parsed
-  }
-  int framed_width = 0, framed_height = 0;  // the image a camera made up to frame the scene fills
-  ResolveImageSize(Camera{}, options_.width, options_.height, &framed_width, &framed_height);
-  absl::StatusOr<Camera> camera = SelectCamera(
-      frame, options_.camera, static_cast<float>(framed_width) / static_cast<float>(framed_height));
-  if (!options_.look_from.empty()) {
-    // At the middle of the scene's bounds unless --look-at says where.
-    const float* b = frame.bounds;
-    const float middle[3] = {0.5f * (b[0] + b[3]), 0.5f * (b[1] + b[4]), 0.5f * (b[2] + b[5])};
-    camera = LookAtCamera(options_.look_from.data(),
-                          options_.look_at.empty() ? middle : options_.look_at.data());
-  }
+  frame.lights.insert(frame.lights.end(), extra_lights_.begin(), extra_lights_.end());
+  absl::StatusOr<Camera> camera = ChooseCamera(frame);
   if (!camera.ok()) {
     log_(LogLevel::kError, "%s", camera.status().message());
     return kExitFailure;
   }
-  if (options_.fov_degrees > 0.f) camera->yfov = options_.fov_degrees * 3.14159265f / 180.f;
   int width = 0, height = 0;
   ResolveImageSize(*camera, options_.width, options_.height, &width, &height);
   if (absl::Status s = renderer_->SetView(frame, *camera, width, height); !s.ok()) {

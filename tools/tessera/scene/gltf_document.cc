@@ -36,8 +36,7 @@ std::vector<std::string> Lines(const std::string& text) {
 bool IsSupportedGltfExtension(const std::string& name) {
   return name == "KHR_lights_punctual" || name == "KHR_materials_emissive_strength" ||
          name == "KHR_materials_ior" || name == "KHR_materials_specular" ||
-         name == "KHR_materials_transmission" ||
-         name == "KHR_mesh_quantization";
+         name == "KHR_materials_transmission" || name == "KHR_mesh_quantization";
 }
 
 absl::StatusOr<GltfDocument> ReadGltfDocument(const std::string& path, bool binary) {

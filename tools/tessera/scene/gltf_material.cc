@@ -91,8 +91,8 @@ absl::StatusOr<Material> GltfMaterials::Convert(int index) {
   if (!(out.ior >= 1.f) && out.ior != 0.f) {  // KHR_materials_ior allows 0 (no refraction)
     return absl::InvalidArgumentError(absl::StrCat(what, ": ior ", out.ior, " below 1"));
   }
-  out.specular = Clamp01(
-      ExtensionNumber(m.extensions, "KHR_materials_specular", "specularFactor", 1.0));
+  out.specular =
+      Clamp01(ExtensionNumber(m.extensions, "KHR_materials_specular", "specularFactor", 1.0));
   out.transmission = Clamp01(
       ExtensionNumber(m.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
   if (HasExtensionTexture(m.extensions, "KHR_materials_transmission", "transmissionTexture")) {

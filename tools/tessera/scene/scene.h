@@ -39,8 +39,8 @@ struct Material {
   int emissive_texture = -1;
   int normal_texture = -1;  // tangent-space normal map
   float normal_scale = 1.f;
-  float ior = 1.5f;           // KHR_materials_ior
-  float transmission = 0.f;   // KHR_materials_transmission factor
+  float ior = 1.5f;          // KHR_materials_ior
+  float transmission = 0.f;  // KHR_materials_transmission factor
   // The dielectric specular layer's weight: KHR_materials_specular's specularFactor; for OBJ the
   // largest channel of Ks (0: Lambertian, as an MTL material with Kd alone means).
   float specular = 1.f;
