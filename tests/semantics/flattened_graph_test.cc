@@ -247,6 +247,23 @@ TEST_P(FlattenedGraphTest, TransformAboveAndSelectorInTheChain) {
   EXPECT_EQ(PointAt(out, Column(0.25f), 7)[1], 2.f);
 }
 
+// Transforms that come to the identity (one identity matrix; a move and its inverse on two levels)
+// are dropped when the Group is flattened: programs see what the same leaves give without any
+// Transform, and what the per-level path gives through them.
+TEST_P(FlattenedGraphTest, IdentityTransformsChangeNothing) {
+  const std::vector<float> kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  RTgeometrygroup ball = Sphere(-3.f, 0.f, 0.75f, 9.f);
+  RTgeometrygroup square = Square(3.f, 0.f, 10.f);
+  const std::vector<float> plain = Render(Group({ball, square}), true);
+  RTgroup moved_back = Group({Move(Group({Move(square, 2.f, 0.f, 0.f)}), -2.f, 0.f, 0.f)});
+  const std::vector<float> through = Same(Group({Transform(ball, kIdentity), moved_back}));
+  ASSERT_EQ(plain.size(), through.size());
+  EXPECT_EQ(std::memcmp(plain.data(), through.data(), plain.size() * sizeof(float)), 0);
+  EXPECT_EQ(HitAt(through, Column(-3.25f), 4)[1], 9.f);
+  EXPECT_EQ(HitAt(through, Column(3.25f), 4)[1], 10.f);
+  EXPECT_EQ(PointAt(through, Column(3.25f), 4)[3], 1.f);  // the object-to-world m[0]
+}
+
 // Native triangles whose intersection program rejects what Embree found: the ray is traced again
 // with a context filter, which reaches the triangles inside the instances, in their space.
 TEST_P(FlattenedGraphTest, IntersectionProgramsRejectingNativeTriangles) {

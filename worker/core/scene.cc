@@ -688,9 +688,11 @@ bool SceneCache::Flatten(const LaunchPlan& plan, NodeRef ref, const Xform& above
       const TransformRec& t = r.transforms.at(ref.id);
       // Composed as traversal composes (TraverseNode): from the top down.
       Xform x;
-      x.active = true;
       x.to_world = above.active ? MulMat(above.to_world, t.matrix) : t.matrix;
       x.to_object = above.active ? MulMat(t.inverse, above.to_object) : t.inverse;
+      // A path whose transforms come to the identity (an OBJ or a glTF node placed as it is)
+      // moves nothing: its rays, hits, spawn points and rtTransform* calls skip the matrices.
+      x.active = x.to_world != kIdentity || x.to_object != kIdentity;
       return Flatten(plan, t.child, x, out, tnear);
     }
     case RT_OBJECTTYPE_GROUP:

@@ -9,8 +9,10 @@
 #ifndef TESSERA_WORKER_CORE_WATERTIGHT_H_
 #define TESSERA_WORKER_CORE_WATERTIGHT_H_
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "float_steps.h"
@@ -180,19 +182,31 @@ inline BoundedPoint TransformPoint(const float* m, const BoundedPoint& pt) {
 inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const float dir[3],
                             float out[3]) {
   // The bound projected on the unit normal, times the unit normal, is (sum |n_k| err_k) n / |n|^2:
-  // no square root, and n scaled by its largest component first keeps |n|^2 in [1, 3] whatever
-  // the triangle's size (every ray leaving a surface comes here twice in a path tracer).
+  // no square root, and n scaled exactly by the power of two that brings its largest component
+  // into [1, 2) keeps |n|^2 in [1, 12) whatever the triangle's size, for one division (every ray
+  // leaving a surface comes here twice in a path tracer).
   const float sum = std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]);  // NaN stays NaN
   if (!(sum > 0.f) || !(sum <= std::numeric_limits<float>::max())) {
     for (int k = 0; k < 3; ++k) out[k] = pt.p[k];
     return;
   }
-  const float largest = std::fmax(std::fabs(n[0]), std::fmax(std::fabs(n[1]), std::fabs(n[2])));
-  const float inv = 1.f / largest;
+  // No NaN gets here (the sum is finite), so plain compares, not libm's out-of-line fmaxf.
+  const float a0 = std::fabs(n[0]), a1 = std::fabs(n[1]), a2 = std::fabs(n[2]);
+  const float a01 = a0 > a1 ? a0 : a1;
+  const float largest = a01 > a2 ? a01 : a2;
+  uint32_t largest_bits;
+  std::memcpy(&largest_bits, &largest, sizeof(largest_bits));
+  // 2^-e for largest in [2^e, 2^(e+1)): the exponent field mirrored about 127. A subnormal
+  // largest is scaled by 2^126 (to at least 2^-23) and one of 2^127 or more by 2^-126 (below 4).
+  const uint32_t e = std::clamp<uint32_t>(largest_bits >> 23, 1u, 253u);
+  const uint32_t inv_bits = (254u - e) << 23;
+  float inv;
+  std::memcpy(&inv, &inv_bits, sizeof(inv));
   const float m[3] = {n[0] * inv, n[1] * inv, n[2] * inv};
+  const float norm2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
   float scale =
       (std::fabs(m[0]) * pt.err[0] + std::fabs(m[1]) * pt.err[1] + std::fabs(m[2]) * pt.err[2]) /
-      (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+      norm2;
   if (dir[0] * m[0] + dir[1] * m[1] + dir[2] * m[2] < 0.f) scale = -scale;
   for (int k = 0; k < 3; ++k) {
     const float offset = scale * m[k];
