@@ -99,6 +99,9 @@ void Optix7Batch::TraceWaiting() {
     }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
+    // A block's rays leave neighbouring launch indices: Embree's coherent packet traversal, which
+    // the default (incoherent) context gives up for single rays.
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     rtcIntersect16(valid, scene->scene, &context, &packet);
     for (unsigned k = 0; k < kLanes; ++k) {
       if (!valid[k]) continue;
