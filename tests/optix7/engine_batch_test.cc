@@ -99,5 +99,35 @@ TEST_F(BatchTest, AnyHitTracesRunAloneInTheirLanes) {
   ExpectSameAsSingleRays(sbt, p, 24);
 }
 
+// Recursion without end in a lane's programs raises STACK_OVERFLOW at the lane's own stack budget,
+// as on the thread's stack: reported without an exception program, handled by one, and the
+// worker goes on with the next launch index either way.
+TEST_F(BatchTest, StackOverflowInLanes) {
+  Sbt sbt;
+  sbt.raygen = Raygen(calls_module(), "__raygen__deep");
+  sbt.callables = {Callables(calls_module(), "__direct_callable__forever")};
+  for (bool batched : {false, true}) {
+    SCOPED_TRACE(batched ? "lanes" : "single rays");
+    batched_ = batched;
+    sbt.exception = 0;
+    Result r = Run(sbt, EngineParams{}, 4);
+    ASSERT_TRUE(r.prepared.ok()) << r.prepared;
+    for (uint32_t x = 0; x < 4; ++x) {
+      EXPECT_EQ(r.word(x, 0), 1u) << x;
+      EXPECT_EQ(r.word(x, 2), 0u) << x;  // the index ended at the overflow
+    }
+    ASSERT_GE(r.tile.exceptions_size(), 1);
+    EXPECT_EQ(static_cast<int>(r.tile.exceptions(0).code()), OPTIX_EXCEPTION_CODE_STACK_OVERFLOW);
+    sbt.exception = Exception(calls_module(), "__exception__record");
+    r = Run(sbt, EngineParams{}, 4);
+    ASSERT_TRUE(r.prepared.ok()) << r.prepared;
+    for (uint32_t x = 0; x < 4; ++x) {
+      EXPECT_EQ(static_cast<int>(r.word(x, 0)), OPTIX_EXCEPTION_CODE_STACK_OVERFLOW) << x;
+      EXPECT_EQ(r.word(x, 3), Sbt::kExceptionValue) << x;
+    }
+    EXPECT_EQ(r.tile.exceptions_size(), 0);
+  }
+}
+
 }  // namespace
 }  // namespace tessera::optix7_test

@@ -207,6 +207,13 @@ extern "C" __global__ void __raygen__crash() {
   EXPECT_EQ(optixLaunch(pipeline, 0, 0, 0, &sbt, 2, 2, 1), OPTIX_ERROR_LAUNCH_FAILURE);
   EXPECT_TRUE(Logged(2, "SIGSEGV) in OptiX 7 raygen program __raygen__crash in "))
       << (log_.empty() ? std::string() : log_.back().message);
+  // The same from a lane's stack (batched tracing), on the worker started in its place.
+  log_.clear();
+  setenv("TESSERA_BATCHING", "1", 1);
+  EXPECT_EQ(optixLaunch(pipeline, 0, 0, 0, &sbt, 4, 4, 1), OPTIX_ERROR_LAUNCH_FAILURE);
+  unsetenv("TESSERA_BATCHING");
+  EXPECT_TRUE(Logged(2, "SIGSEGV) in OptiX 7 raygen program __raygen__crash in "))
+      << (log_.empty() ? std::string() : log_.back().message);
   if (restore.empty()) {
     unsetenv("TESSERA_DEVICES");
   } else {

@@ -45,6 +45,23 @@ extern "C" __global__ void __raygen__callables() {
   if (x == 2) out[4] = optixDirectCall<unsigned int>(7, 0u, 0u);  // past the records: raises
 }
 
+// Calls itself through record `slot` without end, each level with half a kilobyte of stack: the
+// engine's stack check must end it (STACK_OVERFLOW) before the stack does.
+extern "C" __device__ unsigned int __direct_callable__forever(unsigned int depth,
+                                                             unsigned int slot) {
+  volatile unsigned char pad[512];
+  pad[depth % 512] = static_cast<unsigned char>(depth);
+  return optixDirectCall<unsigned int>(slot, depth + 1, slot) + pad[depth % 512];
+}
+
+// Writes 1, recurses through callable record 0 without end, then would write 2.
+extern "C" __global__ void __raygen__deep() {
+  unsigned int* out = Out();
+  out[0] = 1u;
+  out[1] = optixDirectCall<unsigned int>(0, 0u, 0u);
+  out[2] = 2u;
+}
+
 // Launch index 1 throws user exception 42 with details 7 and 8; the others write 1.
 extern "C" __global__ void __raygen__throw() {
   if (optixGetLaunchIndex().x == 1) optixThrowException(42, 7u, 8u);
