@@ -50,6 +50,7 @@ int RunTutorialMain(int argc, const char* const* argv, std::ostream& out, std::o
   CLI::App app{"Renders a step of the OptiX SDK tutorial (Whitted-style ray tracing) with Tessera.",
                "tessera-tutorial"};
   RenderOptions options;
+  options.load_envmap = &LoadEnvmapFile;  // the file the build wrote, or --envmap
   std::string out_path;
   std::string modules;
   app.add_option("--step", options.step,

@@ -4,7 +4,6 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "tessera/image.h"
 #include "tessera/rt.h"
 #include "tessera/rt_ext.h"
 #include "tutorial/camera.h"
@@ -17,9 +16,6 @@
 
 #ifndef TESSERA_TUTORIAL_MODULE_DIR
 #error "TESSERA_TUTORIAL_MODULE_DIR must name the build's program module directory"
-#endif
-#ifndef TESSERA_TUTORIAL_ENVMAP
-#error "TESSERA_TUTORIAL_ENVMAP must name the environment map the build made"
 #endif
 
 namespace tessera::tutorial {
@@ -103,15 +99,10 @@ RTtexturesampler CreateSampler(RTcontext context, RTbuffer buffer, unsigned dime
   return sampler;
 }
 
-// The environment map: the image at `path` (an HDR image, float texels), around u, clamped at
-// the poles.
-RTtexturesampler CreateEnvmap(RTcontext context, const std::string& path) {
-  RTbuffer image = nullptr;
-  if (tesseraBufferCreateFromImage(context, path.c_str(), 0, &image) != RT_SUCCESS) {
-    throw TutorialError(std::string("environment map: ") + tesseraImageGetErrorString());
-  }
+// The environment map, from `options.load_envmap`: around u, clamped at the poles.
+RTtexturesampler CreateEnvmap(RTcontext context, const RenderOptions& options) {
   const bool repeat[3] = {true, false, false};
-  return CreateSampler(context, image, 2, repeat);
+  return CreateSampler(context, options.load_envmap(context, options.envmap), 2, repeat);
 }
 
 // A value in [0, 1) for each texel of the noise texture: a fixed integer hash of its position,
@@ -167,8 +158,7 @@ void SetUpContext(RTcontext context, const StepConfig& step, const RenderOptions
   vars.Float3("bg_color", kBackgroundColor[0], kBackgroundColor[1], kBackgroundColor[2]);
   vars.Float3("bad_color", kBadColor[0], kBadColor[1], kBadColor[2]);
   if (step.has_envmap()) {
-    vars.Object("envmap", CreateEnvmap(context, options.envmap.empty() ? TESSERA_TUTORIAL_ENVMAP
-                                                                       : options.envmap));
+    vars.Object("envmap", CreateEnvmap(context, options));
   }
   if (step.has_noise()) vars.Object("noise_texture", CreateNoise(context));
 

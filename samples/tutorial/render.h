@@ -6,6 +6,7 @@
 #include <string>
 
 #include "tessera/rt.h"
+#include "tutorial/envmap.h"
 #include "tutorial/image.h"
 
 namespace tessera::tutorial {
@@ -16,6 +17,7 @@ struct RenderOptions {
   int height = 384;
   std::string module_dir;  // holds tutorial_*.so
   std::string envmap;      // the environment map of steps 5 on: an image file; empty: the build's
+  EnvmapLoader load_envmap = &ComputedSky;  // what makes it (envmap.h)
 };
 
 // Colors the context sets, for tests that recognize them in the image.

@@ -22,6 +22,7 @@ const Image& Rendered(int step) {
     options.width = kWidth;
     options.height = kHeight;
     options.module_dir = ResolveModuleDir("");
+    options.load_envmap = &LoadEnvmapFile;  // as tessera-tutorial renders
     it = cache.emplace(step, std::make_unique<Image>(RenderStep(options))).first;
   }
   return *it->second;
