@@ -2,7 +2,10 @@
 // as 16-wide packets must see what they see one ray at a time: hits, payloads, instances,
 // recursion from closest-hit programs, exceptions raised in a lane, and traces that need a
 // callback per hit (any-hit programs), which a lane traces alone.
+#include <atomic>
+#include <chrono>
 #include <cstring>
+#include <thread>
 
 #include "engine_fixture.h"
 
@@ -126,6 +129,46 @@ TEST_F(BatchTest, StackOverflowInLanes) {
       EXPECT_EQ(r.word(x, 3), Sbt::kExceptionValue) << x;
     }
     EXPECT_EQ(r.tile.exceptions_size(), 0);
+  }
+}
+
+// A cancelled launch ends a lane whose program never returns (the signal lands in program code on
+// the lane's stack and jumps back to the tile), and the thread's lanes trace the next launch.
+TEST_F(BatchTest, CancelEndsEndlessLanes) {
+  Sbt sbt;
+  sbt.raygen = Raygen(calls_module(), "__raygen__endless");
+  for (bool batched : {false, true}) {
+    SCOPED_TRACE(batched ? "lanes" : "single rays");
+    batched_ = batched;
+    EngineParams p;
+    p.out = reinterpret_cast<unsigned int*>(Upload(std::vector<uint32_t>(16 * ENGINE_WORDS, 0)));
+    v1::Optix7Launch launch = MakeLaunch(sbt, Upload(std::vector<EngineParams>{p}));
+    launch.set_pipeline(Pipeline(2, 0));
+    ASSERT_TRUE(engine_->Prepare(state_, launch, nullptr).ok());
+    std::atomic<bool> cancel{false};
+    const std::atomic<bool> stop{false};
+    std::thread canceller([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      cancel = true;
+    });
+    const auto start = std::chrono::steady_clock::now();
+    v1::TileResult tile;
+    EXPECT_FALSE(engine_->RunTile({0, 0, 0}, {16, 1, 1}, {16, 1, 1}, cancel, stop, tile));
+    const auto took = std::chrono::steady_clock::now() - start;
+    canceller.join();
+    EXPECT_LT(took, std::chrono::seconds(10));
+
+    // The same thread traces a whole launch afterwards.
+    Sbt trace;
+    trace.raygen = Raygen(trace_module(), "__raygen__trace");
+    trace.miss = {Miss(trace_module(), "__miss__probe")};
+    trace.hit = {HitGroup(trace_module(), "__closesthit__probe")};
+    EngineParams down = DownZ(0.25f, 0.5f);
+    down.step.x = 0.f;
+    down.handle = Build({Triangles(Triangle(0), {0, 1, 2})});
+    const Result r = Run(trace, down, 16);
+    ASSERT_TRUE(r.prepared.ok()) << r.prepared;
+    EXPECT_EQ(r.word(15, 0), Sbt::kHitBase);  // every launch index hits the triangle's record
   }
 }
 

@@ -62,6 +62,13 @@ extern "C" __global__ void __raygen__deep() {
   out[2] = 2u;
 }
 
+// Never returns, and makes no engine call: only a signal can end it.
+extern "C" __global__ void __raygen__endless() {
+  Out()[0] = 1u;
+  volatile unsigned int spin = 0;
+  for (;;) spin = spin + 1;
+}
+
 // Launch index 1 throws user exception 42 with details 7 and 8; the others write 1.
 extern "C" __global__ void __raygen__throw() {
   if (optixGetLaunchIndex().x == 1) optixThrowException(42, 7u, 8u);
