@@ -144,7 +144,8 @@ TEST_F(BatchTest, CancelEndsEndlessLanes) {
     p.out = reinterpret_cast<unsigned int*>(Upload(std::vector<uint32_t>(16 * ENGINE_WORDS, 0)));
     v1::Optix7Launch launch = MakeLaunch(sbt, Upload(std::vector<EngineParams>{p}));
     launch.set_pipeline(Pipeline(2, 0));
-    ASSERT_TRUE(engine_->Prepare(state_, launch, nullptr).ok());
+    const absl::Status prepared = engine_->Prepare(state_, launch, nullptr);
+    ASSERT_TRUE(prepared.ok()) << prepared;
     std::atomic<bool> cancel{false};
     const std::atomic<bool> stop{false};
     std::thread canceller([&] {

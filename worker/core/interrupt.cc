@@ -1,5 +1,10 @@
 #include "interrupt.h"
 
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
+#include <sanitizer/common_interface_defs.h>
+#endif
+
 #include <cxxabi.h>
 #include <dlfcn.h>
 #include <link.h>
@@ -89,6 +94,37 @@ Registry& Reg() {
 
 __thread Slot* t_slot __attribute__((tls_model("initial-exec"))) = nullptr;
 
+#if defined(__SANITIZE_ADDRESS__)
+// The thread stack a lane running on this thread came from (EnteredLane), and a switch back to it
+// begun by a jump out of the lane and finished where the jump lands (Jumped).
+__thread const void* t_lane_thread_bottom = nullptr;
+__thread size_t t_lane_thread_size = 0;
+__thread void* t_jump_fake_stack = nullptr;
+__thread const void* t_jump_landing_bottom = nullptr;  // set while such a jump is under way
+
+inline void BeforeJump() {
+  if (t_lane_thread_bottom == nullptr) return;
+  __sanitizer_start_switch_fiber(&t_jump_fake_stack, t_lane_thread_bottom, t_lane_thread_size);
+  t_jump_landing_bottom = t_lane_thread_bottom;
+  t_lane_thread_bottom = nullptr;
+}
+// Inline into the frame the jump landed in. The frames it skipped on the thread's stack (the
+// tile's, below this one, suspended when the lane took over) keep their redzones: AddressSanitizer
+// unpoisons what a longjmp skips on the stack it leaves, and this one left the lane's. Cleared
+// here before any instrumented call reuses that memory.
+__attribute__((always_inline)) inline void AfterJump() {
+  if (t_jump_landing_bottom == nullptr) return;
+  __sanitizer_finish_switch_fiber(t_jump_fake_stack, nullptr, nullptr);
+  const char* bottom = static_cast<const char*>(t_jump_landing_bottom);
+  const char* here = static_cast<const char*>(__builtin_frame_address(0));
+  if (bottom < here) __asan_unpoison_memory_region(bottom, static_cast<size_t>(here - bottom));
+  t_jump_landing_bottom = nullptr;
+}
+#else
+inline void BeforeJump() {}
+inline void AfterJump() {}
+#endif
+
 // Unregisters the thread's slot when the thread ends, so that no signal goes to a dead thread.
 struct SlotOwner {
   ~SlotOwner() {
@@ -131,6 +167,7 @@ void OnInterrupt(int sig, siginfo_t* info, void* context) {
     // Only the program's own frames, and engine frames waiting on calls into it, lie between
     // here and the tile: no lock is held and no engine state is half written.
     s->jump.store(nullptr, std::memory_order_relaxed);
+    BeforeJump();
     siglongjmp(*jump, 1);
   }
 #endif
@@ -302,6 +339,7 @@ void InterruptibleTile::Arm(sigjmp_buf* jump) {
 }
 
 void InterruptibleTile::Jumped() {
+  AfterJump();
   Disarm();
   // A catch block the jump left never ended its exception (which stays allocated).
   EhGlobals* globals = ThreadEhGlobals();
@@ -324,8 +362,20 @@ void TakeInterruptRequest() {
   sigjmp_buf* jump = s != nullptr ? s->jump.load(std::memory_order_relaxed) : nullptr;
   if (jump == nullptr || !Ending(*s)) return;
   s->jump.store(nullptr, std::memory_order_relaxed);
+  BeforeJump();
   siglongjmp(*jump, 1);
 }
+
+#if defined(__SANITIZE_ADDRESS__)
+void EnteredLane(const void* thread_stack_bottom, size_t thread_stack_size) {
+  t_lane_thread_bottom = thread_stack_bottom;
+  t_lane_thread_size = thread_stack_size;
+}
+void LeftLane() { t_lane_thread_bottom = nullptr; }
+#else
+void EnteredLane(const void*, size_t) {}
+void LeftLane() {}
+#endif
 
 }  // namespace tessera::worker
 

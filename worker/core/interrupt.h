@@ -11,6 +11,7 @@
 #include <setjmp.h>
 
 #include <atomic>
+#include <cstddef>
 
 namespace tessera::worker {
 
@@ -50,6 +51,13 @@ class InterruptibleTile {
 // Jumps to the armed tile's sigsetjmp when its launch is ending; returns otherwise (a request
 // left by a signal that came as the tile ended).
 void TakeInterruptRequest();
+
+// AddressSanitizer builds: a lane's side of each stack switch (lanes.h) says which thread stack
+// it came from, the thread's side that it is back; a jump out of the tile from a lane's stack
+// then tells AddressSanitizer that it lands on the thread's stack, and the frames it skipped
+// there lose their redzones. Not called in other builds.
+void EnteredLane(const void* thread_stack_bottom, size_t thread_stack_size);
+void LeftLane();
 
 // At the entry of every engine call a program makes (the runtime table), where the engine's state
 // is whole: a program looping on engine calls (rtTrace, rtPrintf) spends its time there, and an

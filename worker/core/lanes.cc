@@ -6,6 +6,10 @@
 #include <cstdint>
 #include <new>
 
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
+#endif
+
 extern "C" void tessera_lane_start();
 
 namespace tessera::worker {
@@ -22,11 +26,28 @@ LaneStack::LaneStack(size_t bytes, unsigned color) {
   mapping_ = static_cast<char*>(p);
   mprotect(mapping_, page, PROT_NONE);  // the guard page; stacks grow down into it
   base_ = mapping_ + page;
+  ForgetFrames(size_);
 }
 
-LaneStack::~LaneStack() { munmap(mapping_, mapped_); }
+LaneStack::~LaneStack() {
+  ForgetFrames(size_);  // for whatever is mapped here next
+  munmap(mapping_, mapped_);
+}
+
+// AddressSanitizer keeps the redzones of frames a stack held when it was abandoned (a lane never
+// returns from its loop, an interrupted tile's lanes are jumped out of) in its shadow memory, even
+// past munmap; frames laid out there later would be reported as overflowing into them.
+void LaneStack::ForgetFrames([[maybe_unused]] size_t top_bytes) {
+#if defined(__SANITIZE_ADDRESS__)
+  top_bytes = top_bytes < size_ ? top_bytes : size_;
+  __asan_unpoison_memory_region(base_ + size_ - top_bytes, top_bytes);
+#endif
+}
 
 void* LaneStack::Start(void (*entry)(void*), void* arg) {
+  // The frames of a tile whose lanes were abandoned (the deep ones of a stack overflow are unwound
+  // by its exception).
+  ForgetFrames(kFramesOfATile);
   // tessera_lane_switch pops r15, r14, r13, r12, rbx and rbp, then jumps to the address above
   // them: tessera_lane_start, entered with the stack 16-byte aligned, calls r13(r12).
   const auto top = reinterpret_cast<uintptr_t>(base_ + size_ - color_bytes_) & ~uintptr_t{15};

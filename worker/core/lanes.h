@@ -9,6 +9,8 @@
 
 #include <cstddef>
 
+#include "interrupt.h"
+
 extern "C" void tessera_lane_switch(void** from, void* to);
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -37,6 +39,10 @@ class LaneStack {
   size_t size() const { return size_; }
 
  private:
+  // AddressSanitizer builds: clears the shadow of the top `top_bytes` (lanes.cc says why).
+  void ForgetFrames(size_t top_bytes);
+  static constexpr size_t kFramesOfATile = 256 * 1024;
+
   char* mapping_ = nullptr;
   size_t mapped_ = 0;
   char* base_ = nullptr;
@@ -57,10 +63,22 @@ struct LaneSanitizer {
   }
   void After() { __sanitizer_finish_switch_fiber(fake, &from_bottom, &from_size); }
   void BeforeBack() { Before(from_bottom, from_size); }  // to the stack last come from
+  // After, on a lane's side (the thread stack it came from, for a jump out: interrupt.h) and on
+  // the thread's (back from a lane).
+  void AfterIntoLane() {
+    After();
+    EnteredLane(from_bottom, from_size);
+  }
+  void AfterBackFromLane() {
+    After();
+    LeftLane();
+  }
 #else
   void BeforeBack() {}
   void Before(const void*, size_t) {}
   void After() {}
+  void AfterIntoLane() {}
+  void AfterBackFromLane() {}
 #endif
 };
 

@@ -19,7 +19,7 @@ void Optix7Batch::LaneMain(void* arg) {
   Optix7Batch& batch = *lane.batch;
   // One launch index per resumption once the last one ended: the lane's stack stays laid out for
   // the tile.
-  lane.sanitizer.After();
+  lane.sanitizer.AfterIntoLane();
   for (;;) {
     try {
       batch.run_(lane.ts);
@@ -28,7 +28,7 @@ void Optix7Batch::LaneMain(void* arg) {
     }
     lane.sanitizer.BeforeBack();
     tessera_lane_switch(&lane.sp, batch.scheduler_sp_);
-    lane.sanitizer.After();
+    lane.sanitizer.AfterIntoLane();
   }
 }
 
@@ -58,7 +58,7 @@ inline void Optix7Batch::Resume(Optix7Lane& lane) {
   const LaneStack& stack = *stacks_[&lane - lanes_.data()];
   sanitizer_.Before(stack.base(), stack.size());
   tessera_lane_switch(&scheduler_sp_, lane.sp);
-  sanitizer_.After();
+  sanitizer_.AfterBackFromLane();
   t_optix7 = thread_;
   if (lane.error) {
     std::exception_ptr e = lane.error;

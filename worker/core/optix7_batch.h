@@ -58,7 +58,7 @@ class Optix7Batch {
     lane.waiting = true;
     lane.sanitizer.BeforeBack();
     tessera_lane_switch(&lane.sp, lane.batch->scheduler_sp_);
-    lane.sanitizer.After();
+    lane.sanitizer.AfterIntoLane();
   }
 
  private:
