@@ -372,9 +372,6 @@ void EnteredLane(const void* thread_stack_bottom, size_t thread_stack_size) {
   t_lane_thread_size = thread_stack_size;
 }
 void LeftLane() { t_lane_thread_bottom = nullptr; }
-#else
-void EnteredLane(const void*, size_t) {}
-void LeftLane() {}
 #endif
 
 }  // namespace tessera::worker

@@ -52,12 +52,13 @@ class InterruptibleTile {
 // left by a signal that came as the tile ended).
 void TakeInterruptRequest();
 
-// AddressSanitizer builds: a lane's side of each stack switch (lanes.h) says which thread stack
-// it came from, the thread's side that it is back; a jump out of the tile from a lane's stack
-// then tells AddressSanitizer that it lands on the thread's stack, and the frames it skipped
-// there lose their redzones. Not called in other builds.
+#if defined(__SANITIZE_ADDRESS__)
+// A lane's side of each stack switch (lanes.h) says which thread stack it came from, the thread's
+// side that it is back; a jump out of the tile from a lane's stack then tells AddressSanitizer
+// that it lands on the thread's stack, and the frames it skipped there lose their redzones.
 void EnteredLane(const void* thread_stack_bottom, size_t thread_stack_size);
 void LeftLane();
+#endif
 
 // At the entry of every engine call a program makes (the runtime table), where the engine's state
 // is whole: a program looping on engine calls (rtTrace, rtPrintf) spends its time there, and an

@@ -110,10 +110,14 @@ inline const BoundProgram::SlotRef* SolePayloadOfSize(const BoundProgram& p, siz
 
 // Keeps the payload as the program receives it (ChoosePayload compares with it, since `dst` may be
 // one of the slots itself: a program that traces its own rtPayload variable).
-inline void KeepPayloadBefore(const BoundProgram& p, Frame& f) {
-  if (SolePayloadOfSize(p, f.payload_size) != nullptr) return;
-  const auto* bytes = static_cast<const unsigned char*>(f.payload);
-  f.payload_before.assign(bytes, bytes + f.payload_size);
+// Returns SolePayloadOfSize, for the ReadPayload after the program.
+inline const BoundProgram::SlotRef* KeepPayloadBefore(const BoundProgram& p, Frame& f) {
+  const BoundProgram::SlotRef* sole = SolePayloadOfSize(p, f.payload_size);
+  if (sole == nullptr) {
+    const auto* bytes = static_cast<const unsigned char*>(f.payload);
+    f.payload_before.assign(bytes, bytes + f.payload_size);
+  }
+  return sole;
 }
 
 // Copies the payload back from one of several payload variables (a radiance and a shadow payload,
@@ -141,8 +145,10 @@ __attribute__((noinline)) void ChoosePayload(const ModuleState& ms, const BoundP
   CopyWords(f.payload, ms.slots[chosen->var], std::min<size_t>(size, chosen->size));
 }
 
-inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, const Frame& f) {
-  if (const BoundProgram::SlotRef* sole = SolePayloadOfSize(p, f.payload_size)) {
+// `sole`: what KeepPayloadBefore returned for the program.
+inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, const Frame& f,
+                        const BoundProgram::SlotRef* sole) {
+  if (sole != nullptr) {
     // The program has just written it.
     CopyWords(f.payload, ms.slots[sole->var], f.payload_size);
   } else {
@@ -155,14 +161,14 @@ void Shade(ThreadState& ts, const BoundProgram& p, Frame& f) {
   Enter(ts, p);
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, p.ray, f.ray);
-  KeepPayloadBefore(p, f);
+  const BoundProgram::SlotRef* sole = KeepPayloadBefore(p, f);
   WriteSlots(ms, p.payload, f.payload, f.payload_size);
   if (p.kind == ProgramKind::kClosestHit) {
     WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
     LoadAttributes(ms, p, f.hit.attributes);
   }
   CallProgram(ts, p);
-  ReadPayload(*ts.current_module, p, f);
+  ReadPayload(*ts.current_module, p, f, sole);
 }
 
 void CopyXform(Xform& to, const Xform& from) {
@@ -424,10 +430,10 @@ void Visit(ThreadState& ts, uint64_t id, const NodeInfo& node, const RayData& ra
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, v.ray, ray);
   WriteSlots<sizeof(float)>(ms, v.distance, &f.hit.t);
-  KeepPayloadBefore(v, f);
+  const BoundProgram::SlotRef* sole = KeepPayloadBefore(v, f);
   WriteSlots(ms, v.payload, f.payload, f.payload_size);
   CallProgram(ts, v);
-  ReadPayload(*ts.current_module, v, f);
+  ReadPayload(*ts.current_module, v, f, sole);
   ts.visits.pop_back();
 }
 
@@ -505,12 +511,12 @@ bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& 
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, ah.ray, object_ray);
   WriteSlots<sizeof(float)>(ms, ah.distance, &c.t);
-  KeepPayloadBefore(ah, f);
+  const BoundProgram::SlotRef* sole = KeepPayloadBefore(ah, f);
   WriteSlots(ms, ah.payload, f.payload, f.payload_size);
   LoadAttributes(ms, ah, c.attributes);
   ts.ah_ignore = ts.ah_terminate = false;
   RunAnyHit(ts, ah);
-  ReadPayload(ms, ah, f);
+  ReadPayload(ms, ah, f, sole);
   const bool accepted = !ts.ah_ignore;
   const bool terminate = ts.ah_terminate;
   Resume(ts, suspended);
@@ -984,7 +990,8 @@ void RtIntersectChild(unsigned index) {
   Frame& f = ts.top();
   const BoundProgram& v = *ts.current;
   ModuleState& ms = *ts.current_module;
-  ReadPayload(ms, v, f);  // any-hit programs below see what the visit program wrote
+  // Any-hit programs below see what the visit program wrote.
+  ReadPayload(ms, v, f, SolePayloadOfSize(v, f.payload_size));
   const size_t level = ts.visits.size() - 1;
   while (ts.visit_suspended.size() <= level) ts.visit_suspended.emplace_back();
   SuspendedSlots& s = SuspendInto(ts, ts.visit_suspended[level]);
