@@ -11,6 +11,8 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -40,13 +42,49 @@ struct Options {
   bool check = false;
   std::string viewer = "viewer";  // Embree's, for the reference rows; "none" skips them
   std::string viewer_model = TESSERA_BENCH_DEFAULT_MODEL;
+  bool loaded_baseline = false;  // also time one thread while every other core spins
+};
+
+// Threads that keep every other core busy with arithmetic that touches no memory, while they
+// live: what one thread of a fully loaded machine gets, without sharing anything with it.
+class BusyCores {
+ public:
+  explicit BusyCores(int count) {
+    for (int i = 0; i < count; ++i) {
+      threads_.emplace_back([this] {
+        // Eight independent chains of adds, shifts and xors keep a core's integer ports as busy
+        // as a tracer keeps them (a single dependent chain barely warms the core, and slowed its
+        // neighbours by 7% where a shell's busy loop slowed them by half).
+        uint64_t x[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+        while (!stop_.load(std::memory_order_relaxed)) {
+          for (int k = 0; k < 4096; ++k) {
+#pragma GCC unroll 8
+            for (int c = 0; c < 8; ++c) {
+              x[c] = ((x[c] + 0x9e3779b97f4a7c15ull) ^ (x[c] >> 7)) + (x[c] << 3);
+              asm volatile("" : "+r"(x[c]));
+            }
+          }
+        }
+      });
+    }
+    // Let the spinning threads reach their cores before anything is timed.
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ~BusyCores() {
+    stop_ = true;
+    for (std::thread& t : threads_) t.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> threads_;
 };
 
 // Embree's viewer on one thread and on every core, timed once per round between Tessera's
 // launches (eyelight primary rays, 1024x1024): how far this machine lets ray tracing scale now.
 class EmbreeReference {
  public:
-  EmbreeReference(const Options& o, int cores) : cores_(cores) {
+  EmbreeReference(const Options& o, int cores) : cores_(cores), loaded_(o.loaded_baseline) {
     if (o.check || o.viewer == "none") return;
     std::optional<std::string> viewer = FindExecutable(o.viewer);
     if (!viewer || access(o.viewer_model.c_str(), R_OK) != 0) {
@@ -69,11 +107,17 @@ class EmbreeReference {
       one_.push_back(RunEmbreeViewer(run_, nullptr));
       run_.threads = cores_;
       all_.push_back(RunEmbreeViewer(run_, nullptr));
+      if (loaded_) {
+        run_.threads = 1;
+        BusyCores busy(cores_ - 1);
+        one_loaded_.push_back(RunEmbreeViewer(run_, nullptr));
+      }
     } catch (const std::exception& e) {
       std::printf("no Embree reference: %s\n", e.what());
       enabled_ = false;
       one_.clear();
       all_.clear();
+      one_loaded_.clear();
     }
   }
   // The line with both medians and Embree's efficiency on every core, when measured.
@@ -86,13 +130,21 @@ class EmbreeReference {
         "%.1f Mrays/s, speedup %.2f, efficiency %.2f; Tessera's headline is %.2f of it\n",
         run_.model.c_str(), one, cores_, all, all / one, efficiency,
         tessera_efficiency / efficiency);
+    if (!one_loaded_.empty()) {
+      const double loaded = Median(one_loaded_);
+      std::printf(
+          "Embree's viewer on 1 thread with the other %d cores busy: %.1f Mrays/s (x%.2f the time "
+          "of a lone thread); %d threads against it: efficiency %.2f\n",
+          cores_ - 1, loaded, one / loaded, cores_, all / loaded / cores_);
+    }
   }
 
  private:
   const int cores_;
+  const bool loaded_;
   bool enabled_ = false;
   ViewerRun run_;
-  std::vector<double> one_, all_;
+  std::vector<double> one_, all_, one_loaded_;
 };
 
 struct Config {
@@ -182,8 +234,13 @@ int Run(const Options& o) {
   // machine shared with other work, a change of load then skews every configuration alike.
   // Idle workers of the other contexts wait in gRPC and take no CPU.
   EmbreeReference embree(o, cores);
+  std::vector<double> loaded_seconds;  // --loaded-baseline: the baseline, every other core busy
   for (int round = 0; round < o.repeats; ++round) {
     for (Config& c : configs) c.seconds.push_back(TimeLaunch(*c.scene));
+    if (o.loaded_baseline) {
+      BusyCores busy(cores - 1);
+      loaded_seconds.push_back(TimeLaunch(*configs.front().scene));
+    }
     embree.Round();
   }
   const std::vector<float> baseline_image = configs.front().scene->ReadOutput();
@@ -220,6 +277,20 @@ int Run(const Options& o) {
       "%d cores. Timed launches alternate between configurations. Load average after: "
       "%.2f\n",
       cores, cores, LoadAverage());
+  if (!loaded_seconds.empty()) {
+    // The same one-thread frame on a fully loaded machine: how much of the headline's loss is
+    // the machine's per-core speed under load rather than anything the threads share.
+    const double loaded = Median(loaded_seconds);
+    std::printf(
+        "baseline with the other %d cores busy (arithmetic touching no memory): %.3f s (x%.2f the "
+        "time of a lone thread)",
+        cores - 1, loaded, loaded / base);
+    if (efficiency_at_cores > 0) {
+      const double at_cores = base / efficiency_at_cores / cores;  // seconds at N = cores
+      std::printf("; local:%d against it: efficiency %.2f", max_devices, loaded / at_cores / cores);
+    }
+    std::printf("\n");
+  }
   embree.Report(efficiency_at_cores);
   std::printf("parallel_efficiency=%.3f\n", efficiency_at_cores);
   return identical ? 0 : 1;
@@ -259,6 +330,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--viewer-model", o.viewer_model, "the model the viewer renders")
       ->capture_default_str();
+  app.add_flag("--loaded-baseline", o.loaded_baseline,
+               "also time the baseline (and the viewer's one thread) while every other core "
+               "spins on arithmetic: the machine's per-core slowdown under load, apart from "
+               "anything Tessera's threads share");
   app.add_flag("--check", o.check,
                "96x64, local:1 and local:2, one timed launch; exit 1 unless images are identical");
   CLI11_PARSE(app, argc, argv);

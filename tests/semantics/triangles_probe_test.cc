@@ -338,6 +338,42 @@ TEST_P(TrianglesProbeTest, AttributeProgramUnderAnyHit) {
   }
 }
 
+// An attribute program and a closest-hit program of one module: the closest-hit program reads
+// the attributes where the attribute program left them (the engine copies nothing between
+// them), so what that program leaves unwritten must still read zeros.
+TEST_P(TrianglesProbeTest, AttributesLeftUnwrittenReadZerosInTheSameModule) {
+  Ok(rtGeometryTrianglesSetAttributeProgram(triangles_, Prog("attribute_first_only")));
+  Scene({Material("closest_info_raw")});
+  std::vector<Float4> out = Launch();
+  for (unsigned i = 0; i < out.size(); ++i) {
+    const bool first = OnFirst(i % kSize, i / kSize);
+    SCOPED_TRACE(::testing::Message() << "launch index " << i % kSize << "," << i / kSize);
+    EXPECT_EQ(out[i][0], first ? 1.f : 0.f);
+    EXPECT_EQ(out[i][1], first ? 2.f : 0.f);
+    EXPECT_EQ(out[i][2], first ? 3.f : 0.f);
+    EXPECT_EQ(out[i][3], first ? 4.f : 0.f);
+  }
+}
+
+// The same module's attribute program runs again for a nested trace's hit (triangles 2 and 3,
+// where it writes nothing), in the variables the outer closest-hit program reads its attributes
+// from: the inner hit reads zeros, not the outer hit's attributes, and the outer program gets its
+// own back after the trace.
+TEST_P(TrianglesProbeTest, NestedTraceKeepsTheOuterAttributes) {
+  AddSquareBelow();
+  Ok(rtGeometryTrianglesSetAttributeProgram(triangles_, Prog("attribute_first_only")));
+  Scene({Material("closest_info_nested")});
+  std::vector<Float4> out = Launch();
+  for (unsigned i = 0; i < out.size(); ++i) {
+    const bool first = OnFirst(i % kSize, i / kSize);
+    SCOPED_TRACE(::testing::Message() << "launch index " << i % kSize << "," << i / kSize);
+    EXPECT_EQ(out[i][0], first ? 1.f : 0.f) << "outer attributes, after the nested trace";
+    EXPECT_EQ(out[i][1], first ? 4.f : 0.f) << "outer attributes, after the nested trace";
+    EXPECT_EQ(out[i][2], 0.f) << "the inner hit's attributes: zeros";
+    EXPECT_EQ(out[i][3], -1.f) << "the inner hit's nested trace is not made";
+  }
+}
+
 TEST_P(TrianglesProbeTest, PrimitiveIndexInRayGenerationFails) {
   Ok(rtContextSetRayGenerationProgram(ctx_, 0, Prog("raygen_primitive_index")));
   Scene({Material("closest_tag")});

@@ -110,6 +110,31 @@ RT_PROGRAM void attribute_info() {
 }
 RT_PROGRAM void closest_info_raw() { result = tri_info; }
 
+// Writes tri_info on triangle 0 only: elsewhere the closest-hit program reads zeros, whatever the
+// thread's previous launch index left in the module.
+RT_PROGRAM void attribute_first_only() {
+  if (rtGetPrimitiveIndex() == 0) tri_info = make_float4(1.f, 2.f, 3.f, 4.f);
+}
+
+// The attributes before and after a nested trace whose hit runs this module's attribute program
+// again: (primitive, tag, the inner hit's primitive, the inner hit's own inner result), or -100s
+// when the nested trace changed this hit's attributes.
+RT_PROGRAM void closest_info_nested() {
+  const float4 before = tri_info;
+  float4 inner = make_float4(-1.f, -1.f, -1.f, -1.f);
+  if (ray.origin.z > 0.9f) {
+    float3 p = ray.origin + hit_t * ray.direction;
+    Ray r = make_Ray(p, ray.direction, 0, 1e-3f, RT_DEFAULT_MAX);
+    rtTrace(top_object, r, inner);
+  }
+  if (tri_info.x != before.x || tri_info.y != before.y || tri_info.z != before.z ||
+      tri_info.w != before.w) {
+    result = make_float4(-100.f, -100.f, -100.f, -100.f);
+    return;
+  }
+  result = make_float4(before.x, before.w, inner.x, inner.z);
+}
+
 // Hit queries where there is no hit.
 RT_PROGRAM void raygen_primitive_index() {
   output[launch_index] = make_float4(static_cast<float>(rtGetPrimitiveIndex()), 0.f, 0.f, 0.f);

@@ -354,6 +354,12 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
     b.table.push_back(view);
   }
   if (absl::Status s = BindTextures(replica, scopes, b); !s.ok()) return s;
+  for (size_t i = 0; i < b.attributes.size() && !b.attributes_alias; ++i) {
+    for (size_t j = i + 1; j < b.attributes.size(); ++j) {
+      const BoundProgram::Attribute &x = b.attributes[i], &y = b.attributes[j];
+      if (x.offset < y.offset + y.size && y.offset < x.offset + x.size) b.attributes_alias = true;
+    }
+  }
   // `callables` is complete: its elements keep their addresses from here on (also when `b`
   // moves into the plan).
   for (size_t k = 0; k < callable_copies.size(); ++k) {

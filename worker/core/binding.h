@@ -82,6 +82,9 @@ struct BoundProgram {
   // where no scope binds a sampler.
   std::vector<TesseraTextureView> textures;
   std::vector<Attribute> attributes;
+  // Two of `attributes` share bytes of the hit's block (one attribute declared twice): a copy
+  // through the block then differs from the slots the program left, so it is never skipped.
+  bool attributes_alias = false;
   // Variables declared with each semantic (a module may declare one several times, e.g. a
   // radiance and a shadow payload).
   std::vector<SlotRef> launch_index, launch_dim, ray, payload, distance, time;

@@ -157,7 +157,9 @@ inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, const Fram
 }
 
 // Runs a closest-hit or miss program on the current frame's payload.
-void Shade(ThreadState& ts, const BoundProgram& p, Frame& f) {
+// `attributes_in_slots`: the program's module already holds the hit's attributes (its attribute
+// program has just stored them from there).
+void Shade(ThreadState& ts, const BoundProgram& p, Frame& f, bool attributes_in_slots = false) {
   Enter(ts, p);
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, p.ray, f.ray);
@@ -165,7 +167,7 @@ void Shade(ThreadState& ts, const BoundProgram& p, Frame& f) {
   WriteSlots(ms, p.payload, f.payload, f.payload_size);
   if (p.kind == ProgramKind::kClosestHit) {
     WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
-    LoadAttributes(ms, p, f.hit.attributes);
+    if (!attributes_in_slots) LoadAttributes(ms, p, f.hit.attributes);
   }
   CallProgram(ts, p);
   ReadPayload(*ts.current_module, p, f, sole);
@@ -528,7 +530,9 @@ bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& 
 // has set: zeros, the barycentrics where a program declares attribute rtTriangleBarycentrics,
 // then what the attribute program, if any, writes. `object_ray` is the ray in the triangles'
 // space.
-void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
+// Returns the attribute program it ran (null for none), whose module's slots then hold `h`'s
+// attributes.
+const BoundProgram* TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
   const LaunchPlan& plan = *ts.plan;
   const InstancePlan& ip = *h.instance;
   h.deferred = false;
@@ -544,7 +548,7 @@ void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
     std::memcpy(h.attributes + plan.barycentrics_offset, h.barycentrics, sizeof(h.barycentrics));
   }
   const BoundProgram* p = ip.attribute;
-  if (p == nullptr) return;
+  if (p == nullptr) return nullptr;
   ts.object_ray = &object_ray;
   Enter(ts, *p);
   const ModuleState& ms = *ts.current_module;
@@ -554,6 +558,7 @@ void TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
   ts.attribute_hit = &h;
   CallProgram(ts, *p);
   StoreAttributes(ms, *p, h.attributes);
+  return p;
 }
 
 // A candidate hit on built-in triangles of a geometry with an any-hit program (for some ray
@@ -842,8 +847,17 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
         // Built-in triangles' attributes are for the closest-hit program alone: a ray that runs
         // none (a shadow ray with DISABLE_CLOSESTHIT, a ray type without one) skips the attribute
         // program, as OptiX runs it only where its results are read.
-        if (builtin_pending) TriangleAttributes(ts, f.hit, f.hit.object_ray);
-        Shade(ts, *ch, f);
+        // A closest-hit program of the attribute program's module reads the attributes where
+        // that program wrote them: the same variables, placed in the plan's one layout, and
+        // nothing runs in the module in between (Enter clears attributes only for a new launch
+        // index, which the attribute program's Enter has already seen).
+        bool in_slots = false;
+        if (builtin_pending) {
+          const BoundProgram* attribute = TriangleAttributes(ts, f.hit, f.hit.object_ray);
+          in_slots = attribute != nullptr && attribute->module_index == ch->module_index &&
+                     !ch->attributes_alias;
+        }
+        Shade(ts, *ch, f, in_slots);
       }
     }
   } else if (ray.ray_type < plan.miss.size() && plan.miss[ray.ray_type] != nullptr) {
