@@ -164,7 +164,12 @@ void Shade(ThreadState& ts, const BoundProgram& p, Frame& f, bool attributes_in_
   const ModuleState& ms = *ts.current_module;
   WriteRaySlots(ms, p.ray, f.ray);
   const BoundProgram::SlotRef* sole = KeepPayloadBefore(p, f);
-  WriteSlots(ms, p.payload, f.payload, f.payload_size);
+  // The caller stored its payload before the traversal, so those stores have long reached the
+  // cache: a block copy per variable, not CopyWords' word by word (which the copy back after the
+  // program needs, its stores being fresh).
+  for (const BoundProgram::SlotRef& r : p.payload) {
+    CopyBytes(ms.slots[r.var], f.payload, std::min<size_t>(f.payload_size, r.size));
+  }
   if (p.kind == ProgramKind::kClosestHit) {
     WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
     if (!attributes_in_slots) LoadAttributes(ms, p, f.hit.attributes);
