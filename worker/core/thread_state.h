@@ -376,11 +376,18 @@ inline void StoreVec4(void* dst, float a, float b, float c, float d) {
 
 // The ray of a program's rtCurrentRay slot: read word by word (it was stored that way) and
 // stored as two vectors and a word.
+// kSettled: the ray was stored long before (a frame's ray, stored before its traversal), so one
+// block copy reads it without waiting on stores in flight.
+template <bool kSettled = false>
 inline void WriteRaySlots(const ModuleState& ms, const std::vector<BoundProgram::SlotRef>& refs,
                           const RayData& ray) {
   for (const BoundProgram::SlotRef& r : refs) {
     if (r.size != sizeof(RayData)) {
       CopyWords(ms.slots[r.var], &ray, r.size);
+      continue;
+    }
+    if constexpr (kSettled) {
+      std::memcpy(ms.slots[r.var], &ray, sizeof(RayData));
       continue;
     }
     auto* d = static_cast<unsigned char*>(ms.slots[r.var]);

@@ -162,7 +162,7 @@ inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, const Fram
 void Shade(ThreadState& ts, const BoundProgram& p, Frame& f, bool attributes_in_slots = false) {
   Enter(ts, p);
   const ModuleState& ms = *ts.current_module;
-  WriteRaySlots(ms, p.ray, f.ray);
+  WriteRaySlots</*kSettled=*/true>(ms, p.ray, f.ray);
   const BoundProgram::SlotRef* sole = KeepPayloadBefore(p, f);
   // The caller stored its payload before the traversal, so those stores have long reached the
   // cache: a block copy per variable, not CopyWords' word by word (which the copy back after the
