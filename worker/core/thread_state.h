@@ -344,8 +344,26 @@ inline void CopyWords(void* dst, const void* src, size_t n) {
   if (__builtin_constant_p(n)) {  // a ray: nine stores, not a loop the asm keeps GCC from unrolling
 #pragma GCC unroll 32
     for (size_t i = 0; i < n; i += 4) word(i);
-  } else {
-    for (size_t i = 0; i < n; i += 4) word(i);
+    return;
+  }
+  // Launch indices, attributes and small payloads: straight-line copies, no loop to set up.
+  switch (n) {
+    case 16:
+      word(12);
+      [[fallthrough]];
+    case 12:
+      word(8);
+      [[fallthrough]];
+    case 8:
+      word(4);
+      [[fallthrough]];
+    case 4:
+      word(0);
+      [[fallthrough]];
+    case 0:
+      return;
+    default:
+      for (size_t i = 0; i < n; i += 4) word(i);
   }
 }
 
