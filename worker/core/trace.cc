@@ -167,8 +167,17 @@ void Shade(ThreadState& ts, const BoundProgram& p, Frame& f, bool attributes_in_
   // The caller stored its payload before the traversal, so those stores have long reached the
   // cache: a block copy per variable, not CopyWords' word by word (which the copy back after the
   // program needs, its stores being fresh).
+  // The payload may be one of these very variables, or part of one (a program that traces its
+  // own rtPayload variable or a member of it): overlapping bytes take memmove.
+  const auto* payload = static_cast<const unsigned char*>(f.payload);
   for (const BoundProgram::SlotRef& r : p.payload) {
-    CopyBytes(ms.slots[r.var], f.payload, std::min<size_t>(f.payload_size, r.size));
+    auto* slot = static_cast<unsigned char*>(ms.slots[r.var]);
+    const size_t n = std::min<size_t>(f.payload_size, r.size);
+    if (slot + n <= payload || payload + n <= slot) {
+      CopyBytes(slot, payload, n);
+    } else if (slot != payload) {
+      std::memmove(slot, payload, n);
+    }
   }
   if (p.kind == ProgramKind::kClosestHit) {
     WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
