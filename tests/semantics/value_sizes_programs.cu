@@ -160,6 +160,32 @@ static __device__ bool SelfPayloadKept(unsigned k) {
   return ok;
 }
 
+// Traces 24 bytes inside its own payload variable, from its ninth byte (ray type 12, which
+// misses): the nested miss program, of this module, receives them at the start of payload_128
+// and changes their first and last bytes; they must come back to where they lie in this
+// program's variable (copies between overlapping bytes, in both directions).
+RT_PROGRAM void ch_member() {
+  Bytes<24>& part = *reinterpret_cast<Bytes<24>*>(&payload_128.b[8]);
+  const Ray r = make_Ray(ray.origin, ray.direction, 12, 0.f, 0.5f);  // the primitive is at t = 1
+  rtTrace(top_object, r, part);
+}
+RT_PROGRAM void miss_member() {
+  payload_128.b[0] = static_cast<unsigned char>(payload_128.b[0] + 1);
+  payload_128.b[23] = 99;
+}
+
+static __device__ bool MemberPayloadKept(unsigned k) {
+  const Bytes<128> sent = Filled<128>(k);
+  Bytes<128> p = sent;
+  rtTrace(top_object,
+          make_Ray(make_float3(static_cast<float>(k), 0.f, 0.f), make_float3(0.f, 0.f, 1.f), 11,
+                   0.f, RT_DEFAULT_MAX),
+          p);
+  bool ok = p.b[8] == static_cast<unsigned char>(sent.b[8] + 1) && p.b[31] == 99;
+  for (int i = 0; i < 128; ++i) ok &= i == 8 || i == 31 || p.b[i] == sent.b[i];
+  return ok;
+}
+
 RT_PROGRAM void check_sizes() {
   const unsigned k = launch_index.x + 17 * launch_index.y;
   unsigned failed = 0;
@@ -173,5 +199,6 @@ RT_PROGRAM void check_sizes() {
   failed |= TraceSize<260>(7, k) ? 0u : 128u;
   failed |= SelfPayloadKept(k) ? 0u : 256u;
   failed |= TraceSize<8>(10, k) ? 0u : 512u;
+  failed |= MemberPayloadKept(k) ? 0u : 1024u;
   failures[launch_index] = failed;
 }

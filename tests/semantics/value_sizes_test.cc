@@ -20,14 +20,16 @@ TEST_P(ValueSizesTest, PayloadsAndAttributesOfEverySizeRoundTrip) {
   Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
   Ok(rtContextSetEntryPointCount(ctx_, 1));
   // One payload size each, then a program that traces its own payload variable (8) into a miss
-  // (9), then a payload size no variable has (10).
-  constexpr unsigned kRayTypes = 11;
+  // (9), then a payload size no variable has (10), then one that traces a part of its own payload
+  // variable (11) into a miss (12).
+  constexpr unsigned kRayTypes = 13;
   Ok(rtContextSetRayTypeCount(ctx_, kRayTypes));
   Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "check_sizes")));
   Ok(rtContextSetMissProgram(ctx_, 9, Program(kModule, "miss_self")));
-  const char* closest_hit[kRayTypes] = {"ch_1",    "ch_3",   "ch_6",         "ch_20_nested",
-                                        "ch_128",  "ch_130", "ch_132",       "ch_260",
-                                        "ch_self", nullptr,  "ch_other_size"};
+  Ok(rtContextSetMissProgram(ctx_, 12, Program(kModule, "miss_member")));
+  const char* closest_hit[kRayTypes] = {
+      "ch_1",   "ch_3",    "ch_6",  "ch_20_nested",  "ch_128",    "ch_130", "ch_132",
+      "ch_260", "ch_self", nullptr, "ch_other_size", "ch_member", nullptr};
   Instance scene =
       MakeInstance(Program(kModule, "intersect"), Program(kModule, "bounds"), 1, nullptr);
   for (unsigned t = 0; t < kRayTypes; ++t) {
@@ -41,7 +43,7 @@ TEST_P(ValueSizesTest, PayloadsAndAttributesOfEverySizeRoundTrip) {
   Ok(rtContextLaunch2D(ctx_, 0, kWidth, kHeight));
   const std::vector<unsigned> values = ReadAs<unsigned>(failures);
   // Bit b set: the payload of ray type b did not come back as its closest-hit program made it
-  // (bit 8: the self-traced payload, bit 9: the 8-byte one).
+  // (bit 8: the self-traced payload, bit 9: the 8-byte one, bit 10: the self-traced part).
   for (unsigned i = 0; i < kWidth * kHeight; ++i) {
     EXPECT_EQ(values[i], 0u) << "launch index (" << i % kWidth << ", " << i / kWidth << ")";
   }

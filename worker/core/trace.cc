@@ -92,6 +92,20 @@ __attribute__((always_inline)) inline void StoreAttributes(const ModuleState& ms
   for (const auto& a : p.attributes) CopyWords(block + a.offset, ms.slots[a.var], a.size);
 }
 
+// Copies between a payload and a payload variable with `copy`. The payload may be one of the
+// variables, or lie inside one (a program that traces its own rtPayload variable or a member of
+// it): overlapping bytes take memmove.
+template <typename Copy>
+inline void CopyPayload(void* dst, const void* src, size_t n, Copy copy) {
+  auto* d = static_cast<unsigned char*>(dst);
+  const auto* s = static_cast<const unsigned char*>(src);
+  if (d + n <= s || s + n <= d) {
+    copy(d, s, n);
+  } else if (d != s) {
+    std::memmove(d, s, n);
+  }
+}
+
 // The payload variable the payload comes back from whatever the program changes: the program's
 // only payload variable of the traced size (a module declaring a radiance and a shadow payload of
 // different sizes has one of each, and ChoosePayload's rule then always picks it). Null when
@@ -142,7 +156,7 @@ __attribute__((noinline)) void ChoosePayload(const ModuleState& ms, const BoundP
     if (p.payload.empty()) return;
     chosen = &p.payload.front();
   }
-  CopyWords(f.payload, ms.slots[chosen->var], std::min<size_t>(size, chosen->size));
+  CopyPayload(f.payload, ms.slots[chosen->var], std::min<size_t>(size, chosen->size), CopyWords);
 }
 
 // `sole`: what KeepPayloadBefore returned for the program.
@@ -150,7 +164,7 @@ inline void ReadPayload(const ModuleState& ms, const BoundProgram& p, const Fram
                         const BoundProgram::SlotRef* sole) {
   if (sole != nullptr) {
     // The program has just written it.
-    CopyWords(f.payload, ms.slots[sole->var], f.payload_size);
+    CopyPayload(f.payload, ms.slots[sole->var], f.payload_size, CopyWords);
   } else {
     ChoosePayload(ms, p, f);
   }
@@ -167,17 +181,8 @@ void Shade(ThreadState& ts, const BoundProgram& p, Frame& f, bool attributes_in_
   // The caller stored its payload before the traversal, so those stores have long reached the
   // cache: a block copy per variable, not CopyWords' word by word (which the copy back after the
   // program needs, its stores being fresh).
-  // The payload may be one of these very variables, or part of one (a program that traces its
-  // own rtPayload variable or a member of it): overlapping bytes take memmove.
-  const auto* payload = static_cast<const unsigned char*>(f.payload);
   for (const BoundProgram::SlotRef& r : p.payload) {
-    auto* slot = static_cast<unsigned char*>(ms.slots[r.var]);
-    const size_t n = std::min<size_t>(f.payload_size, r.size);
-    if (slot + n <= payload || payload + n <= slot) {
-      CopyBytes(slot, payload, n);
-    } else if (slot != payload) {
-      std::memmove(slot, payload, n);
-    }
+    CopyPayload(ms.slots[r.var], f.payload, std::min<size_t>(f.payload_size, r.size), CopyBytes);
   }
   if (p.kind == ProgramKind::kClosestHit) {
     WriteSlots<sizeof(float)>(ms, p.distance, &f.hit.t);
