@@ -11,7 +11,7 @@
 #include "cuda_arrays.h"
 #include "cuda_devices.h"
 #include "host_device_memory.h"
-#include "tessera/detail/texture_fast.h"
+#include "tessera/detail/texture_fast_float.h"
 #include "tessera/detail/texture_modes.h"
 #include "tessera/optix7_texture_abi.h"
 
@@ -216,7 +216,7 @@ cudaError_t CreateTextureObject(cudaTextureObject_t* object, const cudaResourceD
   if (e != cudaSuccess) return e;
   d.view.format = format.format;
   d.view.element_size = format.element_size;
-  d.view.fast = tx::FastKind(d.view);  // as the OptiX 3 engine marks its views
+  tx::MarkFastLookups(d.view);  // as the OptiX 3 engine marks its views
   d.magic = TESSERA_CUDA_TEXTURE_MAGIC;
 
   absl::StatusOr<HostDeviceMemory*> memory = HostDeviceMemory::Get();

@@ -261,6 +261,49 @@ TEST_P(TextureTest, BilinearBytesMatchTheGeneralPathInEveryWrapMode) {
   }
 }
 
+// A float4 texture filtered linearly, as an HDR environment map is read: devices take the fast
+// linear lookup (texture_fast_float.h) where the wrap modes allow and must give the general
+// path's bits in every mode, declared and by id.
+TEST_P(TextureTest, BilinearFloatsMatchTheGeneralPathInEveryWrapMode) {
+  std::vector<Float4> texels;
+  for (unsigned y = 0; y < kSide; ++y) {
+    for (unsigned x = 0; x < kSide; ++x) texels.push_back(Texel(x, y));
+  }
+  Ok(rtTextureSamplerSetFilteringModes(sampler_, RT_FILTER_LINEAR, RT_FILTER_LINEAR,
+                                       RT_FILTER_NONE));
+  Ok(rtVariableSet2f(ContextVar("offset"), -1.3f, 0.45f));
+  RayGen("sample_plain");
+  TesseraTextureView v{};
+  v.levels[0] = {texels.data(), kSide, kSide, 1, 0};
+  v.level_count = 1;
+  v.dimensionality = 2;
+  v.format = RT_FORMAT_FLOAT4;
+  v.element_size = 16;
+  v.min_filter = v.mag_filter = RT_FILTER_LINEAR;
+  v.mip_filter = RT_FILTER_NONE;
+  v.read_mode = RT_TEXTURE_READ_ELEMENT_TYPE;
+  v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
+  v.mip_level_clamp[1] = 1000.f;
+  const RTwrapmode modes[][2] = {{RT_WRAP_CLAMP_TO_EDGE, RT_WRAP_CLAMP_TO_EDGE},
+                                 {RT_WRAP_REPEAT, RT_WRAP_CLAMP_TO_EDGE},
+                                 {RT_WRAP_REPEAT, RT_WRAP_REPEAT},
+                                 {RT_WRAP_MIRROR, RT_WRAP_MIRROR}};
+  for (const auto& m : modes) {
+    Ok(rtTextureSamplerSetWrapMode(sampler_, 0, m[0]));
+    Ok(rtTextureSamplerSetWrapMode(sampler_, 1, m[1]));
+    v.wrap[0] = m[0];
+    v.wrap[1] = m[1];
+    Launch();
+    ExpectBoth(
+        [&](unsigned x, unsigned y) {
+          const float4 f = tessera::texture::Sample2D<float4>(v, (x + 0.5f - 1.3f) / kSide,
+                                                              (y + 0.5f + 0.45f) / kSide);
+          return Float4{f.x, f.y, f.z, f.w};
+        },
+        "float4");
+  }
+}
+
 // Cube maps and layered textures reach the device with their faces and layers in order.
 TEST_P(TextureTest, CubeMapFacesAndLayers) {
   // 2x2 texels a face or layer, each texel of face f (layer l) holding f (10 + l).

@@ -2,7 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "tessera/detail/mip_levels.h"
-#include "tessera/detail/texture_fast.h"
+#include "tessera/detail/texture_fast_float.h"
 #include "tessera/detail/texture_modes.h"
 #include "tessera/rt.h"
 
@@ -96,7 +96,7 @@ absl::StatusOr<TesseraTextureView> MakeTextureView(const Replica& replica, uint6
   v.mip_level_clamp[1] = s->mip_level_clamp_max;
   v.mip_level_bias = s->mip_level_bias;
   v.id = static_cast<int>(sampler_id);
-  v.fast = texture::FastKind(v);
+  texture::MarkFastLookups(v);
   return v;
 }
 

@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 /* Raised whenever the table or the meaning of a query changes; module and engine must agree. */
-#define TESSERA_OPTIX7_MODULE_ABI_VERSION 3u
+#define TESSERA_OPTIX7_MODULE_ABI_VERSION 4u
 
 /* One optixTrace: the ray and traversal arguments as the program passed them. */
 typedef struct TesseraOptix7Trace {

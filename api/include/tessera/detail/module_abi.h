@@ -13,7 +13,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 10u
+#define TESSERA_MODULE_ABI_VERSION 11u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */

@@ -24,6 +24,7 @@
 
 #include "tessera/detail/texture_addressing.h"
 #include "tessera/detail/texture_fast.h"
+#include "tessera/detail/texture_fast_float.h"
 #include "tessera/detail/texture_formats.h"
 #include "tessera/detail/texture_vector_types.h"
 #include "tessera/detail/texture_view.h"
@@ -422,10 +423,22 @@ inline T Sample2DLod(const TesseraTextureView& v, float x, float y, float level)
     return detail::FromFloats<T>(f);
   }
 #endif
+  if ((v.fast_linear >> 4) == 2) {  // one level, one filter: `level` changes nothing
+    const float c[2] = {x, y};
+    float f[4] = {0.f, 0.f, 0.f, 1.f};
+    detail::FastLinear<2>(v, c, f);
+    return detail::FromFloats<T>(f);
+  }
   return detail::SampleLod<T, 2>(v, detail::MakeRequest(v, x, y, 0.f, 0), level);
 }
 template <typename T>
 inline T Sample3DLod(const TesseraTextureView& v, float x, float y, float z, float level) {
+  if ((v.fast_linear >> 4) == 3) {
+    const float c[3] = {x, y, z};
+    float f[4] = {0.f, 0.f, 0.f, 1.f};
+    detail::FastLinear<3>(v, c, f);
+    return detail::FromFloats<T>(f);
+  }
   return detail::SampleLod<T, 3>(v, detail::MakeRequest(v, x, y, z, 0), level);
 }
 template <typename T>

@@ -47,6 +47,10 @@ typedef struct {
   float mip_level_bias;
   int id;        /* rtTextureSamplerGetId */
   unsigned fast; /* a lookup path for this view alone (tessera/detail/texture_fast.h); 0: none */
+  /* The linear float lookup of tessera/detail/texture_fast_float.h: (dimensions << 4) | channels;
+   * 0: none. Since OptiX 3 module ABI 11 and OptiX 7 module ABI 4. */
+  unsigned fast_linear;
+  unsigned reserved; /* 0; keeps the size a multiple of the pointers' alignment */
 } TesseraTextureView;
 
 #ifdef __cplusplus
