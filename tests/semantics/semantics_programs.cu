@@ -51,6 +51,14 @@ RT_PROGRAM void miss_ray() { payload.value = make_float4(ray.origin, ray.tmax); 
 RT_PROGRAM void closest_hit_value() { payload.value = make_float4(value, 2.f, 0.f, 0.f); }
 RT_PROGRAM void closest_hit_ray() { payload.value = make_float4(ray.origin, t_hit); }
 RT_PROGRAM void closest_hit_attributes() { payload.value = make_float4(hit_origin, hit_id); }
+// rtTransform* with no transform above the geometry: values come back as they are, -0 and
+// infinities included (an identity matrix would make +0 and NaN of them).
+RT_PROGRAM void closest_hit_transform_specials() {
+  const float inf = __builtin_inff();
+  const float3 n = rtTransformNormal(RT_OBJECT_TO_WORLD, make_float3(-0.f, inf, -2.5f));
+  const float3 p = rtTransformPoint(RT_WORLD_TO_OBJECT, make_float3(1.f, -0.f, -inf));
+  payload.value = make_float4(n.x, n.y, p.y, p.z);
+}
 RT_PROGRAM void closest_hit_count() {
   payload.value = make_float4(float(payload.hits), t_hit, hit_id, 0.f);
 }

@@ -1,7 +1,9 @@
 // The OptiX 3 guide's Table 4 (semantic variables per program kind), Table 5 (scope search order)
 // and Table 6 (object vs world space), row by row, through the C API. The Visit rows are in
 // selector_test.cc, with the selectors they need.
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "rt_fixture.h"
 
@@ -207,6 +209,17 @@ TEST_F(TablesTest, AttributesFromIntersectionReachClosestHit) {
   Launch(s.group);
   std::vector<Float4> r = Read(result_);
   EXPECT_EQ(r[0], (Float4{0.f, 0.f, -10.f, 0.f}));  // hit_origin, hit_id
+}
+
+TEST_F(TablesTest, TransformsWithoutATransformNodeReturnTheirInput) {
+  Instance s = Sphere("closest_hit_transform_specials");
+  Launch(s.group);
+  const Float4 r = Read(result_)[0];
+  EXPECT_EQ(r[0], 0.f);
+  EXPECT_TRUE(std::signbit(r[0])) << "-0 became +0";
+  EXPECT_EQ(r[1], std::numeric_limits<float>::infinity());
+  EXPECT_TRUE(std::signbit(r[2])) << "-0 became +0";
+  EXPECT_EQ(r[3], -std::numeric_limits<float>::infinity());
 }
 
 // ---- Any hit: ignore restores t and attributes, terminate ends traversal -----------------------

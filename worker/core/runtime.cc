@@ -270,10 +270,11 @@ void RtPrintExceptionDetails() {
   if (PrintActive()) Emit(ExceptionText());
 }
 
-const Mat& CurrentTransform(bool to_world) {
+// The running program's transform between object and world space; null where there is none
+// (the two spaces are one).
+const Mat* CurrentTransform(bool to_world) {
   ThreadState& ts = TS();
-  static const Mat identity = kIdentity;
-  if (ts.depth == 0 || ts.kind == ProgramKind::kMiss) return identity;
+  if (ts.depth == 0 || ts.kind == ProgramKind::kMiss) return nullptr;
   const Frame& f = ts.top();
   // An intersection program run after traversal (kDeferred: native triangles) sees the
   // transforms above its hit, kept with the hit, as it would have during traversal.
@@ -283,8 +284,8 @@ const Mat& CurrentTransform(bool to_world) {
   const Xform& x = hit_space                            ? f.hit.xform
                    : ts.kind == ProgramKind::kAttribute ? ts.attribute_hit->xform
                                                         : f.xform;
-  if (!x.active) return identity;
-  return to_world ? x.to_world : x.to_object;
+  if (!x.active) return nullptr;
+  return to_world ? &x.to_world : &x.to_object;
 }
 
 void RtTransform(unsigned kind, unsigned what, const float* in, float* out) {
@@ -300,13 +301,21 @@ void RtTransform(unsigned kind, unsigned what, const float* in, float* out) {
         absl::StrCat("rtTransform* with unknown transform kind ", kind))};
   }
   float v[3] = {in[0], in[1], in[2]};
-  if (what == TESSERA_TRANSFORM_NORMAL) {
-    // Normals go through the inverse transpose of the matrix that moves points.
-    const Mat& inv = CurrentTransform(!to_world);
+  // Normals go through the inverse transpose of the matrix that moves points.
+  const bool normal = what == TESSERA_TRANSFORM_NORMAL;
+  const Mat* transform = CurrentTransform(normal ? !to_world : to_world);
+  if (transform == nullptr) {
+    // No transform above the geometry: object space is world space, and the value is returned as
+    // it is (a multiplication by the identity would turn -0 into +0 and an infinity into NaN).
+    std::memcpy(out, v, sizeof(v));
+    return;
+  }
+  if (normal) {
+    const Mat& inv = *transform;
     for (int i = 0; i < 3; ++i) out[i] = inv[i] * v[0] + inv[4 + i] * v[1] + inv[8 + i] * v[2];
     return;
   }
-  const Mat& m = CurrentTransform(to_world);
+  const Mat& m = *transform;
   float w = what == TESSERA_TRANSFORM_POINT ? 1.f : 0.f;
   float r[4];
   for (int i = 0; i < 4; ++i)
@@ -322,8 +331,8 @@ void RtGetTransform(unsigned kind, float* m) {
                 Bit(ProgramKind::kIntersection) | Bit(ProgramKind::kBoundingBox) |
                 Bit(ProgramKind::kVisit) | Bit(ProgramKind::kAttribute),
             "rtGetTransform");
-  const Mat& src = CurrentTransform(kind == RT_OBJECT_TO_WORLD);
-  std::memcpy(m, src.data(), sizeof(float) * 16);
+  const Mat* src = CurrentTransform(kind == RT_OBJECT_TO_WORLD);
+  std::memcpy(m, src != nullptr ? src->data() : kIdentity.data(), sizeof(float) * 16);
 }
 
 void* RtBufferIndexError(unsigned slot, unsigned long long x, unsigned long long y,

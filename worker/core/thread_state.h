@@ -323,6 +323,27 @@ inline void CopyBytes(void* dst, const void* src, size_t n) {
   }
 }
 
+// memset(dst, 0, n) for the small sizes of attributes, without a library call.
+inline void ZeroBytes(void* dst, size_t n) {
+  static constexpr unsigned char kZeros[16] = {};
+  switch (n) {
+    case 4:
+      std::memcpy(dst, kZeros, 4);
+      return;
+    case 8:
+      std::memcpy(dst, kZeros, 8);
+      return;
+    case 12:
+      std::memcpy(dst, kZeros, 12);
+      return;
+    case 16:
+      std::memcpy(dst, kZeros, 16);
+      return;
+    default:
+      std::memset(dst, 0, n);
+  }
+}
+
 // Copies n bytes 4 at a time, for values a program (or the engine) has just written field by
 // field: a wider load that spans two narrower stores still in the store buffer cannot take their
 // data (store-to-load forwarding) and waits about a dozen cycles for them to reach the cache.
@@ -462,7 +483,7 @@ inline void WriteTime(const ThreadState& ts, const ModuleState& ms, const BoundP
 
 // Makes `p` the running program: saves a suspended caller's slots if `p` would overwrite them,
 // loads `p`'s bindings and the launch index/dim semantics. Inline: it runs for every program.
-inline void Enter(ThreadState& ts, const BoundProgram& p) {
+__attribute__((always_inline)) inline void Enter(ThreadState& ts, const BoundProgram& p) {
   ModuleState& ms = StateOf(ts, p);
   if (ms.suspended != nullptr && !ms.suspended->saved) SaveSlots(*ms.suspended, ms);
   ReturnTo(ts, p, ms);
@@ -477,7 +498,7 @@ inline void Enter(ThreadState& ts, const BoundProgram& p) {
     WriteSlots<sizeof(ts.dims)>(ms, p.launch_dim, ts.dims.data());
     // Attributes a program leaves unwritten read zeros, not what the thread's last launch index
     // left: output must not depend on which launch indices shared a thread.
-    for (const BoundProgram::Attribute& a : p.attributes) std::memset(ms.slots[a.var], 0, a.size);
+    for (const BoundProgram::Attribute& a : p.attributes) ZeroBytes(ms.slots[a.var], a.size);
     ms.index_written = ts.index_serial;
   }
   if (__builtin_expect(!p.time.empty(), 0)) WriteTime(ts, ms, p);
