@@ -12,7 +12,9 @@ rtBuffer<uint4, 1> results;  // t's bits (0xFFFFFFFF: miss), primitive, candidat
 rtDeclareVariable(rtObject, top_object, , );
 rtDeclareVariable(unsigned int, launch_index, rtLaunchIndex, );
 // 0: no secondary ray; 1: from the hit point with tmin scene_epsilon; 2: from tesseraSpawnPoint
-// with tmin 0; 3: from the hit point with tmin 0 (TESSERA_ACCURACY_OFFSET_RAYS moves it).
+// with tmin 0; 3: from the hit point with tmin 0 (TESSERA_ACCURACY_OFFSET_RAYS moves it); 4: as 2,
+// after a spawn point toward the other side from the same hit (the engine prepares a hit's spawn
+// points once: the second must still start on its own side).
 rtDeclareVariable(unsigned int, spawn_mode, , );
 rtDeclareVariable(float, scene_epsilon, , );
 rtDeclareVariable(optix::Ray, ray, rtCurrentRay, );
@@ -54,6 +56,13 @@ RT_PROGRAM void closest_hit() {
     rtTrace(top_object, make_Ray(hit, dir, 1, scene_epsilon, RT_DEFAULT_MAX), s);
   } else if (spawn_mode == 2) {
     rtTrace(top_object, make_Ray(tesseraSpawnPoint(dir), dir, 1, 0.f, RT_DEFAULT_MAX), s);
+  } else if (spawn_mode == 4) {
+    const float3 other_side = tesseraSpawnPoint(-dir);
+    const float3 origin = tesseraSpawnPoint(dir);
+    rtTrace(top_object, make_Ray(origin, dir, 1, 0.f, RT_DEFAULT_MAX), s);
+    if (other_side.x == origin.x && other_side.y == origin.y && other_side.z == origin.z) {
+      s.hit = 2;  // both on one side
+    }
   } else {
     rtTrace(top_object, make_Ray(hit, dir, 1, 0.f, RT_DEFAULT_MAX), s);
   }

@@ -208,14 +208,14 @@ class SelfIntersectionTest : public ExtremesScene {};
 // Secondary rays leave hits on supporting faces into their outer half-space, where nothing of the
 // mesh is: any hit is the surface hitting itself again.
 TEST_F(SelfIntersectionTest, ErrorBoundOffsetsNeverHitTheSurfaceAgain) {
-  std::printf("%-44s %6s %12s %12s %12s\n", "scene", "rays", "eps 1e-4", "spawn point",
-              "auto offset");
-  size_t total[3] = {0, 0, 0}, rays_total = 0;
+  std::printf("%-44s %6s %12s %12s %12s %12s\n", "scene", "rays", "eps 1e-4", "spawn point",
+              "auto offset", "spawn twice");
+  size_t total[4] = {0, 0, 0, 0}, rays_total = 0;
   for (const Config& c : Configs()) {
     const Placement p = PlacementOf(c);
     const Mesh& mesh = MeshNamed(c.mesh);
-    size_t self_hits[3] = {0, 0, 0}, counted = 0;
-    for (int mode = 1; mode <= 3; ++mode) {
+    size_t self_hits[4] = {0, 0, 0, 0}, counted = 0;
+    for (int mode = 1; mode <= 4; ++mode) {
       Build(mesh, MeshKind::kGeometryTriangles, p, mode == 3 ? TESSERA_ACCURACY_OFFSET_RAYS : 0);
       std::vector<Target> targets;
       const std::vector<Ray> rays = SpawnRays(mesh, stored(), p, 2000, &targets);
@@ -227,18 +227,19 @@ TEST_F(SelfIntersectionTest, ErrorBoundOffsetsNeverHitTheSurfaceAgain) {
         self_hits[mode - 1] += results[i].secondary_hit ? 1 : 0;
       }
     }
-    std::printf("%-44s %6zu %12zu %12zu %12zu\n", Name(c).c_str(), counted, self_hits[0],
-                self_hits[1], self_hits[2]);
+    std::printf("%-44s %6zu %12zu %12zu %12zu %12zu\n", Name(c).c_str(), counted, self_hits[0],
+                self_hits[1], self_hits[2], self_hits[3]);
     EXPECT_GT(counted, 0u) << Name(c);
     EXPECT_EQ(self_hits[1], 0u) << Name(c) << ": tesseraSpawnPoint";
     EXPECT_EQ(self_hits[2], 0u) << Name(c) << ": TESSERA_ACCURACY_OFFSET_RAYS";
-    for (int m = 0; m < 3; ++m) total[m] += self_hits[m];
+    EXPECT_EQ(self_hits[3], 0u) << Name(c) << ": tesseraSpawnPoint after one toward the other side";
+    for (int m = 0; m < 4; ++m) total[m] += self_hits[m];
     rays_total += counted;
   }
   std::printf(
       "all: %zu rays; self-intersections: scene_epsilon 1e-4 %zu (%.2f%%), spawn point "
-      "%zu, automatic offset %zu\n",
-      rays_total, total[0], 100.0 * total[0] / rays_total, total[1], total[2]);
+      "%zu, automatic offset %zu, spawn point after one toward the other side %zu\n",
+      rays_total, total[0], 100.0 * total[0] / rays_total, total[1], total[2], total[3]);
 }
 
 }  // namespace

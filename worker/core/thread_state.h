@@ -208,6 +208,17 @@ struct ThreadState {
   std::vector<unsigned char> resume_payload;
   uint64_t last_node_id = 0;
   const NodeInfo* last_node = nullptr;
+  // tesseraSpawnPoint's last hit on an untransformed triangle and what it prepared of it
+  // (RtSpawnPoint): a path tracer's closest-hit program spawns two or three rays from one hit.
+  // Keyed by the launch index too, so a hit of another launch, whose vertices may have changed,
+  // never matches.
+  struct SpawnCache {
+    uint64_t index_serial = 0;
+    const GeometryInfo* geometry = nullptr;
+    unsigned primitive = 0;
+    uint32_t barycentric_bits[2] = {0, 0};
+    SpawnBase base;
+  } spawn_cache;
   // Where a program's `result` argument points when its kind passes none (CallProgram).
   float scratch_result[6] = {};
   // rtTrace and callable program calls raise RT_EXCEPTION_STACK_OVERFLOW below this address:

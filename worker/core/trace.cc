@@ -1204,13 +1204,37 @@ void RtSpawnPoint(const float* dir, float* origin) {
   ThreadState& ts = TS();
   CheckCall(ts, Bit(ProgramKind::kAnyHit) | Bit(ProgramKind::kClosestHit), "tesseraSpawnPoint");
   const Hit& h = CurrentHit(ts);
+  // An untransformed triangle's point and normal depend on the hit alone: prepared once for the
+  // rays a program spawns from it.
+  ThreadState::SpawnCache& cache = ts.spawn_cache;
+  const bool cacheable =
+      h.geometry != nullptr && h.geometry->vertices != nullptr && !h.xform.active;
+  uint32_t bary[2];
+  std::memcpy(bary, h.barycentrics, sizeof(bary));
+  if (cacheable && cache.index_serial == ts.index_serial && cache.geometry == h.geometry &&
+      cache.primitive == h.primitive && cache.barycentric_bits[0] == bary[0] &&
+      cache.barycentric_bits[1] == bary[1]) {
+    SpawnToward(cache.base, dir, origin);
+    return;
+  }
   float n[3];
   const BoundedPoint p = HitPoint(ts.top(), h, n);
   if (n[0] == 0.f && n[1] == 0.f && n[2] == 0.f) {
-    // No surface normal (an intersection program's hit): move along `dir` itself.
-    for (int k = 0; k < 3; ++k) n[k] = dir[k];
+    // No surface normal (an intersection program's hit, a degenerate triangle): move along `dir`
+    // itself.
+    OffsetRayOrigin(p, dir, dir, origin);
+    return;
   }
-  OffsetRayOrigin(p, n, dir, origin);
+  const SpawnBase base = PrepareSpawn(p, n);
+  if (cacheable) {
+    cache.index_serial = ts.index_serial;
+    cache.geometry = h.geometry;
+    cache.primitive = h.primitive;
+    cache.barycentric_bits[0] = bary[0];
+    cache.barycentric_bits[1] = bary[1];
+    cache.base = base;
+  }
+  SpawnToward(base, dir, origin);
 }
 
 void VerifyTriangles(const RTCFilterFunctionNArguments* args) {

@@ -175,21 +175,24 @@ inline BoundedPoint TransformPoint(const float* m, const BoundedPoint& pt) {
   return out;
 }
 
-// The origin for a ray leaving `pt` in direction `dir` from a surface with normal `n` (any
-// length, either orientation): `pt` moved along n, to the side `dir` points to, by the error
-// bound projected on n, each component then rounded away from the point (pbrt-v4
-// OffsetRayOrigin). A ray from there cannot hit the surface `pt` lies on again at t >= 0.
-inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const float dir[3],
-                            float out[3]) {
+// What OffsetRayOrigin computes of a point and its surface normal before it looks at a ray's
+// direction: a hit's rays (a path tracer's shadow rays and next bounce) share it.
+struct SpawnBase {
+  float p[3];
+  float m[3];   // the normal scaled by a power of two
+  float scale;  // the error bound projected on the normal, over |m|^2: the offset is scale * m
+  bool valid;   // false: the normal is zero, infinite or NaN, and rays start at p itself
+};
+
+inline SpawnBase PrepareSpawn(const BoundedPoint& pt, const float n[3]) {
   // The bound projected on the unit normal, times the unit normal, is (sum |n_k| err_k) n / |n|^2:
   // no square root, and n scaled exactly by the power of two that brings its largest component
-  // into [1, 2) keeps |n|^2 in [1, 12) whatever the triangle's size, for one division (every ray
-  // leaving a surface comes here twice in a path tracer).
+  // into [1, 2) keeps |n|^2 in [1, 12) whatever the triangle's size, for one division.
+  SpawnBase b;
+  for (int k = 0; k < 3; ++k) b.p[k] = pt.p[k];
   const float sum = std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]);  // NaN stays NaN
-  if (!(sum > 0.f) || !(sum <= std::numeric_limits<float>::max())) {
-    for (int k = 0; k < 3; ++k) out[k] = pt.p[k];
-    return;
-  }
+  b.valid = sum > 0.f && sum <= std::numeric_limits<float>::max();
+  if (!b.valid) return b;
   // No NaN gets here (the sum is finite), so plain compares, not libm's out-of-line fmaxf.
   const float a0 = std::fabs(n[0]), a1 = std::fabs(n[1]), a2 = std::fabs(n[2]);
   const float a01 = a0 > a1 ? a0 : a1;
@@ -202,17 +205,37 @@ inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const floa
   const uint32_t inv_bits = (254u - e) << 23;
   float inv;
   std::memcpy(&inv, &inv_bits, sizeof(inv));
-  const float m[3] = {n[0] * inv, n[1] * inv, n[2] * inv};
-  const float norm2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
-  float scale =
-      (std::fabs(m[0]) * pt.err[0] + std::fabs(m[1]) * pt.err[1] + std::fabs(m[2]) * pt.err[2]) /
-      norm2;
-  if (dir[0] * m[0] + dir[1] * m[1] + dir[2] * m[2] < 0.f) scale = -scale;
+  for (int k = 0; k < 3; ++k) b.m[k] = n[k] * inv;
+  const float norm2 = b.m[0] * b.m[0] + b.m[1] * b.m[1] + b.m[2] * b.m[2];
+  b.scale = (std::fabs(b.m[0]) * pt.err[0] + std::fabs(b.m[1]) * pt.err[1] +
+             std::fabs(b.m[2]) * pt.err[2]) /
+            norm2;
+  return b;
+}
+
+// The origin for a ray leaving in direction `dir`: the point moved along the normal to the side
+// `dir` points to, each component then rounded away from the point.
+inline void SpawnToward(const SpawnBase& b, const float dir[3], float out[3]) {
+  if (!b.valid) {
+    for (int k = 0; k < 3; ++k) out[k] = b.p[k];
+    return;
+  }
+  float scale = b.scale;
+  if (dir[0] * b.m[0] + dir[1] * b.m[1] + dir[2] * b.m[2] < 0.f) scale = -scale;
   for (int k = 0; k < 3; ++k) {
-    const float offset = scale * m[k];
-    const float o = pt.p[k] + offset;
+    const float offset = scale * b.m[k];
+    const float o = b.p[k] + offset;
     out[k] = offset > 0.f ? NextFloatUp(o) : offset < 0.f ? NextFloatDown(o) : o;
   }
+}
+
+// The origin for a ray leaving `pt` in direction `dir` from a surface with normal `n` (any
+// length, either orientation): `pt` moved along n, to the side `dir` points to, by the error
+// bound projected on n, each component then rounded away from the point (pbrt-v4
+// OffsetRayOrigin). A ray from there cannot hit the surface `pt` lies on again at t >= 0.
+inline void OffsetRayOrigin(const BoundedPoint& pt, const float n[3], const float dir[3],
+                            float out[3]) {
+  SpawnToward(PrepareSpawn(pt, n), dir, out);
 }
 
 // TESSERA_ACCURACY_OFFSET_RAYS: whether a ray a hit program traces from `origin` starts at that
