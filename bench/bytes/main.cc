@@ -15,6 +15,7 @@
 
 #include "common/rt_util.h"
 #include "common/tutorial_context.h"
+#include "tessera/cli_checks.h"
 #include "tutorial/programs/common_structs.h"
 
 namespace tessera::bench {
@@ -119,10 +120,10 @@ int main(int argc, char** argv) {
   app.add_option("--devices", o.scene.devices, "device spec")->capture_default_str();
   app.add_option("--width", o.scene.width, "image width")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--height", o.scene.height, "image height")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--modules", o.scene.module_dir, "directory of the tutorial_*.so modules");
   app.add_flag("--check", o.check,
                "tiny image; exit 1 unless every figure is what the buffer rules say");

@@ -18,6 +18,7 @@
 #include "image_check.h"
 #include "mesh.h"
 #include "scene.h"
+#include "tessera/cli_checks.h"
 #include "timing.h"
 
 namespace tessera::bench {
@@ -148,21 +149,21 @@ int main(int argc, char** argv) {
   app.add_option("--model", o.model, "Wavefront OBJ model")->capture_default_str();
   app.add_option("--width", o.width, "image width")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--height", o.height, "image height")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--warmup", o.warmup, "untimed launches first")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(tessera::cli::kNonNegative);
   app.add_option("--runs", o.runs, "timed launches")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--threads", o.threads,
                  "tracing threads for Tessera (CPU_NUM_THREADS) and the viewer (--threads); "
                  "0: every core")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(tessera::cli::kNonNegative);
   app.add_option("--out", o.out, "write the image as a binary PPM (e.g. eyelight.ppm)")
       ->check([](const std::string& path) {
         const std::string ext = ".ppm";

@@ -26,6 +26,7 @@
 #include "common/rt_util.h"
 #include "common/tutorial_context.h"
 #include "tessera/accuracy.h"
+#include "tessera/cli_checks.h"
 #include "tessera/rt_ext.h"
 
 namespace tessera::bench {
@@ -172,13 +173,13 @@ int main(int argc, char** argv) {
       "  tessera-bench-fastmath --devices local:2 --width 640 --height 480"};
   app.add_option("--width", o.width, "image width")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--height", o.height, "image height")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--repeats", o.repeats, "timed launches per configuration (median)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--devices", o.devices, "device spec (inproc, local:N, ...)")
       ->capture_default_str();
   app.add_option("--step", o.step, "tutorial step")

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "common/rt_util.h"
+#include "tessera/cli_checks.h"
 
 namespace tessera::bench {
 namespace {
@@ -220,15 +221,15 @@ int main(int argc, char** argv) {
   CLI::App app{"Output bytes per second from worker processes vs memcpy"};
   app.add_option("--width", o.width, "buffer width (float4 elements)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--height", o.height, "buffer height")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--devices", o.devices, "device specs to measure; the first gives the headline")
       ->capture_default_str();
   app.add_option("--repeats", o.repeats, "timed launches (median)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--module", o.module, "program module built from gather.cu")
       ->capture_default_str();
   app.add_flag("--check", o.check,

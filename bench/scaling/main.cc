@@ -27,6 +27,7 @@
 #include "common/embree_viewer.h"
 #include "common/rt_util.h"
 #include "common/tutorial_context.h"
+#include "tessera/cli_checks.h"
 
 namespace tessera::bench {
 namespace {
@@ -305,13 +306,13 @@ int main(int argc, char** argv) {
   CLI::App app{"Scaling of the tutorial's last step over local worker processes"};
   app.add_option("--width", o.width, "image width")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--height", o.height, "image height")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--repeats", o.repeats, "timed launches per configuration (median)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--step", o.step,
                  "tutorial step (the headline figure is for the last, the default; step 1 is "
                  "primary rays only)")
@@ -321,7 +322,7 @@ int main(int argc, char** argv) {
                "also one inproc device with 2, 4, 8 … threads (reference rows)");
   app.add_option("--max-devices", o.max_devices,
                  "largest local:N (default: the core count, which the headline figure needs)")
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--devices", o.only,
                  "only these device specs after the baseline (repeatable; no headline figure)");
   app.add_option("--modules", o.module_dir, "directory of the tutorial_*.so modules");

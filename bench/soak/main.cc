@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "process_util.h"  // tests/e2e: children of a process by name
+#include "tessera/cli_checks.h"
 
 extern char** environ;
 
@@ -316,7 +317,7 @@ int main(int argc, char** argv) {
   app.add_option("--devices", o.spec, "TESSERA_DEVICES for the host")->capture_default_str();
   app.add_option("--rounds", o.rounds, "renders per fault")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--faults", o.faults,
                  "which faults: kill, double-kill, triple-kill (one, two or three workers "
                  "SIGKILLed at one moment), stop (one SIGSTOPped)")

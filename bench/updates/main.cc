@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "common/rt_util.h"
+#include "tessera/cli_checks.h"
 
 namespace tessera::bench {
 namespace {
@@ -223,13 +224,13 @@ int main(int argc, char** argv) {
   CLI::App app{"Launches after small changes to a scene of many geometry instances"};
   app.add_option("--instances", o.instances, "geometry instances")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--width", o.width, "launch indices (one ray each)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--rounds", o.rounds, "timed launches of each change (median)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   app.add_option("--devices", o.devices, "device spec")->capture_default_str();
   app.add_option("--module", o.module, "program module built from updates.cu")
       ->capture_default_str();

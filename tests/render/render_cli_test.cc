@@ -429,6 +429,21 @@ TEST_F(RenderCliTest, UsageErrorsExit2NamingTheFlag) {
     EXPECT_EQ(r.status, 2) << c.named << ": " << r.err;
     EXPECT_NE(r.err.find(c.named), std::string::npos) << r.err;
   }
+  // Number checks say what they want in words, not as a range ending in DBL_MAX's 309 digits.
+  const Case numbers[] = {
+      {{"render", "builtin:cornell", "-o", Path("x.png"), "--fps=0"},
+       "--fps: must be greater than 0 (got 0)"},
+      {{"render", "builtin:cornell", "-o", Path("x.png"), "--clamp-indirect=-1"},
+       "--clamp-indirect: must be 0 or more (got -1)"},
+      {{"render", "builtin:cornell", "-o", Path("x.png"), "--time-limit=soon"},
+       "--time-limit: must be a number (got 'soon')"},
+  };
+  for (const Case& c : numbers) {
+    const Result r = Run(c.args);
+    EXPECT_EQ(r.status, 2) << c.named << ": " << r.err;
+    EXPECT_NE(r.err.find(c.named), std::string::npos) << r.err;
+    EXPECT_LT(r.err.size(), 200u) << r.err;
+  }
   const Result help = Run({"render", "--help"});
   EXPECT_EQ(help.status, 0);
   for (const char* flag :

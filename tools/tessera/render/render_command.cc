@@ -18,6 +18,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "tessera/cli_checks.h"
 #include "tessera/rt_ext.h"
 #include "tools/tessera/render/accumulation_file.h"
 #include "tools/tessera/render/camera_setup.h"
@@ -457,7 +458,7 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
       ->add_option("--time-limit", o.time_limit,
                    "seconds per frame: render passes until the time is up (with --spp, whichever "
                    "comes first; without it, no sample limit)")
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   render->add_option("--max-depth", o.max_depth, "bounces per path (0: emission only)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000));
@@ -466,7 +467,7 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
                    "clamp light arriving after a bounce to this value per sample (0: off; e.g. 10 "
                    "for previews: fewer speckles from caustics, slightly darker)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(tessera::cli::kNonNegative);
   render->add_option("--width", o.width, "image width (default 1280)")->check(CLI::Range(1, 65536));
   render
       ->add_option("--height", o.height,
@@ -484,7 +485,7 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
       });
   render->add_option("--fps", o.fps, "frames per second of --frames")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(tessera::cli::kPositive);
   render->add_flag("--skip-existing", o.skip_existing,
                    "leave frames whose image exists (and has no .accum beside it) alone");
   render
@@ -494,7 +495,7 @@ CLI::App* AddRenderCommand(CLI::App& app, RenderOptions& o) {
       ->check(CLI::ExistingFile);
   render->add_option("--env-intensity", o.environment_intensity, "scale of the environment map")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(tessera::cli::kNonNegative);
   render
       ->add_option("--look-from", o.look_from,
                    "look from this point X,Y,Z instead of a camera of the scene (at the middle of "
