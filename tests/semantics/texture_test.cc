@@ -109,6 +109,46 @@ class TextureTest : public OnDevicesFixture {
     }
   }
 
+  // A view of w x h texels as the host's general sampling path reads them: linear filtering,
+  // normalized coordinates, one level (the wrap modes are set per check).
+  static TesseraTextureView LinearView(const void* texels, unsigned w, unsigned h, RTformat format,
+                                       unsigned element_size, RTtexturereadmode read_mode) {
+    TesseraTextureView v{};
+    v.levels[0] = {texels, w, h, 1, 0};
+    v.level_count = 1;
+    v.dimensionality = 2;
+    v.format = format;
+    v.element_size = element_size;
+    v.min_filter = v.mag_filter = RT_FILTER_LINEAR;
+    v.mip_filter = RT_FILTER_NONE;
+    v.read_mode = read_mode;
+    v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
+    v.mip_level_clamp[1] = 1000.f;
+    return v;
+  }
+
+  // For each pair of wrap modes, sampler `s` set so and launched: both outputs hold what the
+  // general path computes from `v` at the ray generation program's coordinates (offset -1.3,
+  // 0.45 texels).
+  template <size_t N>
+  void ExpectTheGeneralPath(RTtexturesampler s, TesseraTextureView v,
+                            const RTwrapmode (&modes)[N][2], const char* what) {
+    for (const auto& m : modes) {
+      Ok(rtTextureSamplerSetWrapMode(s, 0, m[0]));
+      Ok(rtTextureSamplerSetWrapMode(s, 1, m[1]));
+      v.wrap[0] = m[0];
+      v.wrap[1] = m[1];
+      Launch();
+      ExpectBoth(
+          [&](unsigned x, unsigned y) {
+            const float4 f = tessera::texture::Sample2D<float4>(v, (x + 0.5f - 1.3f) / kSide,
+                                                                (y + 0.5f + 0.45f) / kSide);
+            return Float4{f.x, f.y, f.z, f.w};
+          },
+          what);
+    }
+  }
+
   RTbuffer declared_ = nullptr, bindless_ = nullptr, texels_ = nullptr;
   RTtexturesampler sampler_ = nullptr;
 };
@@ -228,36 +268,14 @@ TEST_P(TextureTest, BilinearBytesMatchTheGeneralPathInEveryWrapMode) {
     }
     Ok(rtVariableSet2f(ContextVar("offset"), -1.3f, 0.45f));
     RayGen("sample_bytes_both");
-
-    TesseraTextureView v{};
-    v.levels[0] = {bytes.data(), kW, kH, 1, 0};
-    v.level_count = 1;
-    v.dimensionality = 2;
-    v.format = RT_FORMAT_UNSIGNED_BYTE4;
-    v.element_size = 4;
-    v.min_filter = v.mag_filter = RT_FILTER_LINEAR;
-    v.mip_filter = RT_FILTER_NONE;
-    v.read_mode = RT_TEXTURE_READ_NORMALIZED_FLOAT;
-    v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
-    v.mip_level_clamp[1] = 1000.f;
     const RTwrapmode modes[][2] = {{RT_WRAP_CLAMP_TO_EDGE, RT_WRAP_CLAMP_TO_EDGE},
                                    {RT_WRAP_REPEAT, RT_WRAP_REPEAT},
                                    {RT_WRAP_MIRROR, RT_WRAP_MIRROR},
                                    {RT_WRAP_REPEAT, RT_WRAP_CLAMP_TO_BORDER}};
-    for (const auto& m : modes) {
-      Ok(rtTextureSamplerSetWrapMode(s, 0, m[0]));
-      Ok(rtTextureSamplerSetWrapMode(s, 1, m[1]));
-      v.wrap[0] = m[0];
-      v.wrap[1] = m[1];
-      Launch();
-      ExpectBoth(
-          [&](unsigned x, unsigned y) {
-            const float4 f = tessera::texture::Sample2D<float4>(v, (x + 0.5f - 1.3f) / kSide,
-                                                                (y + 0.5f + 0.45f) / kSide);
-            return Float4{f.x, f.y, f.z, f.w};
-          },
-          sparse == 1 ? "sparse id" : "dense id");
-    }
+    ExpectTheGeneralPath(s,
+                         LinearView(bytes.data(), kW, kH, RT_FORMAT_UNSIGNED_BYTE4, 4,
+                                    RT_TEXTURE_READ_NORMALIZED_FLOAT),
+                         modes, sparse == 1 ? "sparse id" : "dense id");
   }
 }
 
@@ -273,35 +291,14 @@ TEST_P(TextureTest, BilinearFloatsMatchTheGeneralPathInEveryWrapMode) {
                                        RT_FILTER_NONE));
   Ok(rtVariableSet2f(ContextVar("offset"), -1.3f, 0.45f));
   RayGen("sample_plain");
-  TesseraTextureView v{};
-  v.levels[0] = {texels.data(), kSide, kSide, 1, 0};
-  v.level_count = 1;
-  v.dimensionality = 2;
-  v.format = RT_FORMAT_FLOAT4;
-  v.element_size = 16;
-  v.min_filter = v.mag_filter = RT_FILTER_LINEAR;
-  v.mip_filter = RT_FILTER_NONE;
-  v.read_mode = RT_TEXTURE_READ_ELEMENT_TYPE;
-  v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
-  v.mip_level_clamp[1] = 1000.f;
   const RTwrapmode modes[][2] = {{RT_WRAP_CLAMP_TO_EDGE, RT_WRAP_CLAMP_TO_EDGE},
                                  {RT_WRAP_REPEAT, RT_WRAP_CLAMP_TO_EDGE},
                                  {RT_WRAP_REPEAT, RT_WRAP_REPEAT},
                                  {RT_WRAP_MIRROR, RT_WRAP_MIRROR}};
-  for (const auto& m : modes) {
-    Ok(rtTextureSamplerSetWrapMode(sampler_, 0, m[0]));
-    Ok(rtTextureSamplerSetWrapMode(sampler_, 1, m[1]));
-    v.wrap[0] = m[0];
-    v.wrap[1] = m[1];
-    Launch();
-    ExpectBoth(
-        [&](unsigned x, unsigned y) {
-          const float4 f = tessera::texture::Sample2D<float4>(v, (x + 0.5f - 1.3f) / kSide,
-                                                              (y + 0.5f + 0.45f) / kSide);
-          return Float4{f.x, f.y, f.z, f.w};
-        },
-        "float4");
-  }
+  ExpectTheGeneralPath(
+      sampler_,
+      LinearView(texels.data(), kSide, kSide, RT_FORMAT_FLOAT4, 16, RT_TEXTURE_READ_ELEMENT_TYPE),
+      modes, "float4");
 }
 
 // Cube maps and layered textures reach the device with their faces and layers in order.

@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "linear_view.h"
 #include "tessera/detail/texture_sampling.h"
 #include "tessera/rt.h"
 
@@ -32,19 +33,10 @@ RTformat FloatFormat(unsigned channels) {
 // A float texture as an HDR image or a noise volume is read: linear, normalized coordinates.
 TesseraTextureView FloatView(const std::vector<float>& texels, unsigned channels, unsigned w,
                              unsigned h, unsigned d, unsigned dims, const RTwrapmode wrap[3]) {
-  TesseraTextureView v{};
-  v.levels[0] = {texels.data(), w, h, d, 0};
-  v.level_count = 1;
-  v.dimensionality = dims;
-  v.format = FloatFormat(channels);
-  v.element_size = 4 * channels;
+  TesseraTextureView v =
+      tessera::testing::LinearView(texels.data(), w, h, d, dims, FloatFormat(channels),
+                                   4 * channels, RT_TEXTURE_READ_NORMALIZED_FLOAT, wrap[0]);
   for (int a = 0; a < 3; ++a) v.wrap[a] = wrap[a];
-  v.min_filter = v.mag_filter = RT_FILTER_LINEAR;
-  v.mip_filter = RT_FILTER_NONE;
-  v.read_mode = RT_TEXTURE_READ_NORMALIZED_FLOAT;
-  v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
-  v.max_anisotropy = 1.f;
-  v.mip_level_clamp[1] = 1000.f;
   return v;
 }
 

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "linear_view.h"
 #include "tessera/detail/texture_sampling.h"
 #include "tessera/rt.h"
 
@@ -26,20 +27,8 @@ using tessera::texture::Sample2DLod;
 // What tex2D of an LDR image reads: RGBA8 as normalized floats, bilinear, normalized coordinates.
 TesseraTextureView Rgba8View(const std::vector<uint8_t>& texels, unsigned w, unsigned h,
                              RTwrapmode wrap) {
-  TesseraTextureView v{};
-  v.levels[0] = {texels.data(), w, h, 1, 0};
-  v.level_count = 1;
-  v.dimensionality = 2;
-  v.format = RT_FORMAT_UNSIGNED_BYTE4;
-  v.element_size = 4;
-  for (unsigned& m : v.wrap) m = wrap;
-  v.min_filter = v.mag_filter = RT_FILTER_LINEAR;
-  v.mip_filter = RT_FILTER_NONE;
-  v.read_mode = RT_TEXTURE_READ_NORMALIZED_FLOAT;
-  v.index_mode = RT_TEXTURE_INDEX_NORMALIZED_COORDINATES;
-  v.max_anisotropy = 1.f;
-  v.mip_level_clamp[1] = 1000.f;
-  return v;
+  return tessera::testing::LinearView(texels.data(), w, h, 1, 2, RT_FORMAT_UNSIGNED_BYTE4, 4,
+                                      RT_TEXTURE_READ_NORMALIZED_FLOAT, wrap);
 }
 
 TEST(TextureFastKind, TakesOnlyTheLookupItComputes) {

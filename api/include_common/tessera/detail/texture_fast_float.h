@@ -77,6 +77,24 @@ TESSERA_TEXTURE_INLINE Axis FastLinearAxis(float x, unsigned n, unsigned wrap) {
                              : AxisAt<true>(x, static_cast<int>(n), kWrapClampToEdge, true);
 }
 
+// Calls tap(weight, first channel) for each texel of a linear lookup on axes `ax`, in the
+// general path's order: z, then y, then x.
+template <int D, int C, typename Tap>
+TESSERA_TEXTURE_INLINE void ForEachTap(const Axis (&ax)[3], const float* base, std::size_t row,
+                                       std::size_t slice, Tap&& tap) {
+#pragma GCC unroll 2
+  for (int k = 0; k < (D == 3 ? 2 : 1); ++k) {
+#pragma GCC unroll 2
+    for (int j = 0; j < 2; ++j) {
+#pragma GCC unroll 2
+      for (int i = 0; i < 2; ++i) {
+        tap(ax[0].weight[i] * ax[1].weight[j] * ax[2].weight[k],
+            base + (ax[0].index[i] + ax[1].index[j] * row + ax[2].index[k] * slice) * C);
+      }
+    }
+  }
+}
+
 // The lookup at x[0, D) into out[0, C), for a view whose fast_linear is (D << 4) | C.
 template <int D, int C>
 TESSERA_TEXTURE_INLINE void FastLinearFloat(const TesseraTextureView& v, const float* x,
@@ -96,29 +114,19 @@ TESSERA_TEXTURE_INLINE void FastLinearFloat(const TesseraTextureView& v, const f
 #if defined(__SSE2__)
   if constexpr (C != 1) {
     __m128d lo = _mm_setzero_pd(), hi = _mm_setzero_pd();
-#pragma GCC unroll 2
-    for (int k = 0; k < (D == 3 ? 2 : 1); ++k) {
-#pragma GCC unroll 2
-      for (int j = 0; j < 2; ++j) {
-#pragma GCC unroll 2
-        for (int i = 0; i < 2; ++i) {
-          const int w = ax[0].weight[i] * ax[1].weight[j] * ax[2].weight[k];
-          const float* t =
-              base + (ax[0].index[i] + ax[1].index[j] * row + ax[2].index[k] * slice) * C;
-          const __m128d weight = _mm_set1_pd(static_cast<double>(w));
-          const __m128d keep = _mm_castsi128_pd(_mm_set1_epi64x(w != 0 ? -1 : 0));
-          if constexpr (C == 4) {
-            const __m128 q = _mm_loadu_ps(t);
-            lo = _mm_add_pd(lo, _mm_and_pd(_mm_mul_pd(_mm_cvtps_pd(q), weight), keep));
-            hi = _mm_add_pd(
-                hi, _mm_and_pd(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(q, q)), weight), keep));
-          } else {
-            const __m128 q = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(t)));
-            lo = _mm_add_pd(lo, _mm_and_pd(_mm_mul_pd(_mm_cvtps_pd(q), weight), keep));
-          }
-        }
+    ForEachTap<D, C>(ax, base, row, slice, [&](int w, const float* t) {
+      const __m128d weight = _mm_set1_pd(static_cast<double>(w));
+      const __m128d keep = _mm_castsi128_pd(_mm_set1_epi64x(w != 0 ? -1 : 0));
+      if constexpr (C == 4) {
+        const __m128 q = _mm_loadu_ps(t);
+        lo = _mm_add_pd(lo, _mm_and_pd(_mm_mul_pd(_mm_cvtps_pd(q), weight), keep));
+        hi =
+            _mm_add_pd(hi, _mm_and_pd(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(q, q)), weight), keep));
+      } else {
+        const __m128 q = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(t)));
+        lo = _mm_add_pd(lo, _mm_and_pd(_mm_mul_pd(_mm_cvtps_pd(q), weight), keep));
       }
-    }
+    });
     const __m128d scale = _mm_set1_pd(kScale);
     const __m128 l = _mm_cvtpd_ps(_mm_mul_pd(lo, scale));
     if constexpr (C == 4) {
@@ -131,20 +139,10 @@ TESSERA_TEXTURE_INLINE void FastLinearFloat(const TesseraTextureView& v, const f
   }
 #endif
   double acc[C] = {};
-#pragma GCC unroll 2
-  for (int k = 0; k < (D == 3 ? 2 : 1); ++k) {
-#pragma GCC unroll 2
-    for (int j = 0; j < 2; ++j) {
-#pragma GCC unroll 2
-      for (int i = 0; i < 2; ++i) {
-        const int w = ax[0].weight[i] * ax[1].weight[j] * ax[2].weight[k];
-        const float* t =
-            base + (ax[0].index[i] + ax[1].index[j] * row + ax[2].index[k] * slice) * C;
+  ForEachTap<D, C>(ax, base, row, slice, [&](int w, const float* t) {
 #pragma GCC unroll 4
-        for (int c = 0; c < C; ++c) acc[c] += w != 0 ? w * double(t[c]) : 0.0;
-      }
-    }
-  }
+    for (int c = 0; c < C; ++c) acc[c] += w != 0 ? w * double(t[c]) : 0.0;
+  });
 #pragma GCC unroll 4
   for (int c = 0; c < C; ++c) out[c] = static_cast<float>(acc[c] * kScale);
 }
