@@ -571,7 +571,9 @@ const BoundProgram* TriangleAttributes(ThreadState& ts, Hit& h, const RayData& o
   ts.object_ray = &object_ray;
   Enter(ts, *p);
   const ModuleState& ms = *ts.current_module;
-  WriteRaySlots(ms, p->ray, object_ray);
+  // The ray was stored at the end of traversal, the attributes' clearing and the program's entry
+  // ago: one block copy reads it without waiting on stores in flight.
+  WriteRaySlots<true>(ms, p->ray, object_ray);
   WriteSlots<sizeof(float)>(ms, p->distance, &h.t);
   LoadAttributes(ms, *p, h.attributes);
   ts.attribute_hit = &h;
