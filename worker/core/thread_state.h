@@ -73,7 +73,7 @@ struct TraceContext {
   // xform holds (RTC_INVALID_GEOMETRY_ID: *base, the transform above the scene), and that
   // transform, kept aside while an instance's is in the frame.
   unsigned current = RTC_INVALID_GEOMETRY_ID;
-  Xform* base = nullptr;
+  const Xform* base = nullptr;
 };
 inline TraceContext& ContextOf(RTCIntersectContext* c) {
   return *reinterpret_cast<TraceContext*>(c);

@@ -323,10 +323,13 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   ctx.scene = &scene;
   ctx.any_hit_bit = AnyHitBit(ray.ray_type, f.flags & kRayFlagDisableAnyHit);
   const bool instanced = !scene.instances.empty();
-  // Storage for the transform above a scene with instances, filled only for one: an Xform
-  // itself would write its two identity matrices on every trace.
+  // The transform above a scene with instances. None (the commonest case: a trace from a program
+  // with no Transform above it) needs no copy: a copy would read the frame's transform, whose flag
+  // rtTrace has just stored, with wide loads that wait for that store. Storage for one, filled
+  // only when there is one: an Xform itself would write its two identity matrices on every trace.
+  static const Xform kNoTransform;
   alignas(Xform) unsigned char base_storage[sizeof(Xform)];
-  if (instanced) ctx.base = new (base_storage) Xform(f.xform);
+  if (instanced) ctx.base = f.xform.active ? new (base_storage) Xform(f.xform) : &kNoTransform;
   rtcIntersect1(scene.scene, &ctx.embree, &rh);
   if (ctx.current != RTC_INVALID_GEOMETRY_ID) CopyXform(f.xform, *ctx.base);
   RethrowPending(ts);
