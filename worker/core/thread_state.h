@@ -337,21 +337,10 @@ inline void CopyBytes(void* dst, const void* src, size_t n) {
 // memset(dst, 0, n) for the small sizes of attributes, without a library call.
 inline void ZeroBytes(void* dst, size_t n) {
   static constexpr unsigned char kZeros[16] = {};
-  switch (n) {
-    case 4:
-      std::memcpy(dst, kZeros, 4);
-      return;
-    case 8:
-      std::memcpy(dst, kZeros, 8);
-      return;
-    case 12:
-      std::memcpy(dst, kZeros, 12);
-      return;
-    case 16:
-      std::memcpy(dst, kZeros, 16);
-      return;
-    default:
-      std::memset(dst, 0, n);
+  if (n <= sizeof(kZeros)) {
+    CopyBytes(dst, kZeros, n);
+  } else {
+    std::memset(dst, 0, n);
   }
 }
 

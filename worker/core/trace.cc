@@ -302,6 +302,9 @@ __attribute__((noinline)) void OccludeScene(ThreadState& ts, const SceneEntry& s
 
 constexpr unsigned kOcclusionFlags = kRayFlagTerminateOnFirstHit | kRayFlagDisableClosestHit;
 
+// The transform above a scene traced from where there is none.
+constexpr Xform kNoTransform{};
+
 void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
                     bool geometry_group) {
   if (__builtin_expect(scene.single_instance, 0)) {
@@ -327,7 +330,6 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   // with no Transform above it) needs no copy: a copy would read the frame's transform, whose flag
   // rtTrace has just stored, with wide loads that wait for that store. Storage for one, filled
   // only when there is one: an Xform itself would write its two identity matrices on every trace.
-  static const Xform kNoTransform;
   alignas(Xform) unsigned char base_storage[sizeof(Xform)];
   if (instanced) ctx.base = f.xform.active ? new (base_storage) Xform(f.xform) : &kNoTransform;
   rtcIntersect1(scene.scene, &ctx.embree, &rh);
@@ -553,7 +555,9 @@ bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& 
 // then what the attribute program, if any, writes. `object_ray` is the ray in the triangles'
 // space.
 // Returns the attribute program it ran (null for none), whose module's slots then hold `h`'s
-// attributes.
+// attributes. kRaySettled: `object_ray` was stored long before (at the end of traversal), so one
+// block copy reads it without waiting on stores in flight; a ray just built is read word by word.
+template <bool kRaySettled>
 const BoundProgram* TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
   const LaunchPlan& plan = *ts.plan;
   const InstancePlan& ip = *h.instance;
@@ -574,9 +578,7 @@ const BoundProgram* TriangleAttributes(ThreadState& ts, Hit& h, const RayData& o
   ts.object_ray = &object_ray;
   Enter(ts, *p);
   const ModuleState& ms = *ts.current_module;
-  // The ray was stored at the end of traversal, the attributes' clearing and the program's entry
-  // ago: one block copy reads it without waiting on stores in flight.
-  WriteRaySlots<true>(ms, p->ray, object_ray);
+  WriteRaySlots<kRaySettled>(ms, p->ray, object_ray);
   WriteSlots<sizeof(float)>(ms, p->distance, &h.t);
   LoadAttributes(ms, *p, h.attributes);
   ts.attribute_hit = &h;
@@ -612,7 +614,7 @@ bool FilterBuiltin(ThreadState& ts, Frame& f, const GeometryInfo* info, const RT
     return true;
   }
   c.material = material;
-  TriangleAttributes(ts, c, object_ray);
+  TriangleAttributes</*kRaySettled=*/false>(ts, c, object_ray);
   return OfferToAnyHit(ts, f, c, *ah, object_ray);
 }
 
@@ -877,7 +879,8 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
         // index, which the attribute program's Enter has already seen).
         bool in_slots = false;
         if (builtin_pending) {
-          const BoundProgram* attribute = TriangleAttributes(ts, f.hit, f.hit.object_ray);
+          const BoundProgram* attribute =
+              TriangleAttributes</*kRaySettled=*/true>(ts, f.hit, f.hit.object_ray);
           in_slots = attribute != nullptr && attribute->module_index == ch->module_index &&
                      !ch->attributes_alias;
         }
