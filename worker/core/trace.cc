@@ -797,7 +797,11 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
       Bit(ProgramKind::kRayGeneration) | Bit(ProgramKind::kClosestHit) | Bit(ProgramKind::kMiss),
       "rtTrace");
   const LaunchPlan& plan = *ts.plan;
-  RayData ray;
+  // The ray goes straight into the frame it is traced in: frames has max_depth + 1 entries, so
+  // frames[depth] exists even for a trace that RejectTrace refuses, and nothing writes it before
+  // the frame is pushed.
+  Frame& f = ts.frames[ts.depth];
+  RayData& ray = f.ray;
   CopyWords(&ray, ray_ptr, sizeof(ray));  // the program has just written it
   bool as_miss = false;
   if (__builtin_expect(ts.depth >= plan.max_depth || !ValidRay(ray) ||
@@ -837,8 +841,7 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   const BoundProgram* caller = ts.current;
   SuspendedSlots& suspended = Suspend(ts, ts.depth);
   if (!has_time) time = ts.depth > 0 ? ts.frames[ts.depth - 1].time : 0.f;
-  Frame& f = ts.frames[ts.depth++];
-  CopyWords(&f.ray, &ray, sizeof(ray));  // `ray` has just been stored word by word
+  ++ts.depth;
   f.payload = payload;
   f.payload_size = payload_size;
   f.hit.t = ray.tmax;
