@@ -60,8 +60,11 @@ cat >"$libs/run" <<'SCRIPT'
 export TESSERA_WORKER=/opt/tessera-libs/worker
 exec /opt/tessera-libs/ld-linux-x86-64.so.2 --library-path /opt/tessera-libs "$@"
 SCRIPT
+# A worker started through the loader cannot start itself again with static TLS for its modules'
+# initial-exec builds (worker_main.cc): it is given the room here.
 cat >"$libs/worker" <<SCRIPT
 #!/bin/sh
+export GLIBC_TUNABLES="\${GLIBC_TUNABLES:+\$GLIBC_TUNABLES:}glibc.rtld.optional_static_tls=65536"
 exec /opt/tessera-libs/ld-linux-x86-64.so.2 --library-path /opt/tessera-libs $worker "\$@"
 SCRIPT
 chmod +x "$libs/run" "$libs/worker"

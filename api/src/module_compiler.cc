@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <mutex>
 #include <random>
 
@@ -24,6 +25,7 @@
 #include "tessera/scheduler/install_paths.h"
 #include "tessera/scheduler/log.h"
 #include "tessera/scheduler/module_cache_files.h"
+#include "tessera/scheduler/module_file.h"
 
 #ifndef TESSERA_PROGRAM_INCLUDE_DIR
 #define TESSERA_PROGRAM_INCLUDE_DIR ""
@@ -269,6 +271,30 @@ std::vector<std::string> Optix7IncludeDirs() {
   return absl::StrSplit(TESSERA_OPTIX7_INCLUDE_DIR, ':', absl::SkipEmpty());
 }
 
+// Builds the module of `command` (the compile command without its input and output) with
+// initial-exec thread-local variables into `output`. Returns `output`, or "" when that build
+// failed: the module then goes without it (its variables stay local-dynamic everywhere).
+std::string InitialExecBuild(std::vector<std::string> command, const std::string& input,
+                             const std::string& output) {
+  command.insert(command.end(), {"-DTESSERA_TLS_INITIAL_EXEC=1", input, "-o", output});
+  absl::StatusOr<CommandResult> result = RunCommand(command);
+  std::error_code ec;
+  if (result.ok() && result->exit_code == 0 && fs::is_regular_file(output, ec)) return output;
+  fs::remove(output, ec);
+  return "";
+}
+
+// Puts the initial-exec build into `module` as a section that is not loaded with it
+// (scheduler::kInitialExecSection); devices that can use it write it out (worker/core/module.cc).
+// A module without it (no objcopy) still loads everywhere.
+void EmbedInitialExecBuild(const std::string& module, const std::string& initial_exec) {
+  const std::string section = scheduler::kInitialExecSection;
+  absl::StatusOr<CommandResult> result =
+      RunCommand({"objcopy", "--add-section", absl::StrCat(section, "=", initial_exec),
+                  "--set-section-flags", absl::StrCat(section, "=readonly"), module});
+  (void)result;  // the module is whole either way: objcopy writes a new file and renames it
+}
+
 absl::StatusOr<CompiledModule> StoreProgramModule(absl::string_view bytes,
                                                   const ProgramCompileOptions& options) {
   TS_ASSIGN_OR_RETURN(const std::string cache_dir, UsableModuleCacheDir(options.cache_dir));
@@ -349,6 +375,13 @@ absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
   // Compile to a temporary name and rename: concurrent compiles of the same key are harmless.
   const std::string temp_module = absl::StrCat(cache_dir, "/", HexHash(key), ".", suffix, ".tmp");
   const std::string temp_deps = absl::StrCat(temp_module, ".d");
+  // An OptiX 3 module also carries itself built with initial-exec thread-local variables, compiled
+  // alongside (InitialExecBuild).
+  std::future<std::string> initial_exec;
+  if (!options.optix7) {
+    initial_exec = std::async(std::launch::async, InitialExecBuild, command, input,
+                              absl::StrCat(temp_module, ".ie"));
+  }
   command.push_back("-MMD");  // system headers change with the compiler (in the key)
   command.push_back("-MF");
   command.push_back(temp_deps);
@@ -356,6 +389,7 @@ absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
   command.push_back("-o");
   command.push_back(temp_module);
   auto result = RunCommand(command);
+  const std::string initial_exec_path = initial_exec.valid() ? initial_exec.get() : "";
   // Tessera's own headers are in the key already (HeaderTreeHash): list only the others.
   std::vector<std::string> compiled_deps = ParseDepFile(temp_deps, input);
   for (const std::string& dir : include_dirs) {
@@ -369,6 +403,9 @@ absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
   if (!temp_source.empty()) fs::remove(temp_source, ec);
   const char* chosen = std::getenv("TESSERA_CXX");
   const bool from_env = chosen != nullptr && *chosen != '\0';
+  if (!initial_exec_path.empty() && (!result.ok() || result->exit_code != 0)) {
+    fs::remove(initial_exec_path, ec);
+  }
   if (!result.ok()) {
     return RtError(RT_ERROR_INVALID_SOURCE,
                    absl::StrCat("cannot run the C++ compiler: ", result.status().message(),
@@ -403,6 +440,10 @@ absl::StatusOr<CompiledModule> CompileProgramModule(absl::string_view source,
                      command.front(), "'", from_env ? " ($TESSERA_CXX)" : "",
                      " exited with status 0 but wrote no module; is it a C++ compiler?",
                      result->output.empty() ? "" : "\n", FirstLines(result->output, kErrorLines)));
+  }
+  if (!initial_exec_path.empty()) {
+    EmbedInitialExecBuild(temp_module, initial_exec_path);
+    fs::remove(initial_exec_path, ec);
   }
   // The module's name covers the headers as they were read; a header edited since is read
   // again at the next lookup, differs, and compiles again.

@@ -19,8 +19,10 @@ namespace {
 
 // The module a file name holds, "" when it is no module: a worker's `<sha256>.so` or a host
 // compile's `<xxh64>.so`, or the dependency list of a host compile (`<xxh64>.deps`, one per
-// source version and directory: without a bound they would pile up for good).
+// source version and directory: without a bound they would pile up for good), or a module's
+// initial-exec build written out beside it (`<sha256>.so.ie`, worker/core/module.cc).
 absl::string_view ModuleStem(absl::string_view name) {
+  if (absl::EndsWith(name, ".so.ie")) name.remove_suffix(3);
   if (absl::EndsWith(name, ".deps")) {
     absl::string_view stem = name.substr(0, name.size() - 5);
     return stem.size() == 16 && IsLowerHex(stem) ? stem : absl::string_view{};

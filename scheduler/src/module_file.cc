@@ -136,4 +136,31 @@ absl::Status CheckModuleFileComplete(const std::string& path) {
   return status;
 }
 
+absl::string_view FindElfSection(absl::string_view bytes, absl::string_view name) {
+  Elf64_Ehdr header{};
+  if (!ReadStruct(bytes, 0, &header) || std::memcmp(header.e_ident, ELFMAG, SELFMAG) != 0 ||
+      header.e_ident[EI_CLASS] != ELFCLASS64 || header.e_shentsize != sizeof(Elf64_Shdr) ||
+      header.e_shstrndx >= header.e_shnum ||
+      !InBounds(bytes, header.e_shoff, header.e_shnum, sizeof(Elf64_Shdr))) {
+    return {};
+  }
+  auto section = [&](unsigned i) {
+    Elf64_Shdr s{};
+    ReadStruct(bytes, header.e_shoff + uint64_t{i} * sizeof(Elf64_Shdr), &s);
+    return s;
+  };
+  const Elf64_Shdr names = section(header.e_shstrndx);
+  if (!InBounds(bytes, names.sh_offset, names.sh_size, 1)) return {};
+  const absl::string_view table = bytes.substr(names.sh_offset, names.sh_size);
+  for (unsigned i = 0; i < header.e_shnum; ++i) {
+    const Elf64_Shdr s = section(i);
+    if (s.sh_name >= table.size() || s.sh_type == SHT_NOBITS) continue;
+    const absl::string_view rest = table.substr(s.sh_name);
+    if (rest.substr(0, rest.find('\0')) != name) continue;
+    if (!InBounds(bytes, s.sh_offset, s.sh_size, 1)) return {};
+    return bytes.substr(s.sh_offset, s.sh_size);
+  }
+  return {};
+}
+
 }  // namespace tessera::scheduler

@@ -8,6 +8,8 @@
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string_view>
 #include <utility>
@@ -25,6 +27,7 @@
 #include "tessera/scheduler/module_symbol.h"
 #include "tessera/worker/crash_report.h"
 #include "tessera/worker/module_cache.h"
+#include "tessera/worker/static_tls.h"
 
 namespace tessera::worker {
 namespace {
@@ -218,6 +221,40 @@ absl::Status ModuleCache::Receive(const v1::StateDelta& delta) {
   return absl::OkStatus();
 }
 
+namespace {
+
+// The initial-exec build a module file carries (scheduler::kInitialExecSection), written beside it
+// as <file>.ie once; "" when it carries none or it cannot be written.
+std::string InitialExecFile(const std::string& file) {
+  const std::string out = file + ".ie";
+  if (access(out.c_str(), R_OK) == 0) return out;
+  std::string bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) return "";
+  }
+  const absl::string_view build = scheduler::FindElfSection(bytes, scheduler::kInitialExecSection);
+  if (build.empty()) return "";
+  // Written under a temporary name and renamed: another thread or process may be at it too.
+  const std::string temp = absl::StrCat(out, ".", getpid(), ".", gettid(), ".tmp");
+  {
+    std::ofstream o(temp, std::ios::binary);
+    o.write(build.data(), static_cast<std::streamsize>(build.size()));
+    if (!o.good()) {
+      unlink(temp.c_str());
+      return "";
+    }
+  }
+  if (rename(temp.c_str(), out.c_str()) != 0) {
+    unlink(temp.c_str());
+    return "";
+  }
+  return out;
+}
+
+}  // namespace
+
 absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::string_view origin) {
   std::lock_guard<std::mutex> lock(mu_);
   if (auto it = modules_.find(hash); it != modules_.end()) return it->second.get();
@@ -245,12 +282,20 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
   const std::string loading = absl::StrCat("loading program module ", path);
   CrashContext crash_context(loading.c_str());
   void* handle = nullptr;
+  bool initial_exec = false;
   {
     // A module built with -ffast-math has crtfastmath.o's constructor, which sets FTZ/DAZ on the
     // thread that loads it: a launch's programs get the mode their launch asks for, the loading
     // thread (the host's own, for an in-process device) keeps its own.
     PreservedFloatMode float_mode;
-    handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (ModuleStaticTlsReserved()) {
+      // Its initial-exec build in its place; dlopen refuses it once static TLS is used up (each
+      // module loaded keeps its share), and the module itself is loaded then.
+      const std::string ie = InitialExecFile(file);
+      if (!ie.empty()) handle = dlopen(ie.c_str(), RTLD_NOW | RTLD_LOCAL);
+      initial_exec = handle != nullptr;
+    }
+    if (handle == nullptr) handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
   }
   if (handle == nullptr) {
     const char* err = dlerror();
@@ -298,6 +343,7 @@ absl::StatusOr<const Module*> ModuleCache::Load(const std::string& hash, absl::s
   module->path_ = file;
   module->handle_ = handle;
   module->info_ = info;
+  module->initial_exec_ = initial_exec;
   module->fast_math_ = (info->flags & TESSERA_MODULE_FLAG_FAST_MATH) != 0;
   for (unsigned i = 0; i < info->variable_count; ++i) {
     const TesseraVariableDecl& d = info->variables[i];

@@ -75,6 +75,9 @@ class Module {
   // TESSERA_OPTIX7_MODULE_FLAG_FAST_MATH): launches that run it flush denormals to zero
   // (float_mode.h, docs/fast_math.md).
   bool fast_math() const { return fast_math_; }
+  // Whether its initial-exec build was loaded (static_tls.h): its programs reach their variables
+  // without a __tls_get_addr call.
+  bool initial_exec() const { return initial_exec_; }
   // The module's own global variable `name` and its size in bytes; null if it defines none.
   void* Data(const std::string& name, size_t* size) const;
   // Null if the module itself defines no global function of that name. Cached: every launch
@@ -90,6 +93,7 @@ class Module {
   const TesseraModuleInfo* info_ = nullptr;
   bool optix7_ = false;
   bool fast_math_ = false;
+  bool initial_exec_ = false;
   std::vector<ModuleVariable> variables_;
   std::vector<ModuleBuffer> buffers_;
   std::vector<ModuleTexture> textures_;

@@ -222,6 +222,23 @@ TEST(ModuleStoreTest, TrimmingTakesDependencyListsAndCompilerTemporaries) {
   EXPECT_FALSE(fs::exists(path("0123456789abcdef.12-34.tmp.d")));
 }
 
+// A module's initial-exec build, written out beside it by the device that loaded it
+// (<hash>.so.ie), counts and goes like a module; it is written out again when needed.
+TEST(ModuleStoreTest, TrimmingTakesInitialExecBuilds) {
+  TempDir temp;
+  const std::string a = ModuleHash("a"), b = ModuleHash("b");
+  auto path = [&](const std::string& name) { return temp.path() + "/" + name; };
+  WriteAged(path(a + ".so"), 1000, std::chrono::seconds(0));
+  WriteAged(path(a + ".so.ie"), 1000, std::chrono::hours(7));  // the module kept: kept too
+  WriteAged(path(b + ".so.ie"), 1000, std::chrono::hours(6));
+  WriteAged(path(b + ".so"), 1000, std::chrono::hours(5));
+  EXPECT_EQ(TrimModuleCache(temp.path(), 2500, a), 2u);
+  EXPECT_TRUE(fs::exists(path(a + ".so")));
+  EXPECT_TRUE(fs::exists(path(a + ".so.ie")));
+  EXPECT_FALSE(fs::exists(path(b + ".so.ie")));
+  EXPECT_FALSE(fs::exists(path(b + ".so")));
+}
+
 TEST(ModuleStoreTest, CacheLimitFollowsTheEnvironment) {
   {
     ScopedEnv env("TESSERA_MODULE_CACHE_MAX_MB", nullptr);

@@ -76,7 +76,15 @@ inline ModuleRegistry& Registry() {
 inline const TesseraRuntime* g_runtime = nullptr;
 inline const TesseraRuntime* Rt() { return g_runtime; }
 
+// Built with TESSERA_TLS_INITIAL_EXEC (the second build Tessera's compile cache and
+// tessera_add_program_module embed in each module, docs/programs.md "Thread-local storage"),
+// variables are initial-exec: one load from the thread pointer, no call, for processes that
+// reserve static TLS for modules (Tessera's workers do).
+#if defined(TESSERA_TLS_INITIAL_EXEC)
+#define TESSERA_TLS __attribute__((tls_model("initial-exec")))
+#else
 #define TESSERA_TLS __attribute__((tls_model("local-dynamic")))
+#endif
 
 inline long long g_buffer_table_offset = 0;
 inline long long g_texture_table_offset = 0;

@@ -28,6 +28,15 @@ absl::Status CheckModuleFileComplete(const std::string& path);
 absl::Status CheckModuleBytes(absl::string_view bytes, absl::string_view function,
                               bool require_init);
 
+// The section of an OptiX 3 program module that holds the same module built with
+// initial-exec thread-local variables (docs/programs.md, "Thread-local storage"): not loaded
+// with the module, written out and loaded in its place where the process has static TLS to spare.
+inline constexpr char kInitialExecSection[] = ".tessera_initial_exec";
+
+// The bytes of section `name` of the 64-bit ELF file `bytes`; empty when it has no such section,
+// or the headers that would say where it lies are malformed.
+absl::string_view FindElfSection(absl::string_view bytes, absl::string_view name);
+
 }  // namespace tessera::scheduler
 
 #endif  // TESSERA_SCHEDULER_MODULE_FILE_H_
