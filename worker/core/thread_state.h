@@ -413,6 +413,20 @@ inline void StoreVec4(void* dst, float a, float b, float c, float d) {
   std::memcpy(dst, &v, sizeof(v));
 }
 
+// Stores `ray`, which was just stored word by word, as the two vectors and a word that a block
+// copy of it loads (a 16-byte load takes the data of one 16-byte store still in flight, not of four
+// 4-byte ones): read word by word, stored in blocks.
+inline void StoreRayBlocks(void* dst, const RayData& ray) {
+  auto* d = static_cast<unsigned char*>(dst);
+  float type;
+  std::memcpy(&type, &ray.ray_type, sizeof(type));
+  StoreVec4(d, Word(ray.origin[0]), Word(ray.origin[1]), Word(ray.origin[2]),
+            Word(ray.direction[0]));
+  StoreVec4(d + 16, Word(ray.direction[1]), Word(ray.direction[2]), Word(type), Word(ray.tmin));
+  const float tmax = Word(ray.tmax);
+  std::memcpy(d + 32, &tmax, sizeof(tmax));
+}
+
 // The ray of a program's rtCurrentRay slot: read word by word (it was stored that way) and
 // stored as two vectors and a word.
 // kSettled: the ray was stored long before (a frame's ray, stored before its traversal), so one
@@ -429,14 +443,7 @@ inline void WriteRaySlots(const ModuleState& ms, const std::vector<BoundProgram:
       std::memcpy(ms.slots[r.var], &ray, sizeof(RayData));
       continue;
     }
-    auto* d = static_cast<unsigned char*>(ms.slots[r.var]);
-    float type;
-    std::memcpy(&type, &ray.ray_type, sizeof(type));
-    StoreVec4(d, Word(ray.origin[0]), Word(ray.origin[1]), Word(ray.origin[2]),
-              Word(ray.direction[0]));
-    StoreVec4(d + 16, Word(ray.direction[1]), Word(ray.direction[2]), Word(type), Word(ray.tmin));
-    const float tmax = Word(ray.tmax);
-    std::memcpy(d + 32, &tmax, sizeof(tmax));
+    StoreRayBlocks(ms.slots[r.var], ray);
   }
 }
 

@@ -359,15 +359,17 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   f.hit.primitive = rh.hit.primID;
   f.hit.material = 0;
   f.hit.deferred = true;
+  // rtTrace stored `ray` word by word; the attribute step after traversal copies the hit's ray
+  // as a block (TriangleAttributes<true>), so it is stored in blocks.
   if (geometry_group) {
-    CopyWords(&f.hit.object_ray, &ray, sizeof(ray));  // rtTrace stored `ray` word by word
+    StoreRayBlocks(&f.hit.object_ray, ray);
     CopyXform(f.hit.xform, f.xform);
   } else {
     ComposeInstance(ctx, inst, f.hit.xform);
     if (scene.instances[inst].xform.active) {
       f.hit.object_ray = ToObject(ray, scene.instances[inst].xform.to_object);
     } else {
-      CopyWords(&f.hit.object_ray, &ray, sizeof(ray));
+      StoreRayBlocks(&f.hit.object_ray, ray);
     }
   }
   if (f.flags & kRayFlagTerminateOnFirstHit) f.terminated = true;
@@ -379,13 +381,40 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
 
 // Whether a ray may be traced: what Embree takes (origin and direction within +-1.844e18, its
 // FLT_LARGE; it asserts on anything else, which ends the process), 0 <= tmin <= tmax. A NaN fails.
+constexpr float kLargeCoordinate = 1.844e18f;
 inline bool ValidRay(const RayData& r) {
-  constexpr float kLarge = 1.844e18f;
   bool ok = (r.tmin >= 0.f) & (r.tmin <= r.tmax);
   for (int i = 0; i < 3; ++i) {
-    ok &= (std::fabs(r.origin[i]) <= kLarge) & (std::fabs(r.direction[i]) <= kLarge);
+    ok &= (std::fabs(r.origin[i]) <= kLargeCoordinate) &
+          (std::fabs(r.direction[i]) <= kLargeCoordinate);
   }
   return ok;
+}
+
+// rtTrace's copy of the program's ray into its frame, word by word (the program has just written
+// it: CopyWords), and ValidRay of the words as they pass through registers, so that no check
+// loads what was just stored. |x| <= kLargeCoordinate, a NaN failing, is the magnitude's bits
+// compared as an integer.
+inline bool CopyValidRay(RayData& dst, const void* src) {
+  static_assert(sizeof(RayData) == 36 && offsetof(RayData, tmin) == 28 &&
+                offsetof(RayData, tmax) == 32);
+  constexpr uint32_t kLargeBits = __builtin_bit_cast(uint32_t, kLargeCoordinate);
+  const auto* s = static_cast<const unsigned char*>(src);
+  auto* d = reinterpret_cast<unsigned char*>(&dst);
+  uint32_t w[9];
+#pragma GCC unroll 9
+  for (int i = 0; i < 9; ++i) {
+    std::memcpy(&w[i], s + 4 * i, 4);
+    asm("" : "+r"(w[i]));
+    std::memcpy(d + 4 * i, &w[i], 4);
+  }
+  bool ok = true;
+#pragma GCC unroll 6
+  for (int i = 0; i < 6; ++i) ok &= (w[i] & 0x7fffffffu) <= kLargeBits;  // origin, direction
+  float tmin, tmax;
+  std::memcpy(&tmin, &w[7], sizeof(tmin));
+  std::memcpy(&tmax, &w[8], sizeof(tmax));
+  return ok & (tmin >= 0.f) & (tmin <= tmax);
 }
 
 void Visit(ThreadState& ts, uint64_t id, const NodeInfo& node, const RayData& ray);
@@ -555,8 +584,9 @@ bool OfferToAnyHit(ThreadState& ts, Frame& f, const Hit& c, const BoundProgram& 
 // then what the attribute program, if any, writes. `object_ray` is the ray in the triangles'
 // space.
 // Returns the attribute program it ran (null for none), whose module's slots then hold `h`'s
-// attributes. kRaySettled: `object_ray` was stored long before (at the end of traversal), so one
-// block copy reads it without waiting on stores in flight; a ray just built is read word by word.
+// attributes. kRaySettled: `object_ray` was stored in blocks at the end of traversal
+// (StoreRayBlocks), so one block copy reads it, each load taking one store's data; a ray just
+// built field by field is read word by word.
 template <bool kRaySettled>
 const BoundProgram* TriangleAttributes(ThreadState& ts, Hit& h, const RayData& object_ray) {
   const LaunchPlan& plan = *ts.plan;
@@ -802,9 +832,9 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   // the frame is pushed.
   Frame& f = ts.frames[ts.depth];
   RayData& ray = f.ray;
-  CopyWords(&ray, ray_ptr, sizeof(ray));  // the program has just written it
+  const bool valid = CopyValidRay(ray, ray_ptr);
   bool as_miss = false;
-  if (__builtin_expect(ts.depth >= plan.max_depth || !ValidRay(ray) ||
+  if (__builtin_expect(ts.depth >= plan.max_depth || !valid ||
                            ray.ray_type >= plan.ray_type_count ||
                            static_cast<const char*>(__builtin_frame_address(0)) < ts.stack_limit,
                        0)) {
