@@ -511,7 +511,7 @@ __attribute__((noinline)) bool RunIndices(ThreadState& ts, const LaunchPlan& pla
         if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
           return false;
         }
-        ts.index = {x, y, z};
+        StoreIndex(ts.index, x, y, z);
         RunIndex(ts, plan, entry, rg);
       }
     }

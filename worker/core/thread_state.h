@@ -488,6 +488,16 @@ inline void WriteTime(const ThreadState& ts, const ModuleState& ms, const BoundP
   WriteSlots<sizeof(float)>(ms, p.time, time);
 }
 
+// Sets a launch index as Enter copies it into programs' variables: x and y in one 8-byte store
+// and z in a 4-byte one, so that each of the copy's loads (8 and 4 bytes, or fewer) takes its data
+// from one store still in flight; three 4-byte stores would make the 8-byte load wait for them.
+inline void StoreIndex(Index3& index, uint32_t x, uint32_t y, uint32_t z) {
+  static_assert(sizeof(Index3) == 12 && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__);
+  const uint64_t xy = uint64_t{x} | uint64_t{y} << 32;  // x at the lower address
+  std::memcpy(index.data(), &xy, sizeof(xy));
+  index[2] = z;
+}
+
 // Makes `p` the running program: saves a suspended caller's slots if `p` would overwrite them,
 // loads `p`'s bindings and the launch index/dim semantics. Inline: it runs for every program.
 __attribute__((always_inline)) inline void Enter(ThreadState& ts, const BoundProgram& p) {
@@ -499,9 +509,9 @@ __attribute__((always_inline)) inline void Enter(ThreadState& ts, const BoundPro
   }
   if (ms.loaded != &p) Apply(ms, p);
   if (ms.index_written != ts.index_serial && p.kind != ProgramKind::kBoundingBox) {
-    // Word by word (WriteSlots' CopyWords): the tile loop has just stored the index's components
-    // one by one.
-    WriteSlots(ms, p.launch_index, ts.index.data(), sizeof(ts.index));
+    // The tile loop has just stored the index as an 8-byte and a 4-byte word (StoreIndex), which
+    // the copies load whole.
+    WriteSlots<sizeof(ts.index)>(ms, p.launch_index, ts.index.data());
     WriteSlots<sizeof(ts.dims)>(ms, p.launch_dim, ts.dims.data());
     // Attributes a program leaves unwritten read zeros, not what the thread's last launch index
     // left: output must not depend on which launch indices shared a thread.
