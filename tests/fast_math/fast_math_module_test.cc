@@ -4,34 +4,20 @@
 // module's own) must not change.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <thread>
 
 #include "float_mode.h"
 #include "module.h"
-#include "tessera/scheduler/module_hash.h"
+#include "testdata/store_and_load.h"
 
 namespace tessera::worker {
 namespace {
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // The module at `path`, stored in and loaded from a cache of the build tree.
 const Module* Load(const std::string& path) {
   static ModuleCache cache(TESSERA_FAST_MATH_MODULE_CACHE);
-  const std::string bytes = ReadFile(path);
-  EXPECT_FALSE(bytes.empty()) << path;
-  const std::string hash = scheduler::ModuleHash(bytes);
-  const absl::Status stored = cache.Store(hash, bytes);
-  EXPECT_TRUE(stored.ok()) << stored;
-  absl::StatusOr<const Module*> m = cache.Load(hash, path);
-  EXPECT_TRUE(m.ok()) << m.status();
-  return m.ok() ? *m : nullptr;
+  return testing::StoreAndLoad(cache, path);
 }
 
 std::string Optix3(const char* name) {

@@ -5,38 +5,33 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 
 #include "module.h"
 #include "tessera/scheduler/module_file.h"
 #include "tessera/scheduler/module_hash.h"
 #include "tessera/worker/static_tls.h"
+#include "testdata/store_and_load.h"
 
 namespace tessera::worker {
 namespace {
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 std::string ModulePath(const char* name) {
   return std::string(TESSERA_TEST_MODULE_DIR) + "/" + name + ".so";
 }
 
-// The module at `path`, stored in and loaded from a cache of the build tree.
+// A cache of the build tree for each of ctest's runs (they may run at once).
+std::string CacheDir() {
+  const char* room = std::getenv("TESSERA_TEST_EXPECT_ROOM");
+  return std::string(TESSERA_STATIC_TLS_MODULE_CACHE) + (room != nullptr ? room : "");
+}
+
+// The module at `path`, stored in and loaded from that cache.
 const Module* Load(const std::string& path) {
-  static ModuleCache cache(TESSERA_STATIC_TLS_MODULE_CACHE);
-  const std::string bytes = ReadFile(path);
-  EXPECT_FALSE(bytes.empty()) << path;
-  const std::string hash = scheduler::ModuleHash(bytes);
-  const absl::Status stored = cache.Store(hash, bytes);
-  EXPECT_TRUE(stored.ok()) << stored;
-  absl::StatusOr<const Module*> m = cache.Load(hash, path);
-  EXPECT_TRUE(m.ok()) << m.status();
-  return m.ok() ? *m : nullptr;
+  static ModuleCache cache(CacheDir());
+  return testing::StoreAndLoad(cache, path);
 }
 
 TEST(StaticTlsTest, ReadsTheRoomGlibcIsAskedFor) {
@@ -67,7 +62,7 @@ TEST(StaticTlsTest, WorkersAddTheRoomToTheirTunables) {
 }
 
 TEST(StaticTlsTest, ModulesCarryTheirInitialExecBuild) {
-  const std::string bytes = ReadFile(ModulePath("static_tls_programs"));
+  const std::string bytes = testing::ReadModuleFile(ModulePath("static_tls_programs"));
   ASSERT_FALSE(bytes.empty());
   const absl::string_view build = scheduler::FindElfSection(bytes, scheduler::kInitialExecSection);
   ASSERT_FALSE(build.empty()) << "tessera_add_program_module embedded no initial-exec build";
@@ -87,9 +82,19 @@ TEST(StaticTlsTest, TheCacheLoadsTheInitialExecBuildWhereThereIsRoom) {
   ASSERT_NE(expect, nullptr) << "ctest sets TESSERA_TEST_EXPECT_ROOM";
   const bool room = std::string(expect) == "1";
   ASSERT_EQ(ModuleStaticTlsReserved(), room);
+  // A copy already beside the module is not trusted: only bytes taken from the module file, which
+  // the cache checks against its hash, are loaded.
+  const std::string bytes = testing::ReadModuleFile(ModulePath("static_tls_programs"));
+  const std::string copy = CacheDir() + "/" + scheduler::ModuleHash(bytes) + ".so.ie";
+  std::filesystem::create_directories(CacheDir());
+  std::ofstream(copy, std::ios::binary | std::ios::trunc) << "planted, not a module";
   const Module* m = Load(ModulePath("static_tls_programs"));
   ASSERT_NE(m, nullptr);
   EXPECT_EQ(m->initial_exec(), room);
+  if (room) {
+    EXPECT_EQ(testing::ReadModuleFile(copy),
+              std::string(scheduler::FindElfSection(bytes, scheduler::kInitialExecSection)));
+  }
   // 128 KiB of thread-locals do not fit the room: the module itself is loaded.
   const Module* big = Load(ModulePath("static_tls_big"));
   ASSERT_NE(big, nullptr);

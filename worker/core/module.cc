@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <map>
 #include <string_view>
 #include <utility>
@@ -224,24 +223,22 @@ absl::Status ModuleCache::Receive(const v1::StateDelta& delta) {
 namespace {
 
 // The initial-exec build a module file carries (scheduler::kInitialExecSection), written beside it
-// as <file>.ie once; "" when it carries none or it cannot be written.
+// as <file>.ie; "" when it carries none or it cannot be written. A copy already there is used only
+// if it holds the same bytes: the module file was checked against its hash, the copy was not.
 std::string InitialExecFile(const std::string& file) {
-  const std::string out = file + ".ie";
-  if (access(out.c_str(), R_OK) == 0) return out;
   std::string bytes;
-  {
-    std::ifstream in(file, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) return "";
-  }
+  if (!ReadWholeFile(file, &bytes)) return "";
   const absl::string_view build = scheduler::FindElfSection(bytes, scheduler::kInitialExecSection);
   if (build.empty()) return "";
+  const std::string out = file + ".ie";
+  if (std::string existing; ReadWholeFile(out, &existing) && existing == build) return out;
   // Written under a temporary name and renamed: another thread or process may be at it too.
   const std::string temp = absl::StrCat(out, ".", getpid(), ".", gettid(), ".tmp");
   {
-    std::ofstream o(temp, std::ios::binary);
+    std::ofstream o(temp, std::ios::binary | std::ios::trunc);
     o.write(build.data(), static_cast<std::streamsize>(build.size()));
-    if (!o.good()) {
+    o.close();
+    if (!o) {
       unlink(temp.c_str());
       return "";
     }

@@ -39,30 +39,6 @@ TemporaryCacheList& TemporaryCaches() {
   return *list;
 }
 
-// Only a regular file counts: something else under a module's name (a directory, a FIFO) reads
-// as not stored, so that the module is sent and the write reports it, instead of the read throwing
-// (a directory) or the open blocking for good with the cache's lock held (a FIFO).
-bool ReadWholeFile(const std::string& path, std::string* out) {
-  const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return false;
-  struct stat st {};
-  bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
-  out->clear();
-  if (ok) out->reserve(static_cast<size_t>(st.st_size));
-  char buffer[1 << 16];
-  while (ok) {
-    const ssize_t n = read(fd, buffer, sizeof(buffer));
-    if (n == 0) break;
-    if (n < 0) {
-      ok = errno == EINTR;
-      continue;
-    }
-    out->append(buffer, static_cast<size_t>(n));
-  }
-  close(fd);
-  return ok;
-}
-
 // Fallback directories are named tessera-modules-<pid>-XXXXXX. A process killed by a signal (a
 // worker whose host crashed dies of SIGKILL) runs no exit handler, so its directory and the
 // modules in it would stay for good: the next process that falls back removes those of
@@ -92,6 +68,30 @@ void RemoveStaleTemporaryCaches(const fs::path& root) {
 }
 
 }  // namespace
+
+// Only a regular file counts: something else under a module's name (a directory, a FIFO) reads
+// as not stored, so that the module is sent and the write reports it, instead of the read throwing
+// (a directory) or the open blocking for good with the cache's lock held (a FIFO).
+bool ReadWholeFile(const std::string& path, std::string* out) {
+  const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return false;
+  struct stat st {};
+  bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  out->clear();
+  if (ok) out->reserve(static_cast<size_t>(st.st_size));
+  char buffer[1 << 16];
+  while (ok) {
+    const ssize_t n = read(fd, buffer, sizeof(buffer));
+    if (n == 0) break;
+    if (n < 0) {
+      ok = errno == EINTR;
+      continue;
+    }
+    out->append(buffer, static_cast<size_t>(n));
+  }
+  close(fd);
+  return ok;
+}
 
 std::string DefaultModuleCacheDir() {
   if (const char* dir = Env("TESSERA_MODULE_CACHE")) return dir;

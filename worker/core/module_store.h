@@ -39,6 +39,10 @@ void RemoveTemporaryModuleCaches();
 
 std::string ModuleFilePath(const std::string& dir, const std::string& hash);
 
+// The whole of the regular file at `path` in `out`; false for anything else, or a read error. A
+// directory or a FIFO under a module's name reads as missing instead of throwing or blocking.
+bool ReadWholeFile(const std::string& path, std::string* out);
+
 // Whether `dir` holds module `hash` with the bytes the hash names.
 bool HasModuleFile(const std::string& dir, const std::string& hash);
 

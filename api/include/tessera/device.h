@@ -14,7 +14,9 @@
 //
 // Module variables use the local-dynamic TLS model: a program finds the module's thread-local
 // block once (one __tls_get_addr call) and reaches every variable at a fixed offset from it,
-// where the default model for -fPIC code pays one call per variable access.
+// where the default model for -fPIC code pays one call per variable access. The module's second
+// build (TESSERA_TLS_INITIAL_EXEC, below) makes them initial-exec: no call at all, for processes
+// with static TLS to spare.
 #ifndef TESSERA_DEVICE_H_
 #define TESSERA_DEVICE_H_
 
