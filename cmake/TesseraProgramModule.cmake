@@ -55,7 +55,10 @@ function(tessera_add_program_module)
   # section that is not loaded with it: devices whose processes reserve static TLS load that build
   # instead (docs/programs.md, "Thread-local storage"). It takes the module's own compile and link
   # settings, those added to the target after this call included: the two builds must differ in
-  # nothing else.
+  # nothing else. Without objcopy to embed it, none is made.
+  if(NOT CMAKE_OBJCOPY)
+    return()
+  endif()
   set(_tessera_ie ${A_TARGET}_initial_exec)
   add_library(${_tessera_ie} MODULE ${A_SOURCES})
   foreach(_tessera_property IN ITEMS COMPILE_OPTIONS INCLUDE_DIRECTORIES LINK_OPTIONS
@@ -68,13 +71,11 @@ function(tessera_add_program_module)
   set_target_properties(${_tessera_ie} PROPERTIES PREFIX "" SUFFIX ".so"
     LIBRARY_OUTPUT_DIRECTORY "$<1:${CMAKE_CURRENT_BINARY_DIR}/initial_exec>")
   add_dependencies(${A_TARGET} ${_tessera_ie})
-  if(CMAKE_OBJCOPY)
-    add_custom_command(TARGET ${A_TARGET} POST_BUILD
-      COMMAND ${CMAKE_OBJCOPY} --add-section
-        .tessera_initial_exec=$<TARGET_FILE:${_tessera_ie}>
-        --set-section-flags .tessera_initial_exec=readonly $<TARGET_FILE:${A_TARGET}>
-      VERBATIM)
-  endif()
+  add_custom_command(TARGET ${A_TARGET} POST_BUILD
+    COMMAND ${CMAKE_OBJCOPY} --add-section
+      .tessera_initial_exec=$<TARGET_FILE:${_tessera_ie}>
+      --set-section-flags .tessera_initial_exec=readonly $<TARGET_FILE:${A_TARGET}>
+    VERBATIM)
 endfunction()
 
 # tessera_add_optix7_program_module(TARGET name SOURCES file.cu ... [INCLUDES dir ...]

@@ -381,24 +381,30 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
 
 // Whether a ray may be traced: what Embree takes (origin and direction within +-1.844e18, its
 // FLT_LARGE; it asserts on anything else, which ends the process), 0 <= tmin <= tmax. A NaN fails.
-constexpr float kLargeCoordinate = 1.844e18f;
+// Decided on the ray's nine words (RayData's layout): |x| <= 1.844e18, a NaN failing, is the
+// magnitude's bits compared as an integer.
+inline bool ValidRayWords(const uint32_t w[9]) {
+  static_assert(sizeof(RayData) == 36 && offsetof(RayData, tmin) == 28 &&
+                offsetof(RayData, tmax) == 32);
+  constexpr uint32_t kLargeBits = __builtin_bit_cast(uint32_t, 1.844e18f);
+  bool ok = true;
+#pragma GCC unroll 6
+  for (int i = 0; i < 6; ++i) ok &= (w[i] & 0x7fffffffu) <= kLargeBits;  // origin, direction
+  float tmin, tmax;
+  std::memcpy(&tmin, &w[7], sizeof(tmin));
+  std::memcpy(&tmax, &w[8], sizeof(tmax));
+  return ok & (tmin >= 0.f) & (tmin <= tmax);
+}
 inline bool ValidRay(const RayData& r) {
-  bool ok = (r.tmin >= 0.f) & (r.tmin <= r.tmax);
-  for (int i = 0; i < 3; ++i) {
-    ok &= (std::fabs(r.origin[i]) <= kLargeCoordinate) &
-          (std::fabs(r.direction[i]) <= kLargeCoordinate);
-  }
-  return ok;
+  uint32_t w[9];
+  CopyWords(w, &r, sizeof(w));  // rays here were just built field by field
+  return ValidRayWords(w);
 }
 
 // rtTrace's copy of the program's ray into its frame, word by word (the program has just written
-// it: CopyWords), and ValidRay of the words as they pass through registers, so that no check
-// loads what was just stored. |x| <= kLargeCoordinate, a NaN failing, is the magnitude's bits
-// compared as an integer.
+// it: CopyWords), checked on the words as they pass through registers, so that no check loads
+// what was just stored.
 inline bool CopyValidRay(RayData& dst, const void* src) {
-  static_assert(sizeof(RayData) == 36 && offsetof(RayData, tmin) == 28 &&
-                offsetof(RayData, tmax) == 32);
-  constexpr uint32_t kLargeBits = __builtin_bit_cast(uint32_t, kLargeCoordinate);
   const auto* s = static_cast<const unsigned char*>(src);
   auto* d = reinterpret_cast<unsigned char*>(&dst);
   uint32_t w[9];
@@ -408,13 +414,7 @@ inline bool CopyValidRay(RayData& dst, const void* src) {
     asm("" : "+r"(w[i]));
     std::memcpy(d + 4 * i, &w[i], 4);
   }
-  bool ok = true;
-#pragma GCC unroll 6
-  for (int i = 0; i < 6; ++i) ok &= (w[i] & 0x7fffffffu) <= kLargeBits;  // origin, direction
-  float tmin, tmax;
-  std::memcpy(&tmin, &w[7], sizeof(tmin));
-  std::memcpy(&tmax, &w[8], sizeof(tmax));
-  return ok & (tmin >= 0.f) & (tmin <= tmax);
+  return ValidRayWords(w);
 }
 
 void Visit(ThreadState& ts, uint64_t id, const NodeInfo& node, const RayData& ray);

@@ -16,11 +16,10 @@
 // no new sessions or launches, those under way finish within a few seconds, exit 0. A usage
 // error exits 2, a failure to start (an address in use) 1 (docs/devices.md "Running workers as a
 // service").
-#include <elf.h>
-#include <fcntl.h>
 #include <grpcpp/grpcpp.h>
 #include <malloc.h>
 #include <signal.h>
+#include <sys/auxv.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -231,31 +230,6 @@ int Serve(const std::string& listen, int threads, tessera::transport::ResultAren
   std::_Exit(kExitStopped);
 }
 
-// Whether the executable at `path` names a program interpreter (PT_INTERP), as every dynamically
-// linked program does and the dynamic loader itself does not: a worker started through the loader
-// (`ld-linux-x86-64.so.2 --library-path DIR tessera-worker ...`) has the loader as its executable,
-// which its own arguments would not start again.
-bool HasInterpreter(const char* path) {
-  const int fd = open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  bool found = false;
-  Elf64_Ehdr header{};
-  if (pread(fd, &header, sizeof(header), 0) == static_cast<ssize_t>(sizeof(header)) &&
-      std::memcmp(header.e_ident, ELFMAG, SELFMAG) == 0 && header.e_ident[EI_CLASS] == ELFCLASS64 &&
-      header.e_phentsize == sizeof(Elf64_Phdr)) {
-    for (unsigned i = 0; i < header.e_phnum && !found; ++i) {
-      Elf64_Phdr ph{};
-      if (pread(fd, &ph, sizeof(ph), static_cast<off_t>(header.e_phoff + i * sizeof(ph))) !=
-          static_cast<ssize_t>(sizeof(ph))) {
-        break;
-      }
-      found = ph.p_type == PT_INTERP;
-    }
-  }
-  close(fd);
-  return found;
-}
-
 // Program modules' variables are initial-exec thread-locals where the process reserves static TLS
 // for them (worker/core/static_tls.h), which glibc sizes from GLIBC_TUNABLES as it starts the
 // process: a worker started without that room starts itself again with it, once. execve keeps the
@@ -263,7 +237,11 @@ bool HasInterpreter(const char* path) {
 // long, a worker started through the dynamic loader), modules keep their local-dynamic build.
 void RestartWithModuleStaticTls(char** argv) {
   constexpr char kRestarted[] = "TESSERA_WORKER_RESTARTED=1";
-  if (tessera::worker::ModuleStaticTlsReserved() || std::getenv("TESSERA_WORKER_RESTARTED")) {
+  // AT_BASE is where the kernel put the program's interpreter: 0 when the program was started
+  // through the dynamic loader (`ld-linux-x86-64.so.2 --library-path DIR tessera-worker ...`),
+  // whose executable is the loader, which the worker's own arguments would not start again.
+  if (tessera::worker::ModuleStaticTlsReserved() || std::getenv("TESSERA_WORKER_RESTARTED") ||
+      getauxval(AT_BASE) == 0) {
     return;
   }
   std::string tunables =
@@ -282,7 +260,6 @@ void RestartWithModuleStaticTls(char** argv) {
   const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
   if (n <= 0 || static_cast<size_t>(n) >= sizeof(self) - 1) return;
   self[n] = '\0';
-  if (!HasInterpreter(self)) return;
   execve(self, argv, env.data());
 }
 
