@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "call_arena.h"
 #include "call_progress.h"
 #include "float_mode.h"
 #include "optix7_device_call.h"
@@ -385,7 +386,7 @@ class InprocDevice : public Device {
     };
     // Everything parallel in this call runs in an arena of the device's threads: a worker
     // process started with --threads 1 must not wake TBB threads for the other cores.
-    tbb::task_arena arena(threads);
+    tbb::task_arena& arena = arena_.Of(threads);
     if (!empty) {  // the all-zero launch only builds accelerations
       const bool flush_denormals = FlushDenormals();
       arena.execute([&] {
@@ -451,8 +452,8 @@ class InprocDevice : public Device {
         replica_.context().num_threads > 0
             ? static_cast<int>(std::min<uint32_t>(replica_.context().num_threads, kMaxThreads))
             : num_threads_;
-    return worker::RunOptix7Call(*optix7_engine_, *optix7_, request, threads, sequence, cancel,
-                                 on_result);
+    return worker::RunOptix7Call(*optix7_engine_, *optix7_, request, arena_.Of(threads), threads,
+                                 sequence, cancel, on_result);
   }
 
   // Whether this call's pieces flush denormals to zero (docs/fast_math.md): the plan binds a
@@ -497,6 +498,7 @@ class InprocDevice : public Device {
   std::unique_ptr<worker::LaunchPlan> plan_;
   std::unique_ptr<worker::Optix7Session> optix7_;        // once OptiX 7 state arrived
   std::unique_ptr<worker::Optix7Engine> optix7_engine_;  // at the first OptiX 7 launch
+  worker::CallArena arena_;                              // under call_mu_
   std::mutex call_mu_;                                   // Apply and Launch calls, one at a time
   // TESSERA_LAUNCH_TIMING: where a call's time went, on stderr (api/src/launch.cc).
   const bool timing_ = scheduler::LaunchTimingEnabled();

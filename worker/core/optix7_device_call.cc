@@ -165,8 +165,8 @@ void UpdateTrackingModes(const std::map<uint64_t, uint64_t>& allocations,
 }  // namespace
 
 absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
-                           const v1::LaunchRequest& request, int threads, uint64_t sequence,
-                           const std::atomic<bool>& cancel,
+                           const v1::LaunchRequest& request, tbb::task_arena& arena, int threads,
+                           uint64_t sequence, const std::atomic<bool>& cancel,
                            const std::function<void(v1::TileResult&&)>& on_result) {
   const auto started = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> call_lock(Optix7CallMutex());
@@ -249,7 +249,6 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
   };
   if (!empty) {
     const bool flush_denormals = engine.FlushDenormals();
-    tbb::task_arena arena(threads);
     arena.execute([&] {
       tbb::parallel_for(size_t{0}, pieces.size(), size_t{1}, [&](size_t i) {
         // Each piece sets its thread's mode and puts it back: arena threads are shared.

@@ -5,6 +5,8 @@
 #ifndef TESSERA_WORKER_CORE_OPTIX7_DEVICE_CALL_H_
 #define TESSERA_WORKER_CORE_OPTIX7_DEVICE_CALL_H_
 
+#include <tbb/task_arena.h>
+
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -16,12 +18,12 @@
 
 namespace tessera::worker {
 
-// Runs `request`'s tiles on `threads` threads; results go to `on_result` as for
+// Runs `request`'s tiles on the `threads` threads of `arena`; results go to `on_result` as for
 // Device::Launch, the written regions last (call_sequence `sequence`). A device that shares the
 // host's memory sends the written ranges without their bytes (they are in place already).
 absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
-                           const v1::LaunchRequest& request, int threads, uint64_t sequence,
-                           const std::atomic<bool>& cancel,
+                           const v1::LaunchRequest& request, tbb::task_arena& arena, int threads,
+                           uint64_t sequence, const std::atomic<bool>& cancel,
                            const std::function<void(v1::TileResult&&)>& on_result);
 
 }  // namespace tessera::worker

@@ -9,6 +9,8 @@
 #include <csetjmp>
 #include <cstring>
 #include <memory>
+#include <mutex>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "batch_block.h"
@@ -294,11 +296,47 @@ __attribute__((noinline)) void HandleException(Optix7Thread& ts, Optix7Exception
   }
 }
 
-// The thread's lanes, made when its first batched tile runs.
+// The thread's lanes, taken when its first batched tile runs and given back when it ends. Lanes
+// outlive their threads: a launch's dispatch threads are new (scheduler/dispatcher.cc) and take
+// pieces too, and mapping sixteen stacks for each, faulting their pages in and unmapping them as
+// it ended (every unmap flushes the TLBs of all the process's cores) cost more with every thread.
+class BatchPool {
+ public:
+  static BatchPool& Get() {
+    static auto* pool = new BatchPool;  // never destroyed: threads may end after static exit
+    return *pool;
+  }
+  std::unique_ptr<Optix7Batch> Take() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      if (!free_.empty()) {
+        std::unique_ptr<Optix7Batch> batch = std::move(free_.back());
+        free_.pop_back();
+        return batch;
+      }
+    }
+    return std::make_unique<Optix7Batch>();
+  }
+  void Give(std::unique_ptr<Optix7Batch> batch) {
+    std::lock_guard<std::mutex> lock(mu_);
+    free_.push_back(std::move(batch));
+  }
+
+ private:
+  std::mutex mu_;
+  std::vector<std::unique_ptr<Optix7Batch>> free_;  // at most as many as threads ever ran at once
+};
+
 Optix7Batch& ThreadBatch() {
-  thread_local std::unique_ptr<Optix7Batch> batch;
-  if (batch == nullptr) batch = std::make_unique<Optix7Batch>();
-  return *batch;
+  struct Holder {
+    std::unique_ptr<Optix7Batch> batch;
+    ~Holder() {
+      if (batch != nullptr) BatchPool::Get().Give(std::move(batch));
+    }
+  };
+  thread_local Holder holder;
+  if (holder.batch == nullptr) holder.batch = BatchPool::Get().Take();
+  return *holder.batch;
 }
 
 void RunIndex(Optix7Thread& ts) {
