@@ -36,77 +36,21 @@
 #include "tessera/scheduler/result_pool.h"
 #include "tessera/scheduler/tiling.h"
 #include "tile_pieces.h"
+#include "write_epochs.h"
 
 namespace tessera {
 namespace {
 
-using worker::CallProgress;
+using worker::CallTiles;
 using worker::FatalError;
 using worker::Index3;
-using worker::TileState;
+using worker::WriteEpochs;
 
 // Launch indices per thread in a write epoch of a call whose results go out while it traces:
 // small enough that a call of the dispatcher's usual size (16384 per thread) makes several.
 constexpr uint64_t kEpochIndicesPerThread = 4096;
-constexpr uint64_t kMaxEpochs = 8;
 // The most threads a call runs on, whatever the context asks for.
 constexpr uint32_t kMaxThreads = 256;
-
-// The write epochs of one call (TesseraBufferView::write_epoch). Pieces start in the current
-// epoch, which moves on as pieces finish; once no piece that started in an epoch is left, no
-// program can mark with it any more and its elements can go out while later pieces trace.
-class WriteEpochs {
- public:
-  WriteEpochs(worker::Replica& replica, size_t pieces, unsigned char epochs)
-      : replica_(replica), pieces_(pieces), epochs_(epochs) {
-    replica_.SetWriteEpoch(1);
-  }
-  // A piece starts; returns its epoch, for Finished.
-  unsigned char Started() {
-    std::lock_guard<std::mutex> lock(mu_);
-    ++running_[current_];
-    return current_;
-  }
-  // A piece of `epoch` ended. Returns the epochs (*after, upto] the caller is to send (upto 0:
-  // none); the caller then calls Sent(upto). One caller sends at a time, in epoch order.
-  unsigned char Finished(unsigned char epoch, unsigned char* after) {
-    std::lock_guard<std::mutex> lock(mu_);
-    --running_[epoch];
-    ++finished_;
-    if (current_ < epochs_ && finished_ >= pieces_ * current_ / epochs_) {
-      replica_.SetWriteEpoch(++current_);
-    }
-    return ClaimLocked(after);
-  }
-  unsigned char Sent(unsigned char upto, unsigned char* after) {
-    std::lock_guard<std::mutex> lock(mu_);
-    sent_ = upto;
-    sending_ = false;
-    return ClaimLocked(after);
-  }
-  unsigned char sent() const { return sent_; }  // after every piece ended
-
- private:
-  unsigned char ClaimLocked(unsigned char* after) {
-    if (sending_) return 0;
-    unsigned char closed = sent_;
-    while (closed + 1 < current_ && running_[closed + 1] == 0) ++closed;
-    if (closed == sent_) return 0;
-    sending_ = true;
-    *after = sent_;
-    return closed;
-  }
-
-  worker::Replica& replica_;
-  const size_t pieces_;
-  const unsigned char epochs_;
-  std::mutex mu_;
-  unsigned char current_ = 1;
-  unsigned char sent_ = 0;  // epochs up to this one went out
-  bool sending_ = false;
-  size_t finished_ = 0;
-  std::array<int, kMaxEpochs + 1> running_{};
-};
 
 // Runs `f` on a long-lived thread of the process and waits for it. The in-process device builds
 // its plans (and so commits Embree scenes) there: Embree keeps some memory for every thread that
@@ -312,7 +256,7 @@ class InprocDevice : public Device {
         replica_.context().num_threads > 0
             ? static_cast<int>(std::min<uint32_t>(replica_.context().num_threads, kMaxThreads))
             : num_threads_;
-    std::mutex result_mu;
+    std::mutex failure_mu;  // failure, from a piece that failed
     std::atomic<bool> stop{false};
     std::atomic<int64_t> piece_ns{0};
     absl::Status failure;
@@ -320,11 +264,8 @@ class InprocDevice : public Device {
     // the error when a piece failed.
     const std::vector<worker::TilePiece> pieces =
         worker::SplitTiles(request.tiles(), dims, threads);
-    std::vector<TileState> tile_states(request.tiles_size());
-    CallProgress progress(started);
-    for (const worker::TilePiece& p : pieces) ++tile_states[p.tile].pieces_left;
+    CallTiles tiles(request, pieces, started, on_result);
     auto run_piece = [&](const worker::TilePiece& piece) {
-      TileState& state = tile_states[piece.tile];
       v1::TileResult part;
       bool done = false;
       const auto piece_start =
@@ -333,7 +274,7 @@ class InprocDevice : public Device {
         done = worker::RunTile(*plan_, request.entry_point(), piece.origin, piece.size, dims,
                                cancel, stop, part);
       } catch (const FatalError& e) {
-        std::lock_guard<std::mutex> lock(result_mu);
+        std::lock_guard<std::mutex> lock(failure_mu);
         if (failure.ok()) failure = e.status;
         stop = true;
         part.set_error(std::string(e.status.message()));
@@ -342,21 +283,7 @@ class InprocDevice : public Device {
       }
       // How much of the call's thread time went into pieces, not waiting (TESSERA_LAUNCH_TIMING).
       if (timing_) piece_ns += (std::chrono::steady_clock::now() - piece_start).count();
-      std::lock_guard<std::mutex> lock(result_mu);
-      if (!done) state.abandoned = true;
-      state.result.MergeFrom(part);  // prints and reports carry their launch index
-      if (--state.pieces_left > 0) return;
-      if (!state.abandoned) progress.TileFinished(request, on_result);
-      if (state.abandoned && state.result.error().empty()) return;
-      // A tile with nothing to say costs no message: over a worker's wire each is a message
-      // to write, send and parse, and the host counts finished tiles by call, not by tile.
-      if (state.result.prints_size() == 0 && state.result.exceptions_size() == 0 &&
-          state.result.error().empty()) {
-        return;
-      }
-      state.result.set_launch_id(request.launch_id());
-      state.result.set_tile_index(request.tiles(piece.tile).index());
-      on_result(std::move(state.result));
+      tiles.PieceEnded(piece.tile, done, part);
     };
     // Results go out in write epochs while later pieces trace (no barrier: nobody waits for a
     // round's last piece).
@@ -480,7 +407,7 @@ class InprocDevice : public Device {
       for (const v1::Tile& t : request.tiles()) indices += scheduler::TileIndices(t);
       epochs = indices / (kEpochIndicesPerThread * threads);
     }
-    return static_cast<unsigned char>(std::clamp<uint64_t>(epochs, 1, kMaxEpochs));
+    return static_cast<unsigned char>(std::clamp<uint64_t>(epochs, 1, WriteEpochs::kMaxEpochs));
   }
 
   static uint64_t ForcedEpochs() {

@@ -13,6 +13,7 @@
 #include <ucontext.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -81,11 +82,17 @@ struct Slot {
 
 // Never destroyed: the interrupter thread waits on it until the process is gone.
 struct Registry {
-  std::mutex mu;  // guards slots, armed and the slots' arming
+  std::mutex mu;  // guards slots, and wakes the interrupter
   std::condition_variable armed_cv;
   std::vector<Slot*> slots;
-  int armed = 0;
-  bool idle = false;  // the interrupter waits for a thread to arm (only then does Arm wake it)
+  // Tiles armed now. Counted without the lock: every tile of every device thread arms and
+  // disarms, and a lock taken twice a tile put 32 threads into the kernel's futex locks for more
+  // than half their time in launches of small tiles. Only the count's step from 0 to 1 takes the
+  // lock, to wake the interrupter (which checks the count under it before it waits).
+  std::atomic<int> armed{0};
+  // The interrupter is reading slots (under mu): a tile that disarms meanwhile waits for it to
+  // finish (Disarm), since the slot's cancel and stop flags end with the call that owns them.
+  std::atomic<bool> scanning{false};
 };
 Registry& Reg() {
   static Registry* r = new Registry;
@@ -203,19 +210,22 @@ void InstallHandler() {
   std::unique_lock<std::mutex> lock(r.mu);
   bool installed = false, replaced = false;
   for (;;) {
-    r.idle = true;
-    r.armed_cv.wait(lock, [&] { return r.armed > 0; });
-    r.idle = false;
+    r.armed_cv.wait(lock, [&] { return r.armed.load() > 0; });
     auto period = kPeriod;
-    while (r.armed > 0) {
+    while (r.armed.load() > 0) {
       // Not woken by threads arming meanwhile: a launch of short tiles arms a thread per tile.
       lock.unlock();
       std::this_thread::sleep_for(period);
       lock.lock();
       const Clock::time_point now = Clock::now();
       period = kPeriod;
+      r.scanning.store(true);
+      struct ScanEnd {
+        Registry& r;
+        ~ScanEnd() { r.scanning.store(false); }
+      } scan_end{r};
       for (Slot* s : r.slots) {
-        if (s->jump.load(std::memory_order_relaxed) == nullptr || !Ending(*s)) {
+        if (s->jump.load() == nullptr || !Ending(*s)) {
           s->ending = Clock::time_point();
           continue;
         }
@@ -331,11 +341,12 @@ void InterruptibleTile::Arm(sigjmp_buf* jump) {
   caught_exceptions_ = globals->caught_exceptions;
   uncaught_exceptions_ = globals->uncaught_exceptions;
   Registry& r = Reg();
-  std::lock_guard<std::mutex> lock(r.mu);
-  t_slot->jump.store(jump, std::memory_order_relaxed);
+  t_slot->jump.store(jump, std::memory_order_release);  // after the tile's cancel and stop flags
   armed_ = true;
-  ++r.armed;
-  if (r.idle) r.armed_cv.notify_one();
+  if (r.armed.fetch_add(1) == 0) {
+    std::lock_guard<std::mutex> lock(r.mu);
+    r.armed_cv.notify_one();
+  }
 }
 
 void InterruptibleTile::Jumped() {
@@ -350,10 +361,12 @@ void InterruptibleTile::Jumped() {
 void InterruptibleTile::Disarm() {
   if (!armed_) return;
   Registry& r = Reg();
-  std::lock_guard<std::mutex> lock(r.mu);
-  t_slot->jump.store(nullptr, std::memory_order_relaxed);  // the handler may have cleared it
+  t_slot->jump.store(nullptr);  // the handler may have cleared it
   armed_ = false;
-  --r.armed;
+  r.armed.fetch_sub(1);
+  // A scan that began before the store above may still read this tile's flags: wait for it to end.
+  // One that begins after it sees no jump and leaves the flags alone (both orders are seq_cst).
+  if (r.scanning.load()) std::lock_guard<std::mutex> wait_for_scan(r.mu);
 }
 
 void TakeInterruptRequest() {

@@ -211,41 +211,26 @@ absl::Status RunOptix7Call(Optix7Engine& engine, const Optix7Session& session,
   if (note_atomics) BeginAtomicNotes();
 
   const auto armed = std::chrono::steady_clock::now();
-  std::mutex result_mu;
+  std::mutex failure_mu;  // failure, from a piece that failed
   std::atomic<bool> stop{false};
   absl::Status failure;
   const std::vector<TilePiece> pieces =
       SplitTiles(request.tiles(), dims, threads, request.optix7().batched());
-  std::vector<TileState> tile_states(request.tiles_size());
-  CallProgress progress(started);
-  for (const TilePiece& p : pieces) ++tile_states[p.tile].pieces_left;
+  CallTiles tiles(request, pieces, started, on_result);
   auto run_piece = [&](const TilePiece& piece) {
-    TileState& state = tile_states[piece.tile];
     v1::TileResult part;
     bool done = false;
     try {
       done = engine.RunTile(piece.origin, piece.size, dims, cancel, stop, part);
     } catch (const FatalError& e) {
-      std::lock_guard<std::mutex> lock(result_mu);
+      std::lock_guard<std::mutex> lock(failure_mu);
       if (failure.ok()) failure = e.status;
       stop = true;
       part.set_error(std::string(e.status.message()));
       part.set_error_code(RT_ERROR_LAUNCH_FAILED);
       done = true;
     }
-    std::lock_guard<std::mutex> lock(result_mu);
-    if (!done) state.abandoned = true;
-    state.result.MergeFrom(part);
-    if (--state.pieces_left > 0) return;
-    if (!state.abandoned) progress.TileFinished(request, on_result);
-    if (state.abandoned && state.result.error().empty()) return;
-    if (state.result.prints_size() == 0 && state.result.exceptions_size() == 0 &&
-        state.result.error().empty()) {
-      return;
-    }
-    state.result.set_launch_id(request.launch_id());
-    state.result.set_tile_index(request.tiles(piece.tile).index());
-    on_result(std::move(state.result));
+    tiles.PieceEnded(piece.tile, done, part);
   };
   if (!empty) {
     const bool flush_denormals = engine.FlushDenormals();
