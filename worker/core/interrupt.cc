@@ -72,9 +72,11 @@ struct EhGlobals {
 EhGlobals* ThreadEhGlobals() { return reinterpret_cast<EhGlobals*>(abi::__cxa_get_globals()); }
 
 // ---- Threads running tiles ---------------------------------------------------------------------
-struct Slot {
+// A cache line each: a thread writes its own slot at every tile.
+struct alignas(64) Slot {
   pthread_t thread;
-  // Read by the handler on the slot's own thread; written by that thread under Registry::mu.
+  // Read by the handler on the slot's own thread and by the interrupter; written by the slot's
+  // thread (and cleared by the handler).
   std::atomic<sigjmp_buf*> jump{nullptr};  // non-null while armed
   std::atomic<const std::atomic<bool>*> cancel{nullptr}, stop{nullptr};
   Clock::time_point ending{};  // the interrupter's: when it first saw this tile's launch end
@@ -85,11 +87,13 @@ struct Registry {
   std::mutex mu;  // guards slots, and wakes the interrupter
   std::condition_variable armed_cv;
   std::vector<Slot*> slots;
-  // Tiles armed now. Counted without the lock: every tile of every device thread arms and
-  // disarms, and a lock taken twice a tile put 32 threads into the kernel's futex locks for more
-  // than half their time in launches of small tiles. Only the count's step from 0 to 1 takes the
-  // lock, to wake the interrupter (which checks the count under it before it waits).
-  std::atomic<int> armed{0};
+  // Every tile of every device thread arms and disarms, so neither touches shared state but these
+  // read-mostly flags: with a lock (and then an armed count) there, 32 threads spent more than
+  // half their time in the kernel's futex locks in launches of small tiles.
+  // The interrupter found no slot armed and waits: the next tile to arm wakes it. It sets the
+  // flag and then looks at the slots again, and Arm stores its jump and then reads the flag
+  // (seq_cst both): either the interrupter sees the jump or Arm sees the flag.
+  alignas(64) std::atomic<bool> sleeping{false};
   // The interrupter is reading slots (under mu): a tile that disarms meanwhile waits for it to
   // finish (Disarm), since the slot's cancel and stop flags end with the call that owns them.
   std::atomic<bool> scanning{false};
@@ -203,6 +207,14 @@ void InstallHandler() {
   sigaction(InterruptSignal(), &action, &g_previous);
 }
 
+// Whether some thread is in a tile (under Registry::mu).
+bool AnyArmed(const Registry& r) {
+  for (const Slot* s : r.slots) {
+    if (s->jump.load() != nullptr) return true;
+  }
+  return false;
+}
+
 // Signals threads whose tile's launch ended kGrace ago and that are still in it. Runs only while
 // some thread is armed; sleeps on Registry::armed_cv otherwise.
 [[noreturn]] void InterrupterLoop() {
@@ -210,9 +222,16 @@ void InstallHandler() {
   std::unique_lock<std::mutex> lock(r.mu);
   bool installed = false, replaced = false;
   for (;;) {
-    r.armed_cv.wait(lock, [&] { return r.armed.load() > 0; });
+    if (!AnyArmed(r)) {
+      r.sleeping.store(true);
+      if (AnyArmed(r)) {
+        r.sleeping.store(false);  // a tile armed before it could see the flag
+      } else {
+        r.armed_cv.wait(lock, [&] { return !r.sleeping.load(); });
+      }
+    }
     auto period = kPeriod;
-    while (r.armed.load() > 0) {
+    while (AnyArmed(r)) {
       // Not woken by threads arming meanwhile: a launch of short tiles arms a thread per tile.
       lock.unlock();
       std::this_thread::sleep_for(period);
@@ -341,10 +360,11 @@ void InterruptibleTile::Arm(sigjmp_buf* jump) {
   caught_exceptions_ = globals->caught_exceptions;
   uncaught_exceptions_ = globals->uncaught_exceptions;
   Registry& r = Reg();
-  t_slot->jump.store(jump, std::memory_order_release);  // after the tile's cancel and stop flags
+  t_slot->jump.store(jump);  // after the tile's cancel and stop flags
   armed_ = true;
-  if (r.armed.fetch_add(1) == 0) {
+  if (r.sleeping.load()) {
     std::lock_guard<std::mutex> lock(r.mu);
+    r.sleeping.store(false);
     r.armed_cv.notify_one();
   }
 }
@@ -363,7 +383,6 @@ void InterruptibleTile::Disarm() {
   Registry& r = Reg();
   t_slot->jump.store(nullptr);  // the handler may have cleared it
   armed_ = false;
-  r.armed.fetch_sub(1);
   // A scan that began before the store above may still read this tile's flags: wait for it to end.
   // One that begins after it sees no jump and leaves the flags alone (both orders are seq_cst).
   if (r.scanning.load()) std::lock_guard<std::mutex> wait_for_scan(r.mu);

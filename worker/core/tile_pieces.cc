@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "batch_block.h"
+#include "tessera/scheduler/tiling.h"
 
 namespace tessera::worker {
 
@@ -11,7 +12,13 @@ std::vector<TilePiece> SplitTiles(const google::protobuf::RepeatedPtrField<v1::T
   std::vector<TilePiece> pieces;
   if (tiles.empty()) return pieces;
   const int axis = dims[1] > 1 || dims[2] > 1 ? 1 : 0;  // rows of 2D/3D tiles, runs of 1D ones
-  const uint64_t wanted = threads > 1 ? uint64_t{kPiecesPerThread} * threads : 1;
+  uint64_t indices = 0;
+  for (const v1::Tile& tile : tiles) indices += scheduler::TileIndices(tile);
+  const uint64_t wanted = threads > 1
+                              ? std::clamp<uint64_t>(indices / kLeastPieceIndices,
+                                                     uint64_t{kLeastPiecesPerThread} * threads,
+                                                     uint64_t{kPiecesPerThread} * threads)
+                              : 1;
   const uint64_t per_tile = std::max<uint64_t>(1, (wanted + tiles.size() - 1) / tiles.size());
   pieces.reserve(tiles.size() * std::min<uint64_t>(per_tile, 64));
   for (int t = 0; t < tiles.size(); ++t) {

@@ -18,8 +18,14 @@ struct TilePiece {
   Index3 origin{0, 0, 0}, size{1, 1, 1};
 };
 
-// About this many pieces per thread in a call (fewer when the tiles have fewer rows).
+// About this many pieces per thread in a call (fewer when the tiles have fewer rows)...
 inline constexpr int kPiecesPerThread = 128;
+// ...but none much smaller than this many launch indices while each thread still gets
+// kLeastPiecesPerThread: a piece costs its thread a few microseconds of its own (starting the
+// tile, its interrupt slot, counting it done), as much as 16 primary rays, and a 256x256 launch
+// on 32 threads made 4,096 pieces of 16 indices.
+inline constexpr uint64_t kLeastPieceIndices = 256;
+inline constexpr int kLeastPiecesPerThread = 8;
 
 // Splits every tile of `tiles` into bands of whole rows (along y for 2D and 3D launches, along x
 // for 1D), as many per tile as make about kPiecesPerThread * threads pieces in all. With

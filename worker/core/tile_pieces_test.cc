@@ -43,6 +43,17 @@ TEST(SplitTiles, ManyThreadsSplitRowsAndCoverEveryIndexOnce) {
   ExpectExactCover(pieces, dims);
 }
 
+TEST(SplitTiles, SmallLaunchesKeepPiecesOfHundredsOfIndices) {
+  const Index3 dims{256, 256, 1};
+  std::vector<TilePiece> pieces = SplitTiles(Tiles({256, 256}, {16, 16}), dims, 32);
+  EXPECT_EQ(pieces.size(), 256u * 256u / kLeastPieceIndices);
+  ExpectExactCover(pieces, dims);
+  // Still a few pieces per thread where the launch has fewer indices than that.
+  pieces = SplitTiles(Tiles({64, 64}, {16, 16}), {64, 64, 1}, 32);
+  EXPECT_EQ(pieces.size(), size_t{kLeastPiecesPerThread} * 32);
+  ExpectExactCover(pieces, {64, 64, 1});
+}
+
 TEST(SplitTiles, EdgeTilesSplitOnlyTheirRowsInsideTheLaunch) {
   const Index3 dims{10, 5, 1};
   auto tiles = Tiles({10, 5}, {8, 8});

@@ -98,13 +98,14 @@ class WriteEpochs {
   Replica& replica_;
   const size_t pieces_;
   const unsigned char epochs_;
-  mutable std::mutex mu_;  // moving the epoch on, sent_ and sending_
-  std::atomic<unsigned char> current_{1};
-  std::atomic<size_t> finished_{0};
-  std::atomic<bool> claim_pending_{false};  // Started left an epoch's count at zero
-  std::array<std::atomic<int>, kMaxEpochs + 1> running_{};
+  mutable std::mutex mu_;   // moving the epoch on, sent_ and sending_
   unsigned char sent_ = 0;  // epochs up to this one went out
   bool sending_ = false;
+  // Read by every piece, written a few times a call: apart from the counts every piece writes.
+  alignas(64) std::atomic<unsigned char> current_{1};
+  std::atomic<bool> claim_pending_{false};  // Started left an epoch's count at zero
+  alignas(64) std::array<std::atomic<int>, kMaxEpochs + 1> running_{};
+  alignas(64) std::atomic<size_t> finished_{0};
 };
 
 }  // namespace tessera::worker
