@@ -404,10 +404,11 @@ void WarnIfTilesMoved(Context& context, uint64_t launch_id, const std::vector<ui
 }
 
 // The context's tile size (tesseraContextSetTileSize), else TESSERA_TILE_SIZE, else chosen from
-// the launch size and the devices' threads; one entry per launch dimension.
+// the launch size, the devices' threads and how many devices share them; one entry per launch
+// dimension.
 absl::StatusOr<std::vector<uint64_t>> TileSizeFor(const Context& context,
                                                   const std::vector<uint64_t>& dims,
-                                                  int total_threads) {
+                                                  int total_threads, size_t devices) {
   std::vector<uint64_t> size = context.tile_size();
   if (size.empty()) {
     const char* env = std::getenv("TESSERA_TILE_SIZE");
@@ -420,7 +421,11 @@ absl::StatusOr<std::vector<uint64_t>> TileSizeFor(const Context& context,
       size = *std::move(parsed);
     }
   }
-  if (size.empty()) return scheduler::ChooseTileSize(dims, total_threads);
+  if (size.empty()) {
+    return scheduler::ChooseTileSize(
+        dims, total_threads,
+        devices == 1 ? scheduler::kTilesPerThreadOneDevice : scheduler::kTilesPerThread);
+  }
   size.resize(dims.size(), size.back());
   return size;
 }
@@ -545,7 +550,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     total_threads += device.threads;
     devices.push_back(std::move(device));
   }
-  auto tile_size = TileSizeFor(*this, dims, total_threads);
+  auto tile_size = TileSizeFor(*this, dims, total_threads, slots.size());
   if (!tile_size.ok()) return tile_size.status();
   if (stable && slots.size() > 1) WarnIfTilesMoved(*this, launch_id, dims, *tile_size);
   // No tiles for the all-zero launch: each device then runs one empty call, which builds its

@@ -21,12 +21,6 @@ std::vector<uint64_t> MaxTileSize(size_t dimensionality) {
 
 namespace {
 
-// Tiles per thread to aim for. Fewer leave threads idle at the end of a launch, waiting for the
-// last expensive tiles: on 16 cores, 8 per thread (64x64 tiles at 1920x1080) lost 20% of the
-// tracing time to that tail, 64 per thread (32x32) about 5%. Batches bound the calls this makes
-// (dispatcher.cc).
-constexpr uint64_t kTilesPerThread = 64;
-
 // Tiles per dimension; their product saturates at UINT64_MAX (three dimensions of 2^32 - 1 in
 // tiles of 1 would overflow).
 uint64_t TilesAlong(uint64_t extent, uint64_t size) { return extent / size + (extent % size != 0); }
@@ -56,7 +50,8 @@ std::vector<uint64_t> LimitTileCount(const std::vector<uint64_t>& dims,
 
 }  // namespace
 
-std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int total_threads) {
+std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int total_threads,
+                                     uint64_t tiles_per_thread) {
   // Sides of extent 1 take no part: a 1x1xN launch is tiled as the 1D launch of N it is, and
   // Nx1xM as NxM, instead of tiles clipped to 1x1x4 (4 indices each, 2^18 tiles for N = 2^20).
   std::vector<uint64_t> reduced;
@@ -64,7 +59,7 @@ std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int tota
     if (extent > 1) reduced.push_back(extent);
   }
   if (!reduced.empty() && reduced.size() < dims.size()) {
-    const std::vector<uint64_t> chosen = ChooseTileSize(reduced, total_threads);
+    const std::vector<uint64_t> chosen = ChooseTileSize(reduced, total_threads, tiles_per_thread);
     std::vector<uint64_t> size(dims.size(), 1);
     for (size_t d = 0, r = 0; d < dims.size(); ++d) {
       if (dims[d] > 1) size[d] = chosen[r++];
@@ -76,7 +71,7 @@ std::vector<uint64_t> ChooseTileSize(const std::vector<uint64_t>& dims, int tota
       dims.size() == 1
           ? std::vector<uint64_t>{256}
           : (dims.size() == 2 ? std::vector<uint64_t>{16, 16} : std::vector<uint64_t>{8, 8, 2});
-  const uint64_t wanted = kTilesPerThread * static_cast<uint64_t>(std::max(total_threads, 1));
+  const uint64_t wanted = tiles_per_thread * static_cast<uint64_t>(std::max(total_threads, 1));
   while (TileCount(dims, size) < wanted) {
     bool halved = false;
     for (size_t d = 0; d < size.size(); ++d) {

@@ -39,6 +39,15 @@ TEST(TilingTest, SplitsGridsOfEachDimensionality) {
   EXPECT_EQ(MakeTiles({3, 3}, {0, 0}).size(), 9u);  // tile size 0 reads as 1
 }
 
+TEST(TilingTest, OneDeviceTakesFewerLargerTiles) {
+  // Its threads balance with pieces of tiles: 16 tiles a thread, not 64.
+  EXPECT_EQ(ChooseTileSize({1920, 1080}, 16, kTilesPerThreadOneDevice),
+            std::vector<uint64_t>({64, 64}));
+  EXPECT_EQ(ChooseTileSize({1024, 1024}, 32, kTilesPerThreadOneDevice),
+            std::vector<uint64_t>({32, 32}));
+  EXPECT_EQ(ChooseTileSize({1024, 1024}, 32), std::vector<uint64_t>({16, 16}));
+}
+
 TEST(TilingTest, ChoosesSmallerTilesForManyThreads) {
   // 1920x1080 has 510 tiles of 64x64: enough for 16 threads (8 each), not for 128.
   EXPECT_EQ(ChooseTileSize({1920, 1080}, 2), std::vector<uint64_t>({64, 64}));
