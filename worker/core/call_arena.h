@@ -5,7 +5,7 @@
 // again. Each new thread then built its engine state afresh (ThreadState, the OptiX 7 lanes'
 // stacks, modules' thread-local blocks), touched new stack pages, and on exit unmapped them,
 // which interrupts every core the process runs on to flush its TLB: a cost per call that grew
-// with the thread count (docs/programs.md, "Threads kept between calls").
+// with the thread count (docs/programs.md, "Threads kept between calls, no lock per tile").
 #ifndef TESSERA_WORKER_CORE_CALL_ARENA_H_
 #define TESSERA_WORKER_CORE_CALL_ARENA_H_
 
