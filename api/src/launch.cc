@@ -246,6 +246,7 @@ absl::Status ApplyDeltas(Context& context, uint64_t launch_id, TimeoutPoller& po
       ++alive;  // an unchanged launch costs no round trip per device
       continue;
     }
+    prepared.delta.set_launch_id(launch_id);
     jobs.push_back(Job{&slot, std::move(prepared), std::move(context_bytes), absl::OkStatus()});
   }
   // Devices take their deltas at once (hundreds of MB of INPUT buffers take seconds), each on a

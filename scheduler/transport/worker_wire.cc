@@ -59,6 +59,7 @@ v1::ApplyChunk Header(const v1::StateDelta& delta, size_t object_batches) {
   out->mutable_removed()->Add(delta.removed().begin(), delta.removed().begin() + removed);
   out->set_has_allocations(delta.has_allocations());
   *out->mutable_allocations() = delta.allocations();
+  out->set_launch_id(delta.launch_id());
   header.set_following(object_batches + RemovedBatches(delta) + delta.modules_size() +
                        delta.chunks_size() + delta.memory_size());
   return header;

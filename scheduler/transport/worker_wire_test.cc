@@ -43,12 +43,13 @@ v1::StateDelta SampleDelta() {
   memory->set_address(0x200000000010);
   memory->set_data("device bytes");
   memory->set_hash(7);
+  delta.set_launch_id(12);
   return delta;
 }
 
 TEST(WorkerWireTest, DeltaHeaderCopiesEveryFieldButObjectsChunksAndModules) {
   // DeltaHeader copies StateDelta field by field: a new field must be added there too.
-  EXPECT_EQ(v1::StateDelta::descriptor()->field_count(), 10)
+  EXPECT_EQ(v1::StateDelta::descriptor()->field_count(), 11)
       << "StateDelta changed: update DeltaHeader in worker_wire.cc";
   v1::StateDelta delta = SampleDelta();
   v1::ApplyChunk header = DeltaHeader(delta);

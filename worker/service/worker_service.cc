@@ -406,6 +406,9 @@ grpc::Status WorkerService::ApplyStream(grpc::ServerContext* context,
     status = session->device->Apply(*delta);
   }
   if (status.ok()) {
+    if (delta->launch_id() > session->state_launch_id.load()) {
+      session->state_launch_id.store(delta->launch_id());  // under mu: no other writer
+    }
     session->buffers.Apply(*delta);
     session->buffer_bytes.store(session->buffers.total(), std::memory_order_relaxed);
   }
@@ -462,6 +465,16 @@ grpc::Status WorkerService::Launch(grpc::ServerContext* context, const v1::Launc
   if (session->device == nullptr) {
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                         absl::StrCat("no state for session ", request->session_id()));
+  }
+  // A call of a launch older than the state the device holds was given up by its host (the
+  // launch failed while this call waited for the device): running it would write into the next
+  // launch's buffers.
+  if (request->launch_id() < session->state_launch_id.load()) {
+    return grpc::Status(
+        grpc::StatusCode::FAILED_PRECONDITION,
+        absl::StrCat("a call of launch ", request->launch_id(),
+                     " came after the state update for launch ", session->state_launch_id.load(),
+                     " in session ", request->session_id(), "; not run"));
   }
   Device& device = *session->device;
   // The host asks when a call holds one tile that another device was lost running: that this

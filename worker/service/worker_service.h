@@ -114,6 +114,9 @@ class WorkerService final : public v1::Worker::Service {
     std::atomic<bool> holder_cancelled{false};
     // The launch of the last Launch call: a call with another id starts a new launch.
     std::atomic<uint64_t> last_launch_id{0};
+    // The newest launch whose state update was applied (StateDelta.launch_id): a call of an older
+    // launch is refused (its host gave it up; it would write into the new state).
+    std::atomic<uint64_t> state_launch_id{0};
     CallThread calls_thread;  // runs the session's launch calls, one after the other
     void Release() {
       holder_cancelled = false;

@@ -224,6 +224,28 @@ TEST_F(WorkerServiceTest, OutOfOrderDeltaKeepsTheSessionAndSequenceOneRestartsIt
   ExpectIndices(FinalOutput(results), 5, 3);
 }
 
+// A failed launch's call can still wait in the worker for the device when the host ships the
+// next launch's state: once a delta for launch 3 is applied, a call of launch 2 is refused (it
+// would write into launch 3's buffers), and calls of launch 3 and later run.
+TEST_F(WorkerServiceTest, ACallOfALaunchOlderThanTheStateIsRefused) {
+  v1::StateDelta delta = WriteIndexDelta(13, 1, 8, 8);
+  delta.set_launch_id(3);
+  ASSERT_TRUE(Apply(delta).ok());
+  std::vector<v1::TileResult> results;
+  grpc::Status s = Launch(13, 8, 8, &results, /*launch_id=*/2);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_NE(s.error_message().find("launch 2 came after the state update for launch 3"),
+            std::string::npos)
+      << s.error_message();
+  EXPECT_TRUE(FinalOutput(results).empty());
+  results.clear();
+  ASSERT_TRUE(Launch(13, 8, 8, &results, /*launch_id=*/3).ok());
+  ExpectIndices(FinalOutput(results), 8, 8);
+  results.clear();
+  ASSERT_TRUE(Launch(13, 8, 8, &results, /*launch_id=*/4).ok());  // no state change: no delta
+  ExpectIndices(FinalOutput(results), 8, 8);
+}
+
 // A stream that ends before every announced message arrived (a message gRPC could not parse or
 // refused as too large ends it the same way) changes nothing: the same sequence number is still
 // the next one.
