@@ -9,6 +9,7 @@
 #include <limits>
 #include <mutex>
 #include <new>
+#include <string_view>
 #include <system_error>
 #include <thread>
 
@@ -517,7 +518,11 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   common.set_launch_id(launch_id);
   common.set_entry_point(entry_point);
   for (uint64_t d : dims) common.add_dims(d);
-  if (optix7 != nullptr) {
+  if (optix7 == nullptr) {
+    // Opt-in as for OptiX 7 launches (launch7.cc): docs/programs.md, "Batched tracing".
+    const char* batching = std::getenv("TESSERA_BATCHING");
+    common.set_batched(batching != nullptr && std::string_view(batching) == "1");
+  } else {
     *common.mutable_optix7() = *optix7;
     // Devices send back what programs wrote to device memory, unless the only device writes the
     // host's own memory (in-process).

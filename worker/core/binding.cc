@@ -344,6 +344,7 @@ absl::StatusOr<BoundProgram> Bind(const Replica& replica, ProgramKind kind, uint
         view.size[1] = buf->dims[1];
         view.size[2] = buf->dims[2];
         view.id = value->object_id;
+        if ((buf->desc & RT_BUFFER_OUTPUT) != 0) b.writable_slots.push_back(slot);
         if (!buf->written.empty()) {
           view.written = const_cast<unsigned char*>(buf->written.data());
           view.written_blocks = const_cast<unsigned char*>(buf->written_blocks.data());

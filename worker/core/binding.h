@@ -78,6 +78,10 @@ struct BoundProgram {
   // A view per rtBuffer slot of the module; a thread running the program points the module at
   // it, so switching programs copies no views.
   std::vector<TesseraBufferView> table;
+  // The slots of `table` bound to buffers programs may write (OUTPUT, INPUT_OUTPUT, GPU_LOCAL):
+  // what a ray generation program must not touch before its first rtTrace for that ray to be
+  // traced in a packet (packet_trace.h).
+  std::vector<unsigned> writable_slots;
   // A view per rtTextureSampler slot of the module (TesseraRuntime::texture_view); level_count 0
   // where no scope binds a sampler.
   std::vector<TesseraTextureView> textures;

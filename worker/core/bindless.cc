@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "interrupt.h"
+#include "packet_trace.h"
 #include "tessera/rt.h"
 #include "thread_state.h"
 
@@ -134,6 +135,7 @@ __attribute__((noinline, cold)) const TesseraBufferView* InvalidBufferId(ThreadS
 const TesseraBufferView* RtBufferById(int id, size_t element_size, unsigned dimensionality) {
   InterruptPoint();
   ThreadState& ts = TS();
+  EndCollectingIfAny(ts);  // an effect: the collecting lane traces alone
   const BindlessTable& t = ts.plan->bindless;
   const long k = t.buffer_index.Find(id);
   if (__builtin_expect(k < 0, 0)) return InvalidBufferId(ts, id);
@@ -165,6 +167,7 @@ void* RtBufferIdIndexError(int id, size_t element_size, unsigned long long x, un
 void* RtCallableIdEnter(int id, int skippable, TesseraCallFrame* frame) {
   InterruptPoint();
   ThreadState& ts = TS();
+  EndCollectingIfAny(ts);  // an effect: the collecting lane traces alone
   const BindlessTable& t = ts.plan->bindless;
   const long k = t.program_index.Find(id);
   if (__builtin_expect(k < 0, 0)) {

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "interrupt.h"
+#include "packet_trace.h"
 #include "tessera/rt.h"
 #include "thread_state.h"
 
@@ -155,6 +156,7 @@ const char* OuterScopes(ProgramKind k) {
 void* RtCallableEnter(const void* variable, TesseraCallFrame* frame) {
   InterruptPoint();
   ThreadState& ts = TS();
+  EndCollectingIfAny(ts);  // an effect: the collecting lane traces alone
   const BoundProgram* callee;
   std::memcpy(&callee, variable, sizeof(callee));
   if (__builtin_expect(callee == nullptr, 0)) NotSet(ts, variable);

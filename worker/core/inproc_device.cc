@@ -263,7 +263,7 @@ class InprocDevice : public Device {
     // A tile is reported when its last piece ends: not at all when a piece was cancelled, with
     // the error when a piece failed.
     const std::vector<worker::TilePiece> pieces =
-        worker::SplitTiles(request.tiles(), dims, threads);
+        worker::SplitTiles(request.tiles(), dims, threads, request.batched());
     CallTiles tiles(request, pieces, started, on_result);
     auto run_piece = [&](const worker::TilePiece& piece) {
       v1::TileResult part;
@@ -272,7 +272,7 @@ class InprocDevice : public Device {
           timing_ ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
       try {
         done = worker::RunTile(*plan_, request.entry_point(), piece.origin, piece.size, dims,
-                               cancel, stop, part);
+                               cancel, stop, part, request.batched());
       } catch (const FatalError& e) {
         std::lock_guard<std::mutex> lock(failure_mu);
         if (failure.ok()) failure = e.status;

@@ -1,5 +1,7 @@
 #include "optix7_batch.h"
 
+#include "packet16.h"
+
 namespace tessera::worker {
 namespace {
 
@@ -69,53 +71,21 @@ inline void Optix7Batch::Resume(Optix7Lane& lane) {
 
 void Optix7Batch::TraceWaiting() {
   // One packet per scene among the waiting lanes, scenes in the order of their first lane.
+  static_assert(kLanes == 16, "one rtcIntersect16 per scene");
   bool traced[kLanes] = {};
   for (unsigned first = 0; first < kLanes; ++first) {
     if (!lanes_[first].waiting || traced[first]) continue;
     const Optix7Scene* scene = lanes_[first].scene;
-    alignas(64) RTCRayHit16 packet;
-    alignas(64) int valid[kLanes];
+    int valid[kLanes];
+    RTCRayHit* rays[kLanes];
     for (unsigned k = 0; k < kLanes; ++k) {
       const Optix7Lane& lane = lanes_[k];
       const bool in = lane.waiting && !traced[k] && lane.scene == scene;
       valid[k] = in ? -1 : 0;
-      if (!in) continue;
-      traced[k] = true;
-      const RTCRay& r = lane.ray->ray;
-      packet.ray.org_x[k] = r.org_x;
-      packet.ray.org_y[k] = r.org_y;
-      packet.ray.org_z[k] = r.org_z;
-      packet.ray.tnear[k] = r.tnear;
-      packet.ray.dir_x[k] = r.dir_x;
-      packet.ray.dir_y[k] = r.dir_y;
-      packet.ray.dir_z[k] = r.dir_z;
-      packet.ray.time[k] = r.time;
-      packet.ray.tfar[k] = r.tfar;
-      packet.ray.mask[k] = r.mask;
-      packet.ray.id[k] = r.id;
-      packet.ray.flags[k] = r.flags;
-      packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+      rays[k] = lane.ray;
+      traced[k] = traced[k] || in;
     }
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    // A block's rays leave neighbouring launch indices: Embree's coherent packet traversal, which
-    // the default (incoherent) context gives up for single rays.
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    rtcIntersect16(valid, scene->scene, &context, &packet);
-    for (unsigned k = 0; k < kLanes; ++k) {
-      if (!valid[k]) continue;
-      RTCRayHit& rh = *lanes_[k].ray;
-      rh.ray.tfar = packet.ray.tfar[k];
-      rh.hit.geomID = packet.hit.geomID[k];
-      rh.hit.primID = packet.hit.primID[k];
-      rh.hit.instID[0] = packet.hit.instID[0][k];
-      rh.hit.u = packet.hit.u[k];
-      rh.hit.v = packet.hit.v[k];
-      rh.hit.Ng_x = packet.hit.Ng_x[k];
-      rh.hit.Ng_y = packet.hit.Ng_y[k];
-      rh.hit.Ng_z = packet.hit.Ng_z[k];
-    }
+    IntersectPacket16(scene->scene, valid, rays);
   }
 }
 

@@ -360,22 +360,12 @@ __attribute__((noinline)) bool RunIndices(Optix7Thread& ts, const Index3& origin
   if (ts.launch->batched) {
     // Blocks of the launch grid (BatchBlock), clipped to the piece: whole blocks when pieces
     // are made of them (tile_pieces.h), as tiles are.
-    const Index3 block = BatchBlock(dims);
     Optix7Batch& batch = ThreadBatch();
     batch.BeginTile(ts, &RunIndex);
-    for (uint32_t z = origin[2]; z < end[2]; ++z) {
-      for (uint32_t y = origin[1] / block[1] * block[1]; y < end[1]; y += block[1]) {
-        for (uint32_t x = origin[0] / block[0] * block[0]; x < end[0]; x += block[0]) {
-          if (cancel.load(std::memory_order_relaxed) || stop.load(std::memory_order_relaxed)) {
-            return false;
-          }
-          const Index3 from{std::max(x, origin[0]), std::max(y, origin[1]), z};
-          const Index3 to{std::min(x + block[0], end[0]), std::min(y + block[1], end[1]), z + 1};
-          batch.RunBlock(from, {to[0] - from[0], to[1] - from[1], 1});
-        }
-      }
-    }
-    return true;
+    return ForEachBlock(origin, size, dims, cancel, stop,
+                        [&](const Index3& from, const Index3& to) {
+                          batch.RunBlock(from, {to[0] - from[0], to[1] - from[1], 1});
+                        });
   }
   for (uint32_t z = origin[2]; z < end[2]; ++z) {
     for (uint32_t y = origin[1]; y < end[1]; ++y) {

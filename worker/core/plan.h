@@ -164,6 +164,11 @@ struct SceneEntry {
   // geometry below is built-in triangles, which Embree tests alone (SummarizeOcclusion,
   // scene.cc). `occluder` is the plan of one of them, which such a ray's hit names.
   bool occludable = false;
+  // Whether Embree calls nothing of the engine's while it traverses this scene (every geometry
+  // below is triangles without an any-hit filter or the watertight test, every child an Embree
+  // instance or the one flattened instance without a transform), so that a ray's hit may come
+  // from an Embree packet traced with other launch indices' rays (packet_trace.h).
+  bool packets = false;
   uint64_t any_hit_types = 0;
   const InstancePlan* occluder = nullptr;
   std::array<float, 6> bounds{};

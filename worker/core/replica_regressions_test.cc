@@ -64,6 +64,19 @@ TEST_F(ReplicaFuzz, TransformWithInfiniteInverseRaisesInvalidRayInsteadOfAbortin
   }
 }
 
+// Embree inverts a flattened instance's matrix itself: a singular matrix (whose inverse, as sent,
+// does not match it) moved every ray into NaN inside Embree, which asserted and ended the process.
+// Such a chain is not flattened; the per-level path transforms rays with the inverse it was given.
+TEST_F(ReplicaFuzz, SingularTransformMatrixIsNotAnEmbreeInstance) {
+  v1::StateDelta d = scene_;
+  v1::Transform* t = ObjectById(d, kTransform)->mutable_transform();
+  t->set_matrix(10, 0.f);  // z collapses: rays cross the flattened sphere's box, now a sheet
+  std::unique_ptr<Device> device = DeviceWith(d);
+  LaunchOutcome out = RunLaunch(*device, ValidRequest(1, 1));
+  ASSERT_TRUE(out.status.ok()) << out.status;
+  EXPECT_EQ(out.output.size(), kWidth * kHeight * 16);
+}
+
 // Embree finds the triangle; its intersection program (the sphere's) never reports it. Traversal
 // goes on past it, as past any hit an intersection program rejects, and the ray misses (the miss
 // program's blue), in every launch: never shaded with zeroed attributes (the closest-hit program

@@ -14,7 +14,9 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "batch_block.h"
 #include "interrupt.h"
+#include "packet_trace.h"
 #include "tessera/rt.h"
 #include "tessera/scheduler/log.h"
 #include "texture_views.h"
@@ -227,10 +229,12 @@ void Emit(const std::string& text) {
 
 int RtPrintActive() {
   InterruptPoint();
+  EndCollectingIfAny(TS());  // an effect: the collecting lane traces alone
   return PrintActive() ? 1 : 0;
 }
 void RtPrint(const char* text) {
   InterruptPoint();
+  EndCollectingIfAny(TS());
   if (PrintActive() && text != nullptr) Emit(text);
 }
 
@@ -339,6 +343,7 @@ void* RtBufferIndexError(unsigned slot, unsigned long long x, unsigned long long
                          unsigned long long z) {
   InterruptPoint();
   ThreadState& ts = TS();
+  EndCollectingIfAny(ts);  // an effect: the collecting lane traces alone
   const Module* m = ts.current->module;
   const TesseraBufferView& v = ts.current->table[slot];
   std::string name = slot < m->buffers().size() ? m->buffers()[slot].name : "?";
@@ -416,6 +421,8 @@ void ResetNesting(ThreadState& ts) {
 // calls, and the any-hit program it may have been in, whose state lived in the frames skipped.
 void ForgetInterruptedIndex(ThreadState& ts) {
   ResetNesting(ts);
+  ts.packet.collecting = nullptr;
+  ts.packet.replay = nullptr;
   ts.pending = nullptr;
   ts.ah_end = nullptr;
   ts.ah_calls = 0;
@@ -519,11 +526,41 @@ __attribute__((noinline)) bool RunIndices(ThreadState& ts, const LaunchPlan& pla
   return true;
 }
 
+// The launch indices of a tile in blocks of the launch grid (batch_block.h): each block's first
+// rays are kept and traced as packets, then its indices run, row by row (packet_trace.h).
+__attribute__((noinline)) bool RunBlocks(ThreadState& ts, const LaunchPlan& plan, unsigned entry,
+                                         const BoundProgram& rg, const Index3& origin,
+                                         const Index3& size, const Index3& dims,
+                                         const std::atomic<bool>& cancel,
+                                         const std::atomic<bool>& stop) {
+  std::array<PacketLane, 16> lanes;
+  return ForEachBlock(origin, size, dims, cancel, stop, [&](const Index3& from, const Index3& to) {
+    int n = 0;
+    for (uint32_t y = from[1]; y < to[1]; ++y) {
+      for (uint32_t x = from[0]; x < to[0]; ++x) {
+        StoreIndex(ts.index, x, y, from[2]);
+        CollectLane(ts, rg, lanes[n++]);
+      }
+    }
+    TracePackets(lanes.data(), n);
+    n = 0;
+    for (uint32_t y = from[1]; y < to[1]; ++y) {
+      for (uint32_t x = from[0]; x < to[0]; ++x) {
+        StoreIndex(ts.index, x, y, from[2]);
+        const PacketLane& lane = lanes[n++];
+        ts.packet.replay = lane.scene != nullptr ? &lane : nullptr;
+        RunIndex(ts, plan, entry, rg);
+        ts.packet.replay = nullptr;
+      }
+    }
+  });
+}
+
 }  // namespace
 
 bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const Index3& size,
              const Index3& dims, const std::atomic<bool>& cancel, const std::atomic<bool>& stop,
-             v1::TileResult& out) {
+             v1::TileResult& out, bool batched) {
   const BoundProgram* rg =
       entry < plan.ray_generation.size() ? plan.ray_generation[entry] : nullptr;
   if (rg == nullptr) {
@@ -548,6 +585,9 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
       ts.out = nullptr;
       ts.out_dropped_prints = nullptr;
       ts.out_reports_not_sent = nullptr;
+      // A tile that failed may have left a lane collecting or a packet's hit unused.
+      ts.packet.collecting = nullptr;
+      ts.packet.replay = nullptr;
     }
   } clear_out{ts};
   // A program that never returns is jumped out of when the launch ends (interrupt.h); the index
@@ -560,6 +600,7 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
     return false;
   }
   interruptible.Arm(&interrupted);
+  if (batched) return RunBlocks(ts, plan, entry, *rg, origin, size, dims, cancel, stop);
   return RunIndices(ts, plan, entry, *rg, origin, size, dims, cancel, stop);
 }
 

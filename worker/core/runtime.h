@@ -30,10 +30,11 @@ using Index3 = std::array<uint32_t, 3>;
 // [origin, origin + size) within [0, dims), x fastest; exceptions raised inside go to the
 // exception program. Prints and exception reports are appended to `out`. Returns false, having
 // stopped, when `cancel` or `stop` is set (checked before every launch index).
-// Throws FatalError.
+// `batched`: in blocks of the launch grid, whose first rays are traced as Embree packets
+// (packet_trace.h). Throws FatalError.
 bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const Index3& size,
              const Index3& dims, const std::atomic<bool>& cancel, const std::atomic<bool>& stop,
-             v1::TileResult& out);
+             v1::TileResult& out, bool batched = false);
 
 // Runs a bounding box program for one primitive (at scene build time). Throws FatalError.
 void RunBoundsProgram(const LaunchPlan& plan, const BoundProgram& program, unsigned primitive,

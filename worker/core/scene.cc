@@ -224,7 +224,10 @@ void SceneCache::SummarizeOcclusion(SceneEntry& e) {
   e.occludable = e.children.empty();
   e.any_hit_types = 0;
   e.occluder = nullptr;
+  e.packets = e.children.empty();
   for (const auto& info : e.geometries) {
+    e.packets =
+        e.packets && info->plan != nullptr && info->triangles && !info->watertight && !info->filter;
     if (info->plan == nullptr || !info->triangles || info->watertight ||
         !info->plan->builtin_triangles) {
       e.occludable = false;
@@ -234,6 +237,8 @@ void SceneCache::SummarizeOcclusion(SceneEntry& e) {
     if (e.occluder == nullptr) e.occluder = info->plan;
   }
   for (const FlatInstance& instance : e.instances) {
+    e.packets = e.packets && instance.scene != nullptr && instance.scene->packets &&
+                (!e.single_instance || !instance.xform.active);
     if (instance.scene == nullptr || !instance.scene->occludable) {
       e.occludable = false;
       continue;
@@ -628,6 +633,22 @@ bool Flattenable(const Mat& m) {
   }
   return m[12] == 0.f && m[13] == 0.f && m[14] == 0.f && m[15] == 1.f;
 }
+
+// Whether `b` is the inverse of `a`: their product is the identity within a rounding bound of
+// each entry's terms (a large translation under a rotation leaves more than a unit's error).
+bool InverseOf(const Mat& a, const Mat& b) {
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      float sum = 0.f, magnitude = 0.f;
+      for (int k = 0; k < 4; ++k) {
+        sum += a[i * 4 + k] * b[k * 4 + j];
+        magnitude += std::fabs(a[i * 4 + k] * b[k * 4 + j]);
+      }
+      if (!(std::fabs(sum - (i == j ? 1.f : 0.f)) <= 1e-4f * (1.f + magnitude))) return false;
+    }
+  }
+  return true;
+}
 }  // namespace
 
 size_t SceneCache::FlatLeafCount(const LaunchPlan& plan, NodeRef ref) {
@@ -690,6 +711,15 @@ bool SceneCache::Flatten(const LaunchPlan& plan, NodeRef ref, const Xform& above
       Xform x;
       x.to_world = above.active ? MulMat(above.to_world, t.matrix) : t.matrix;
       x.to_object = above.active ? MulMat(t.inverse, above.to_object) : t.inverse;
+      // Each factor is bounded (Flattenable), but a chain's product can overflow, and Embree
+      // inverts the instance's matrix itself: one whose inverse is not the bounded `to_object`
+      // (singular, or an inverse that does not match) would move rays to infinities or NaN,
+      // which Embree asserts on. Such a chain keeps the per-level path, which raises
+      // RT_EXCEPTION_INVALID_RAY instead.
+      if (!Flattenable(x.to_world) || !Flattenable(x.to_object) ||
+          !InverseOf(x.to_world, x.to_object)) {
+        return false;
+      }
       // A path whose transforms come to the identity (an OBJ or a glTF node placed as it is)
       // moves nothing: its rays, hits, spawn points and rtTransform* calls skip the matrices.
       x.active = x.to_world != kIdentity || x.to_object != kIdentity;

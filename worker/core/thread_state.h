@@ -142,6 +142,29 @@ struct ModuleState {
   SuspendedSlots* suspended = nullptr;   // innermost suspended state not yet restored
 };
 
+// A launch index of a batched block (packet_trace.h): its ray generation program's first ray,
+// kept while that program ran only up to its rtTrace, and what Embree's packet found for it.
+struct PacketLane {
+  const SceneEntry* scene = nullptr;  // null: no ray kept; the index traces alone
+  RayData ray;
+  RTCRayHit hit;
+};
+
+struct PacketState {
+  // Set while the ray generation program runs up to its first rtTrace for this lane, where
+  // CollectTrace keeps the ray and jumps back to `jump` (__builtin_setjmp's buffer).
+  PacketLane* collecting = nullptr;
+  void* jump[5] = {};
+  // The lane whose first rtTrace takes its packet's hit instead of tracing.
+  const PacketLane* replay = nullptr;
+  // The ray generation program's views with those of buffers it may write carrying
+  // TESSERA_COLLECTING_EPOCH: an access while collecting ends the collection. Made once per
+  // program and plan.
+  const BoundProgram* table_program = nullptr;
+  uint64_t table_plan = 0;
+  std::vector<TesseraBufferView> table;
+};
+
 struct ThreadState {
   // A thread that runs programs gets an alternate signal stack: a program that overflows the
   // thread's stack still leaves its crash report (crash_report.h). A member rather than a
@@ -208,6 +231,7 @@ struct ThreadState {
   std::vector<unsigned char> resume_payload;
   uint64_t last_node_id = 0;
   const NodeInfo* last_node = nullptr;
+  PacketState packet;  // batched launches (packet_trace.h)
   // tesseraSpawnPoint's last hit on an untransformed triangle and what it prepared of it
   // (RtSpawnPoint): a path tracer's closest-hit program spawns two or three rays from one hit.
   // Keyed by the launch index too, so a hit of another launch, whose vertices may have changed,

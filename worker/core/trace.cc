@@ -305,6 +305,10 @@ constexpr unsigned kOcclusionFlags = kRayFlagTerminateOnFirstHit | kRayFlagDisab
 // The transform above a scene traced from where there is none.
 constexpr Xform kNoTransform{};
 
+__attribute__((always_inline)) inline void TakeHit(ThreadState& ts, const SceneEntry& scene,
+                                                   const RayData& ray, bool geometry_group,
+                                                   const RTCRayHit& rh, const TraceContext& ctx);
+
 void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray,
                     bool geometry_group) {
   if (__builtin_expect(scene.single_instance, 0)) {
@@ -335,6 +339,16 @@ void IntersectScene(ThreadState& ts, const SceneEntry& scene, const RayData& ray
   rtcIntersect1(scene.scene, &ctx.embree, &rh);
   if (ctx.current != RTC_INVALID_GEOMETRY_ID) CopyXform(f.xform, *ctx.base);
   RethrowPending(ts);
+  TakeHit(ts, scene, ray, geometry_group, rh, ctx);
+}
+
+// What IntersectScene makes of Embree's answer `rh` for `ray` in `scene`: a native triangle closer
+// than the frame's hit becomes it, its attributes deferred.
+__attribute__((always_inline)) inline void TakeHit(ThreadState& ts, const SceneEntry& scene,
+                                                   const RayData& ray, bool geometry_group,
+                                                   const RTCRayHit& rh, const TraceContext& ctx) {
+  Frame& f = ts.top();
+  const bool instanced = !scene.instances.empty();
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || f.terminated) return;
   const unsigned inst = rh.hit.instID[0];
   const GeometryInfo* info;
@@ -811,6 +825,57 @@ __attribute__((noinline)) void TraverseVerified(ThreadState& ts, unsigned long l
   Traverse(ts, node, top, ray);
 }
 
+// A ray generation program's first rtTrace while its lane collects (packet_trace.h): the ray is
+// kept for the block's packet when the packet can answer it (a ray of the launch's own program,
+// no flags, a scene Embree traverses without the engine), and the run ends here either way.
+[[noreturn]] __attribute__((noinline)) void CollectTrace(ThreadState& ts, unsigned long long node,
+                                                         const void* ray_ptr, unsigned mask,
+                                                         unsigned flags) {
+  PacketLane& lane = *ts.packet.collecting;
+  const LaunchPlan& plan = *ts.plan;
+  lane.scene = nullptr;
+  if (ts.depth == 0 && flags == 0 && (mask & 0xFFu) != 0 && plan.max_depth > 0 &&
+      CopyValidRay(lane.ray, ray_ptr) && lane.ray.ray_type < plan.ray_type_count) {
+    if (node != ts.last_node_id || ts.last_node == nullptr) {  // as Trace keeps it
+      ts.last_node = plan.Node(node);
+      ts.last_node_id = node;
+    }
+    const NodeInfo* top = ts.last_node;
+    if (top != nullptr && top->scene != nullptr && top->scene->packets) {
+      // A single flattened instance (without a transform, or it would not take packets) is
+      // traced as its GeometryGroup's scene, as IntersectSingleInstance does.
+      lane.scene = top->scene->single_instance ? top->scene->instances.front().scene : top->scene;
+      ToEmbree(*lane.scene, lane.ray, lane.hit);
+    }
+  }
+  __builtin_longjmp(ts.packet.jump, 1);
+}
+
+// The first trace of a lane whose ray its block's packet traced: the packet's hit is taken as
+// rtcIntersect1's would be, if this is still that ray (the same bits, traced the same way).
+__attribute__((noinline)) void TraverseReplayed(ThreadState& ts, unsigned long long node,
+                                                const NodeInfo* top, const RayData& ray) {
+  const PacketLane& lane = *ts.packet.replay;
+  ts.packet.replay = nullptr;
+  const SceneEntry* scene = top->scene;
+  bool geometry_group = top->type == RT_OBJECTTYPE_GEOMETRY_GROUP;
+  if (scene != nullptr && scene->single_instance) {
+    scene = scene->instances.front().scene;
+    geometry_group = true;
+  }
+  Frame& f = ts.top();
+  if (ts.depth != 1 || f.flags != 0 || scene != lane.scene ||
+      std::memcmp(&ray, &lane.ray, sizeof(RayData)) != 0) {
+    Traverse(ts, node, top, ray);
+    return;
+  }
+  TraceContext ctx;
+  ctx.scene = scene;
+  ctx.any_hit_bit = AnyHitBit(ray.ray_type, false);
+  ctx.base = &kNoTransform;  // a launch's own trace has no transform above it
+  TakeHit(ts, *scene, ray, geometry_group, lane.hit, ctx);
+}
+
 // rtTrace with an OptiX 6 visibility mask and RTrayflags. Geometry has the default mask 0xFF (there
 // is no rtGeometryGroupSetVisibilityMask), so a mask with none of its low 8 bits set hits nothing.
 // A ray without a time of its own (has_time 0) takes its caller's: the traced ray's, or 0 in a
@@ -826,6 +891,9 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
       ts,
       Bit(ProgramKind::kRayGeneration) | Bit(ProgramKind::kClosestHit) | Bit(ProgramKind::kMiss),
       "rtTrace");
+  if (__builtin_expect(ts.packet.collecting != nullptr, 0)) {
+    CollectTrace(ts, node, ray_ptr, mask, flags);
+  }
   const LaunchPlan& plan = *ts.plan;
   // The ray goes straight into the frame it is traced in: frames has max_depth + 1 entries, so
   // frames[depth] exists even for a trace that RejectTrace refuses, and nothing writes it before
@@ -883,6 +951,8 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   f.xform.active = false;
   if (__builtin_expect(cull_all, 0)) {
     // Nothing to traverse: the ray misses.
+  } else if (__builtin_expect(ts.packet.replay != nullptr, 0)) {
+    TraverseReplayed(ts, node, top, ray);
   } else {
     Traverse(ts, node, top, ray);
   }

@@ -384,6 +384,11 @@ class BufferAccess {
     // element and its block with the device's write epoch.
     if (v.written != nullptr) {
       const unsigned char epoch = __atomic_load_n(v.write_epoch, __ATOMIC_RELAXED);
+      // While the engine gathers a block's first rays (TESSERA_COLLECTING_EPOCH), an access to a
+      // buffer programs may write ends that; the launch index then runs alone.
+      if (__builtin_expect(epoch == TESSERA_COLLECTING_EPOCH, 0)) {
+        return *static_cast<T*>(Self().OutOfBounds(x, y, z));
+      }
       MarkAtLeast(&v.written[i], epoch);
       MarkAtLeast(&v.written_blocks[i >> TESSERA_WRITTEN_BLOCK_SHIFT], epoch);
     }

@@ -13,7 +13,7 @@
 extern "C" {
 #endif
 
-#define TESSERA_MODULE_ABI_VERSION 11u
+#define TESSERA_MODULE_ABI_VERSION 12u
 
 /* One rtDeclareVariable. `semantic` and `annotation` are the macro arguments as written
  * ("rtLaunchIndex", "attribute normal_vec", ""). `address` returns the calling thread's slot. */
@@ -56,6 +56,13 @@ typedef struct {
 } TesseraBufferView;
 
 #define TESSERA_WRITTEN_BLOCK_SHIFT 12
+
+/* A write epoch no device call reaches (they count from 1 to at most 8): views of the buffers a
+ * program may write carry it while the engine runs a launch index's ray generation program only
+ * up to its first rtTrace, to trace that ray in a packet with its block's (docs/programs.md,
+ * "Batched tracing"). An access then goes to buffer_index_error, which ends that run. (Version
+ * 12.) */
+#define TESSERA_COLLECTING_EPOCH 0xFFu
 
 /* One rtTextureSampler object (version 8), named like rtBuffer objects. `dimensionality` is the
  * declaration's Dim: 1, 2, 3 or a CUDA layered / cube map texture type (tessera/detail/texture.h);
