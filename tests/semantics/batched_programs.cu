@@ -15,6 +15,8 @@ rtDeclareVariable(float2, barycentrics, attribute rtTriangleBarycentrics, );
 rtDeclareVariable(optix::Ray, ray, rtCurrentRay, );
 rtBuffer<float4, 2> output;
 rtBuffer<unsigned, 2> counts;
+typedef rtBufferId<unsigned, 2> UnsignedImage;
+rtDeclareVariable(UnsignedImage, counts_by_id, , );
 
 namespace {
 // A ray at a point of the unit square that is on neither triangle's edge.
@@ -34,6 +36,12 @@ RT_PROGRAM void plain() { output[launch_index] = Traced(); }
 // Counts each launch index's runs before it traces: one per launch, batched or not.
 RT_PROGRAM void count_then_trace() {
   counts[launch_index] += 1u;
+  output[launch_index] = Traced();
+}
+
+// The same through a buffer id, which programs read from a table without a call.
+RT_PROGRAM void count_by_id_then_trace() {
+  counts_by_id[launch_index] += 1u;
   output[launch_index] = Traced();
 }
 

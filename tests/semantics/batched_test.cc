@@ -109,6 +109,12 @@ TEST_P(BatchedTest, BufferWritesBeforeTheFirstTraceHappenOnce) {
   const std::vector<Float4> plain = Run("plain", false);
   for (int k = 0; k < 3; ++k) EXPECT_EQ(Run("count_then_trace", true), plain);
   for (unsigned c : ReadAs<unsigned>(counts)) ASSERT_EQ(c, 3u);
+  // Through an id (rtBufferId), whose views programs read from a table without a call.
+  int id = 0;
+  Ok(rtBufferGetId(counts, &id));
+  Ok(rtVariableSet1i(ContextVar("counts_by_id"), id));
+  for (int k = 0; k < 2; ++k) EXPECT_EQ(Run("count_by_id_then_trace", true), plain);
+  for (unsigned c : ReadAs<unsigned>(counts)) ASSERT_EQ(c, 5u);
 }
 
 TEST_P(BatchedTest, PrintsBeforeTheFirstTraceAppearOnce) {

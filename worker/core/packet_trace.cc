@@ -1,5 +1,6 @@
 #include "packet_trace.h"
 
+#include "bindless.h"
 #include "packet16.h"
 
 namespace tessera::worker {
@@ -41,9 +42,14 @@ __attribute__((noinline)) void RunUntilTrace(ThreadState& ts, const BoundProgram
 }  // namespace
 
 void CollectLane(ThreadState& ts, const BoundProgram& rg, PacketLane& lane) {
+  // Buffers by id are read from a table without a call: an empty one sends every such access
+  // through RtBufferById, which ends the run (the header cannot tell a read from a write).
+  static const TesseraBufferIdTable kNoIds{0, nullptr};
   lane.scene = nullptr;
   ts.packet.collecting = &lane;
+  t_buffer_ids = &kNoIds;
   if (__builtin_setjmp(ts.packet.jump) == 0) RunUntilTrace(ts, rg);
+  t_buffer_ids = &ts.plan->bindless.fast;  // as UsePlan set it
   ts.packet.collecting = nullptr;
 }
 
