@@ -1,7 +1,5 @@
 #include "launch7.h"
 
-#include <cstdlib>
-#include <string_view>
 #include <vector>
 
 #include "launch_target.h"
@@ -28,8 +26,6 @@ absl::Status Launch(LaunchTarget& target, const LaunchPipeline& pipeline, CUdevi
   launch.set_callables_record_stride(sbt.callablesRecordStrideInBytes);
   launch.set_callables_record_count(sbt.callablesRecordCount);
   launch.set_accuracy_flags(accuracy_flags);
-  const char* batching = std::getenv("TESSERA_BATCHING");
-  launch.set_batched(batching != nullptr && std::string_view(batching) == "1");
   // Trailing dimensions of 1 are left out: a 2D launch tiles as 2D.
   std::vector<uint64_t> dims{width, height, depth};
   while (dims.size() > 1 && dims.back() == 1) dims.pop_back();

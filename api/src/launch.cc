@@ -518,12 +518,15 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   common.set_launch_id(launch_id);
   common.set_entry_point(entry_point);
   for (uint64_t d : dims) common.add_dims(d);
+  // Batched tracing is opt-in for both layers (docs/programs.md, "Batched tracing"), chosen here
+  // so that every device of the launch makes the same choice.
+  const char* batching = std::getenv("TESSERA_BATCHING");
+  const bool batched = batching != nullptr && std::string_view(batching) == "1";
   if (optix7 == nullptr) {
-    // Opt-in as for OptiX 7 launches (launch7.cc): docs/programs.md, "Batched tracing".
-    const char* batching = std::getenv("TESSERA_BATCHING");
-    common.set_batched(batching != nullptr && std::string_view(batching) == "1");
+    common.set_batched(batched);
   } else {
     *common.mutable_optix7() = *optix7;
+    common.mutable_optix7()->set_batched(batched);
     // Devices send back what programs wrote to device memory, unless the only device writes the
     // host's own memory (in-process).
     size_t devices = 0;

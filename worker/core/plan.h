@@ -161,7 +161,7 @@ struct SceneEntry {
   bool tnear_inclusive = false;
   // Whether a ray that only asks "hit or not" (terminate on first hit, no closest hit, and no
   // any-hit program for its type among `any_hit_types`) may take Embree's occlusion query: every
-  // geometry below is built-in triangles, which Embree tests alone (SummarizeOcclusion,
+  // geometry below is built-in triangles, which Embree tests alone (SummarizeTraversal,
   // scene.cc). `occluder` is the plan of one of them, which such a ray's hit names.
   bool occludable = false;
   // Whether Embree calls nothing of the engine's while it traverses this scene (every geometry
@@ -302,7 +302,7 @@ class SceneCache {
                               const AccelRec& accel, const SceneOptions& options, SceneEntry& entry,
                               bool refit);
   absl::StatusOr<const SceneEntry*> BuildGroup(LaunchPlan& plan, uint64_t id, int depth);
-  static void SummarizeOcclusion(SceneEntry& entry);
+  static void SummarizeTraversal(SceneEntry& entry);
   // Flattening a Group's children into Embree instances (scene.cc, "Flattened groups").
   struct FlatLeaf {
     const SceneEntry* scene;

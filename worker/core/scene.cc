@@ -215,12 +215,14 @@ absl::Status TooDeep(uint64_t id) {
 }
 }  // namespace
 
-// SceneEntry::occludable and what goes with it, for this plan: a GeometryGroup of built-in
+// What traversal may skip in this scene, for this plan: SceneEntry::packets (Embree calls nothing
+// of the engine's, so packets can answer its rays), and SceneEntry::occludable and what goes with
+// it: a GeometryGroup of built-in
 // triangles (no intersection program, not the watertight test's user geometry), or a Group whose
 // every child is an Embree instance of such a GeometryGroup (its children were summarized first:
 // Node builds them before their parent). Selectors and children traversed by IntersectChild run
 // programs, so their scenes are not.
-void SceneCache::SummarizeOcclusion(SceneEntry& e) {
+void SceneCache::SummarizeTraversal(SceneEntry& e) {
   e.occludable = e.children.empty();
   e.any_hit_types = 0;
   e.occluder = nullptr;
@@ -287,7 +289,7 @@ absl::StatusOr<const SceneEntry*> SceneCache::Node(LaunchPlan& plan, NodeRef ref
   }
   if (built.ok()) {
     if (const auto it = entries_.find(ref.id); it != entries_.end() && it->second.get() == *built) {
-      SummarizeOcclusion(*it->second);
+      SummarizeTraversal(*it->second);
     }
   }
   // Traversal that reaches this node below a Transform or Selector root finds no scene here and
