@@ -3,6 +3,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <vector>
 
 namespace tessera::transport {
 namespace {
@@ -18,9 +19,45 @@ std::chrono::steady_clock::time_point Within(absl::Duration d) {
 
 }  // namespace
 
+// Reactors whose call ended (OnDone ran), waiting to be destroyed on a thread of the host's. A
+// reactor owns its ClientContext, which holds a reference to the channel; when the device that
+// made the call is already gone, that is the channel's last reference, and a channel dropped on
+// one of gRPC 1.51's callback threads shuts down the callback completion queue from that very
+// thread: it cannot join itself, frees the queue anyway, and the thread then aborts in
+// grpc_cq_internal_unref (grpc/grpc#32584). So OnDone never destroys its reactor; it leaves it
+// here, and the next call made or ended on a host thread destroys it.
+class ApplyCall::Graveyard {
+ public:
+  static void Keep(std::shared_ptr<Reactor> reactor) {
+    Graveyard& g = Get();
+    std::lock_guard<std::mutex> lock(g.mu_);
+    g.ended_.push_back(std::move(reactor));
+  }
+  // Drops the kept reactors (outside the lock: a channel's end joins gRPC's callback threads,
+  // which may be about to Keep).
+  static void Reap() {
+    std::vector<std::shared_ptr<Reactor>> ended;
+    Graveyard& g = Get();
+    {
+      std::lock_guard<std::mutex> lock(g.mu_);
+      ended.swap(g.ended_);
+    }
+  }
+
+ private:
+  // Never destroyed: reactors still kept at exit are left to the process's end, not to static
+  // destructors that may run after gRPC's own.
+  static Graveyard& Get() {
+    static Graveyard* const g = new Graveyard;
+    return *g;
+  }
+  std::mutex mu_;
+  std::vector<std::shared_ptr<Reactor>> ended_;
+};
+
 // gRPC's side of the call. It owns everything gRPC may still touch (context, reply, the message
 // being written) and keeps itself alive until OnDone, so that a caller who gave up on a silent
-// worker can return while gRPC finishes the call on its own.
+// worker can return while gRPC finishes the call on its own (and then waits in the Graveyard).
 class ApplyCall::Reactor : public grpc::ClientWriteReactor<v1::ApplyChunk> {
  public:
   void OnWriteDone(bool ok) override {
@@ -30,13 +67,16 @@ class ApplyCall::Reactor : public grpc::ClientWriteReactor<v1::ApplyChunk> {
     cv.notify_all();
   }
   void OnDone(const grpc::Status& s) override {
-    std::shared_ptr<Reactor> last;  // may destroy this reactor on return: nothing touches it after
-    std::lock_guard<std::mutex> lock(mu);
-    status = s;
-    done = true;
-    over = true;
-    last = std::move(self);
-    cv.notify_all();
+    std::shared_ptr<Reactor> ended;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      status = s;
+      done = true;
+      over = true;
+      ended = std::move(self);
+      cv.notify_all();
+    }
+    Graveyard::Keep(std::move(ended));  // not destroyed on this gRPC thread (Graveyard)
   }
 
   grpc::ClientContext context;
@@ -54,6 +94,7 @@ class ApplyCall::Reactor : public grpc::ClientWriteReactor<v1::ApplyChunk> {
 };
 
 ApplyCall::ApplyCall(v1::Worker::StubInterface* stub) : reactor_(std::make_shared<Reactor>()) {
+  Graveyard::Reap();
   reactor_->self = reactor_;
   stub->async()->Apply(&reactor_->context, &reactor_->reply, reactor_.get());
   // Writes start from this thread, outside gRPC's reactions: the hold keeps the call (and OnDone)
@@ -67,6 +108,8 @@ ApplyCall::~ApplyCall() {
     reactor_->context.TryCancel();
     EndWrites();
   }
+  reactor_.reset();
+  Graveyard::Reap();
 }
 
 bool ApplyCall::Write(const v1::ApplyChunk& message, absl::Duration silence) {

@@ -38,6 +38,7 @@ class ApplyCall {
 
  private:
   class Reactor;
+  class Graveyard;
   void EndWrites();  // releases the stream for its end (once)
 
   std::shared_ptr<Reactor> reactor_;
