@@ -2,10 +2,16 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "tessera/worker/static_tls.h"
 #include "tools/tessera/render/image_io.h"
 #include "tools/tessera/render/render_command.h"
 
 int main(int argc, char** argv) {
+  // The tool's in-process devices load program modules' initial-exec builds only where the
+  // process has static TLS for them, which only a new start gives (tessera/worker/static_tls.h);
+  // the tool loads no graphics driver or plug-in that could need that room later. Local workers
+  // inherit it.
+  tessera::worker::RestartWithModuleStaticTls(argv, "TESSERA_TOOL_RESTARTED");
   CLI::App app{"Tessera: OptiX-style ray tracing on CPUs.", "tessera"};
   app.set_version_flag("--version", tessera::render::SoftwareName());
   app.require_subcommand(1);

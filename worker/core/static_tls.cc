@@ -1,6 +1,11 @@
 #include "tessera/worker/static_tls.h"
 
+#include <sys/auxv.h>
+#include <unistd.h>
+
 #include <cstdlib>
+#include <cstring>
+#include <vector>
 
 #include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
@@ -41,6 +46,31 @@ std::string TunablesWithModuleStaticTls(const char* current) {
   const std::string setting = absl::StrCat(kTunable, "=", kModuleStaticTlsBytes);
   if (current == nullptr || *current == '\0') return setting;
   return absl::StrCat(current, ":", setting);  // the last setting wins
+}
+
+void RestartWithModuleStaticTls(char** argv, const char* restarted) {
+  // AT_BASE is where the kernel put the program's interpreter: 0 when the program was started
+  // through the dynamic loader (`ld-linux-x86-64.so.2 --library-path DIR tessera-worker ...`),
+  // whose executable is the loader, which the program's own arguments would not start again.
+  if (ModuleStaticTlsReserved() || std::getenv(restarted) != nullptr || getauxval(AT_BASE) == 0) {
+    return;
+  }
+  std::string tunables =
+      absl::StrCat("GLIBC_TUNABLES=", TunablesWithModuleStaticTls(std::getenv("GLIBC_TUNABLES")));
+  std::string marker = absl::StrCat(restarted, "=1");
+  std::vector<char*> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (std::strncmp(*e, "GLIBC_TUNABLES=", 15) != 0) env.push_back(*e);
+  }
+  env.push_back(tunables.data());
+  env.push_back(marker.data());
+  env.push_back(nullptr);
+  // By its own path, not /proc/self/exe: the process's name (ps, pkill) is the file's.
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
+  if (n <= 0 || static_cast<size_t>(n) >= sizeof(self) - 1) return;
+  self[n] = '\0';
+  execve(self, argv, env.data());
 }
 
 }  // namespace tessera::worker

@@ -230,43 +230,11 @@ int Serve(const std::string& listen, int threads, tessera::transport::ResultAren
   std::_Exit(kExitStopped);
 }
 
-// Program modules' variables are initial-exec thread-locals where the process reserves static TLS
-// for them (worker/core/static_tls.h), which glibc sizes from GLIBC_TUNABLES as it starts the
-// process: a worker started without that room starts itself again with it, once. execve keeps the
-// process (its pid, descriptors and parent-death signal). Where it cannot (no /proc, a path too
-// long, a worker started through the dynamic loader), modules keep their local-dynamic build.
-void RestartWithModuleStaticTls(char** argv) {
-  constexpr char kRestarted[] = "TESSERA_WORKER_RESTARTED=1";
-  // AT_BASE is where the kernel put the program's interpreter: 0 when the program was started
-  // through the dynamic loader (`ld-linux-x86-64.so.2 --library-path DIR tessera-worker ...`),
-  // whose executable is the loader, which the worker's own arguments would not start again.
-  if (tessera::worker::ModuleStaticTlsReserved() || std::getenv("TESSERA_WORKER_RESTARTED") ||
-      getauxval(AT_BASE) == 0) {
-    return;
-  }
-  std::string tunables =
-      absl::StrCat("GLIBC_TUNABLES=",
-                   tessera::worker::TunablesWithModuleStaticTls(std::getenv("GLIBC_TUNABLES")));
-  std::string restarted = kRestarted;
-  std::vector<char*> env;
-  for (char** e = environ; *e != nullptr; ++e) {
-    if (std::strncmp(*e, "GLIBC_TUNABLES=", 15) != 0) env.push_back(*e);
-  }
-  env.push_back(tunables.data());
-  env.push_back(restarted.data());
-  env.push_back(nullptr);
-  // By its own path, not /proc/self/exe: the process's name (ps, pkill) is the file's.
-  char self[4096];
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
-  if (n <= 0 || static_cast<size_t>(n) >= sizeof(self) - 1) return;
-  self[n] = '\0';
-  execve(self, argv, env.data());
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  RestartWithModuleStaticTls(argv);
+  // Modules' variables as initial-exec thread-locals (worker/core/static_tls.h).
+  tessera::worker::RestartWithModuleStaticTls(argv, "TESSERA_WORKER_RESTARTED");
   const sigset_t stop = StopSignals();
   pthread_sigmask(SIG_BLOCK, &stop, nullptr);
   tessera::InstallCrashReporter();

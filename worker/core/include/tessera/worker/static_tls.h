@@ -30,6 +30,15 @@ bool ModuleStaticTlsReserved();
 // GLIBC_TUNABLES `current` (null: unset) with that room added; what a worker starts itself with.
 std::string TunablesWithModuleStaticTls(const char* current);
 
+// For a program's main (the worker, the `tessera` tool): a process started without that room
+// starts itself again with it, once, its environment marked with `restarted` (a variable name, set
+// to 1: a process that finds it set does not try again). glibc sizes static TLS from
+// GLIBC_TUNABLES as it starts a process, so only a new start gives the room; execve keeps the
+// process (its pid, descriptors and parent-death signal), and children it starts inherit the room.
+// Returns (doing nothing) where it cannot: no /proc, a path too long, a program started through
+// the dynamic loader; its modules then keep their local-dynamic builds.
+void RestartWithModuleStaticTls(char** argv, const char* restarted);
+
 }  // namespace tessera::worker
 
 #endif  // TESSERA_WORKER_STATIC_TLS_H_
