@@ -1,17 +1,25 @@
 // `tessera`: Tessera's command-line tool. Subcommands: render (docs/render.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 #include "tessera/worker/static_tls.h"
 #include "tools/tessera/render/image_io.h"
 #include "tools/tessera/render/render_command.h"
 
+namespace {
+
+// Whether the render runs on an in-process device (--devices, else TESSERA_DEVICES).
+bool UsesInprocDevice(const tessera::render::RenderOptions& o) {
+  const char* env = std::getenv("TESSERA_DEVICES");
+  const std::string spec = !o.devices.empty() ? o.devices : env != nullptr ? env : "";
+  return spec.find("inproc") != std::string::npos;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  // The tool's in-process devices load program modules' initial-exec builds only where the
-  // process has static TLS for them, which only a new start gives (tessera/worker/static_tls.h);
-  // the tool loads no graphics driver or plug-in that could need that room later. Local workers
-  // inherit it.
-  tessera::worker::RestartWithModuleStaticTls(argv, "TESSERA_TOOL_RESTARTED");
   CLI::App app{"Tessera: OptiX-style ray tracing on CPUs.", "tessera"};
   app.set_version_flag("--version", tessera::render::SoftwareName());
   app.require_subcommand(1);
@@ -22,6 +30,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version exit 0; every usage error 2, its message naming the flag.
     return app.exit(e) == 0 ? 0 : 2;
+  }
+  // In-process devices load program modules' initial-exec builds only where the process has
+  // static TLS for them, which only a new start gives (tessera/worker/static_tls.h); the tool
+  // loads no graphics driver or plug-in that could need that room later. Only for them: a start
+  // of this tool costs ~0.5 s (the image libraries' loading), and workers reserve their own room.
+  if (render->parsed() && UsesInprocDevice(render_options)) {
+    tessera::worker::RestartWithModuleStaticTls(argv, "TESSERA_TOOL_RESTARTED");
   }
   if (render->parsed()) return tessera::render::RunRender(render_options);
   return 2;
