@@ -16,6 +16,7 @@
 #include "tessera/rt.h"
 #include "tessera/scheduler/device.h"
 #include "tessera/v1/object_fields.h"
+#include "written_scan.h"
 
 namespace tessera::worker {
 namespace {
@@ -226,20 +227,6 @@ class RegionPacker {
   std::vector<Region> regions_;
 };
 
-// Elements [begin, end) of one buffer.
-struct ElementRun {
-  size_t begin, end;
-};
-
-// Appends [begin, end) to `runs`, extending the last run when the two touch.
-void AppendRun(std::vector<ElementRun>& runs, size_t begin, size_t end) {
-  if (!runs.empty() && runs.back().end == begin) {
-    runs.back().end = end;
-  } else {
-    runs.push_back({begin, end});
-  }
-}
-
 }  // namespace
 
 void Replica::TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsigned char upto,
@@ -251,19 +238,16 @@ void Replica::TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsig
   constexpr size_t kBlocksPerGroup = 16;
   // Marks may be raised concurrently (never to an epoch in range unless `last`): read each once.
   auto load = [](const unsigned char* m) { return __atomic_load_n(m, __ATOMIC_RELAXED); };
-  auto taken = [&](unsigned char m) { return m > after && (last || m <= upto); };
+  const MarkRange range{after, upto, last};
   for (auto& [id, b] : buffers) {
     if (b.written.empty()) continue;
     unsigned char* marks = b.written.data();
     unsigned char* blocks = b.written_blocks.data();
     const size_t n = b.written.size();
     const size_t size = b.element_size;
-    const bool compare = b.before.size() == b.data.size();
     // Only elements that changed since the host last heard of them: the rest were read, or
     // rewritten with the value every device already has.
-    auto changed = [&](size_t e) {
-      return std::memcmp(b.data.data() + e * size, b.before.data() + e * size, size) != 0;
-    };
+    const bool compare = b.before.size() == b.data.size();
     // Touched blocks first (a batch touches a small part of a large buffer), then runs of taken
     // elements inside them. A block's mark is its highest element's: one marked up to `after`
     // holds nothing new.
@@ -272,9 +256,13 @@ void Replica::TakeWrittenRegions(v1::TileResult* out, unsigned char after, unsig
         const unsigned char block_mark = load(blocks + block);
         const size_t begin = block * kBlock, end = std::min(n, begin + kBlock);
         if (block_mark > after) {
-          for (size_t e = begin; e < end; ++e) {
-            if (taken(load(marks + e)) && (!compare || changed(e))) AppendRun(runs, e, e + 1);
-          }
+          ForEachTakenRun(marks, begin, end, range, [&](size_t first, size_t stop) {
+            if (compare) {
+              AppendChanged(b.data.data(), b.before.data(), size, first, stop, runs);
+            } else {
+              AppendRun(runs, first, stop);
+            }
+          });
         }
         if (last && block_mark != 0) {
           std::memset(marks + begin, 0, end - begin);
