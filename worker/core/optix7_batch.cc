@@ -72,21 +72,14 @@ inline void Optix7Batch::Resume(Optix7Lane& lane) {
 void Optix7Batch::TraceWaiting() {
   // One packet per scene among the waiting lanes, scenes in the order of their first lane.
   static_assert(kLanes == 16, "one rtcIntersect16 per scene");
-  bool traced[kLanes] = {};
-  for (unsigned first = 0; first < kLanes; ++first) {
-    if (!lanes_[first].waiting || traced[first]) continue;
-    const Optix7Scene* scene = lanes_[first].scene;
-    int valid[kLanes];
-    RTCRayHit* rays[kLanes];
-    for (unsigned k = 0; k < kLanes; ++k) {
-      const Optix7Lane& lane = lanes_[k];
-      const bool in = lane.waiting && !traced[k] && lane.scene == scene;
-      valid[k] = in ? -1 : 0;
-      rays[k] = lane.ray;
-      traced[k] = traced[k] || in;
-    }
-    IntersectPacket16(scene->scene, valid, rays);
-  }
+  RTCRayHit* rays[kLanes];
+  for (unsigned k = 0; k < kLanes; ++k) rays[k] = lanes_[k].ray;
+  ForEachSceneGroup(
+      static_cast<int>(kLanes),
+      [&](int k) { return lanes_[k].waiting ? lanes_[k].scene : nullptr; },
+      [&](const Optix7Scene* scene, int, const int* valid, int) {
+        IntersectPacket16(scene->scene, valid, rays);
+      });
 }
 
 void Optix7Batch::RunBlock(const Index3& origin, const Index3& size) {

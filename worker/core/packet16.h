@@ -13,6 +13,29 @@ namespace tessera::worker {
 // its tfar and hit back in place, as rtcIntersect1 would give them.
 void IntersectPacket16(RTCScene scene, const int* valid, RTCRayHit* const* rays);
 
+// Groups lanes [0, count) (at most 16) by the scene they trace, one packet's worth each, scenes in
+// the order of their first lane: scene_of(k) is lane k's scene, null for a lane that traces
+// nothing; group(scene, first, valid, members) gets each scene, its first lane, valid[k] = -1 for
+// its lanes (0 for the others, IntersectPacket16's mask) and how many there are.
+template <typename SceneOf, typename Group>
+void ForEachSceneGroup(int count, SceneOf&& scene_of, Group&& group) {
+  constexpr int kLanes = 16;
+  bool grouped[kLanes] = {};
+  for (int first = 0; first < count; ++first) {
+    const auto* scene = scene_of(first);
+    if (scene == nullptr || grouped[first]) continue;
+    int valid[kLanes] = {};
+    int members = 0;
+    for (int k = first; k < count; ++k) {
+      if (grouped[k] || scene_of(k) != scene) continue;
+      valid[k] = -1;
+      grouped[k] = true;
+      ++members;
+    }
+    group(scene, first, valid, members);
+  }
+}
+
 }  // namespace tessera::worker
 
 #endif  // TESSERA_WORKER_CORE_PACKET16_H_

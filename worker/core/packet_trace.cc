@@ -59,27 +59,19 @@ void EndCollecting(ThreadState& ts) {
 }
 
 void TracePackets(PacketLane* lanes, int count) {
-  constexpr int kLanes = 16;
-  bool traced[kLanes] = {};
-  for (int first = 0; first < count; ++first) {
-    if (lanes[first].scene == nullptr || traced[first]) continue;
-    const SceneEntry* scene = lanes[first].scene;
-    int valid[kLanes] = {};
-    RTCRayHit* rays[kLanes] = {};
-    int in = 0;
-    for (int k = first; k < count; ++k) {
-      if (lanes[k].scene != scene || traced[k]) continue;
-      valid[k] = -1;
-      rays[k] = &lanes[k].hit;
-      traced[k] = true;
-      ++in;
-    }
-    if (in < 2) {  // a packet of one costs more than the ray alone
-      lanes[first].scene = nullptr;
-      continue;
-    }
-    IntersectPacket16(scene->scene, valid, rays);
-  }
+  ForEachSceneGroup(
+      count, [&](int k) { return lanes[k].scene; },
+      [&](const SceneEntry* scene, int first, const int* valid, int members) {
+        if (members < 2) {  // a packet of one costs more than the ray alone
+          lanes[first].scene = nullptr;
+          return;
+        }
+        RTCRayHit* rays[16] = {};
+        for (int k = 0; k < count; ++k) {
+          if (valid[k]) rays[k] = &lanes[k].hit;
+        }
+        IntersectPacket16(scene->scene, valid, rays);
+      });
 }
 
 }  // namespace tessera::worker
