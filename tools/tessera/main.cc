@@ -4,17 +4,23 @@
 #include <cstdlib>
 #include <string>
 
+#include "absl/strings/ascii.h"
+#include "absl/strings/str_split.h"
 #include "tessera/worker/static_tls.h"
 #include "tools/tessera/render/image_io.h"
 #include "tools/tessera/render/render_command.h"
 
 namespace {
 
-// Whether the render runs on an in-process device (--devices, else TESSERA_DEVICES).
+// Whether the render runs on an in-process device: an `inproc` entry of --devices, else of
+// TESSERA_DEVICES (a host name containing "inproc" is not one).
 bool UsesInprocDevice(const tessera::render::RenderOptions& o) {
   const char* env = std::getenv("TESSERA_DEVICES");
   const std::string spec = !o.devices.empty() ? o.devices : env != nullptr ? env : "";
-  return spec.find("inproc") != std::string::npos;
+  for (absl::string_view entry : absl::StrSplit(spec, ',')) {
+    if (absl::StripAsciiWhitespace(entry) == "inproc") return true;
+  }
+  return false;
 }
 
 }  // namespace

@@ -59,16 +59,14 @@ void EndCollecting(ThreadState& ts) {
 }
 
 void TracePackets(PacketLane* lanes, int count) {
+  RTCRayHit* rays[16] = {};  // IntersectPacket16 reads a group's own lanes only
+  for (int k = 0; k < count; ++k) rays[k] = &lanes[k].hit;
   ForEachSceneGroup(
       count, [&](int k) { return lanes[k].scene; },
       [&](const SceneEntry* scene, int first, const int* valid, int members) {
         if (members < 2) {  // a packet of one costs more than the ray alone
           lanes[first].scene = nullptr;
           return;
-        }
-        RTCRayHit* rays[16] = {};
-        for (int k = 0; k < count; ++k) {
-          if (valid[k]) rays[k] = &lanes[k].hit;
         }
         IntersectPacket16(scene->scene, valid, rays);
       });
