@@ -74,6 +74,14 @@ RTresult tesseraContextGetExceptionReportCount(RTcontext context, RTsize* count)
   });
 }
 
+RTresult tesseraContextGetLastLaunchBatched(RTcontext context, int* batched) {
+  return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {
+    TS_RETURN_IF_ERROR(NotNull(batched, "batched pointer"));
+    *batched = c.last_launch_batched() ? 1 : 0;
+    return absl::OkStatus();
+  });
+}
+
 RTresult tesseraContextGetTransferStats(RTcontext context, unsigned long long* bytes_sent,
                                         unsigned long long* bytes_received) {
   return Call<Context>(__func__, context, [&](Context& c) -> absl::Status {

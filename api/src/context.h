@@ -18,6 +18,7 @@
 #include "absl/container/flat_hash_set.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "auto_batching.h"
 #include "device_sync.h"
 #include "handle_registry.h"
 #include "object.h"
@@ -198,10 +199,14 @@ class Context : public Object {
     if (entry_point >= tile_costs_.size()) tile_costs_.resize(entry_point + 1);
     return tile_costs_[entry_point];
   }
+  // Which entry points' OptiX 3 launches trace their first rays as packets (auto_batching.h).
+  AutoBatching& auto_batching() { return auto_batching_; }
   uint64_t NextLaunchId() { return ++last_launch_id_; }
   void set_running(bool running) { running_.store(running); }
   // The exception reports of the last launch.
   // Exceptions of the last launch that reached no exception program.
+  bool last_launch_batched() const { return last_launch_batched_; }
+  void set_last_launch_batched(bool batched) { last_launch_batched_ = batched; }
   uint64_t last_exception_count() const { return last_exception_count_; }
   void set_last_exception_count(uint64_t count) { last_exception_count_ = count; }
 
@@ -265,8 +270,10 @@ class Context : public Object {
   uint64_t last_race_count_ = 0;
   uint64_t bytes_received_ = 0;
   std::vector<TileCosts> tile_costs_;  // by entry point
+  AutoBatching auto_batching_;
   std::atomic<uint64_t> tiles_done_{0}, tiles_total_{0};
   uint64_t last_exception_count_ = 0;
+  bool last_launch_batched_ = false;
   ContextExtension* extension_ = nullptr;
 
   mutable std::mutex error_mu_;

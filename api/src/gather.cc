@@ -187,6 +187,8 @@ void LaunchGather::Apply(scheduler::FinishedBatch& batch) {
                                                : RT_ERROR_LAUNCH_FAILED;
       RecordError(RtError(code, absl::StrCat("device '", device_name, "': ", result.error())));
     }
+    traces_ += result.traces();
+    packet_answers_ += result.packet_answers();
     for (const v1::BufferRegion& region : result.regions()) ApplyRegion(batch.device, region);
     for (auto& p : *result.mutable_prints()) AddPrint(std::move(p));
     for (auto& e : *result.mutable_exceptions()) AddException(std::move(e));

@@ -49,6 +49,11 @@ class LaunchGather {
   // their copies any more; the next launch sends those buffers' contents again.
   void ForgetDeviceCopies();
 
+  // The launch's rtTrace calls and first rays answered by packets, over every finished call
+  // (TileResult.traces, packet_answers; OptiX 3 launches).
+  uint64_t traces() const { return traces_; }
+  uint64_t packet_answers() const { return packet_answers_; }
+
  private:
   static constexpr int kNoWriter = -1;
   static constexpr int kSeveralWriters = -2;
@@ -135,6 +140,8 @@ class LaunchGather {
   uint64_t exceptions_unshown_ = 0;
   std::optional<v1::ExceptionReport> first_exception_;
   absl::Status first_error_;
+  uint64_t traces_ = 0;
+  uint64_t packet_answers_ = 0;
 };
 
 }  // namespace tessera::api

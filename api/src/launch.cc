@@ -1,6 +1,7 @@
 // Context::Launch: validate, ship state deltas, dispatch tiles to devices (scheduler/), gather
 // results, and deal with devices lost on the way.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <limits>
 #include <mutex>
 #include <new>
+#include <string>
 #include <string_view>
 #include <system_error>
 #include <thread>
@@ -442,6 +444,18 @@ bool CostBatches() {
   return on;
 }
 
+// TESSERA_BATCHING, read at every launch (tests and benchmarks change it between launches); a
+// value it does not know is said once.
+AutoBatching::Mode BatchingMode() {
+  static std::atomic<bool> warned{false};
+  std::string warning;
+  const AutoBatching::Mode mode = AutoBatching::Parse(std::getenv("TESSERA_BATCHING"), &warning);
+  if (!warning.empty() && !warned.exchange(true)) {
+    log::Warn(log::Component::kApi, "%s", warning.c_str());
+  }
+  return mode;
+}
+
 // The fewest launch indices per device thread a call should carry (scheduler::Dispatcher):
 // about two milliseconds of work at the cost per index the last launch of the entry point and
 // size measured (with its calls' own overhead, which shrinks as they grow: a light launch settles
@@ -518,10 +532,14 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   common.set_launch_id(launch_id);
   common.set_entry_point(entry_point);
   for (uint64_t d : dims) common.add_dims(d);
-  // Batched tracing is opt-in for both layers (docs/programs.md, "Batched tracing"), chosen here
-  // so that every device of the launch makes the same choice.
-  const char* batching = std::getenv("TESSERA_BATCHING");
-  const bool batched = batching != nullptr && std::string_view(batching) == "1";
+  // Batched tracing (docs/programs.md, "Batched tracing"), chosen here so that every device of
+  // the launch makes the same choice: TESSERA_BATCHING=1 for every launch, =auto per entry point
+  // from what its earlier launches measured (OptiX 3 launches only), else never.
+  const AutoBatching::Mode batching = BatchingMode();
+  const bool batched = batching == AutoBatching::Mode::kAlways ||
+                       (batching == AutoBatching::Mode::kAuto && optix7 == nullptr &&
+                        auto_batching().Choose(entry_point, ray_generation(entry_point)));
+  set_last_launch_batched(batched);
   if (optix7 == nullptr) {
     common.set_batched(batched);
   } else {
@@ -615,6 +633,17 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
                       dispatcher.tile_costs()};
   }
   absl::Status tile_status = gather.Finish();
+  if (batching == AutoBatching::Mode::kAuto && optix7 == nullptr && dispatcher.status().ok() &&
+      !poller.cancelled() && tile_status.ok() &&
+      auto_batching().Record(entry_point, indices, gather.traces(), gather.packet_answers())) {
+    log::Debug(log::Component::kApi,
+               "launch %llu: entry point %u now %s (its launch indices traced %.2f rays each, "
+               "packets answered %.2f of their first rays; docs/programs.md, \"Batched tracing\")",
+               static_cast<unsigned long long>(launch_id), entry_point,
+               ToString(auto_batching().state(entry_point)),
+               static_cast<double>(gather.traces()) / static_cast<double>(indices),
+               static_cast<double>(gather.packet_answers()) / static_cast<double>(indices));
+  }
   // Batches that did not finish left their writes in the devices' copies only.
   if (poller.cancelled() || !dispatcher.status().ok() || !tile_status.ok()) {
     gather.ForgetDeviceCopies();

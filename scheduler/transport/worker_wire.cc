@@ -256,6 +256,8 @@ std::vector<v1::TileResult> SplitTileResult(v1::TileResult&& result, size_t max_
   first.set_error(std::move(*result.mutable_error()));
   first.set_error_code(result.error_code());
   first.set_tiles_done(result.tiles_done());
+  first.set_traces(result.traces());
+  first.set_packet_answers(result.packet_answers());
   for (v1::BufferRegion& region : *result.mutable_regions()) {
     const std::string& data = region.data();
     if (data.size() <= max_bytes) {

@@ -378,6 +378,8 @@ TEST(WorkerWireTest, LargeTileResultsAreSplitIntoBoundedMessages) {
   result.set_tile_index(4);
   result.set_error("boom");
   result.set_error_code(42);
+  result.set_traces(1234);  // a call's counts (auto_batching.h): once, in the first piece
+  result.set_packet_answers(567);
   std::string big(1000, 'x');
   for (size_t i = 0; i < big.size(); ++i) big[i] = static_cast<char>('a' + i % 26);
   v1::BufferRegion* r = result.add_regions();
@@ -395,7 +397,10 @@ TEST(WorkerWireTest, LargeTileResultsAreSplitIntoBoundedMessages) {
   std::vector<v1::TileResult> pieces = SplitTileResult(v1::TileResult(result), 256);
   ASSERT_GE(pieces.size(), 4u);
   int prints = 0, exceptions = 0, errors = 0;
+  uint64_t traces = 0, packet_answers = 0;
   for (const v1::TileResult& p : pieces) {
+    traces += p.traces();
+    packet_answers += p.packet_answers();
     EXPECT_EQ(p.launch_id(), 9u);
     EXPECT_EQ(p.tile_index(), 4u);
     size_t bytes = 0;
@@ -411,6 +416,8 @@ TEST(WorkerWireTest, LargeTileResultsAreSplitIntoBoundedMessages) {
   EXPECT_EQ(errors, 1);
   EXPECT_EQ(pieces[0].error(), "boom");
   EXPECT_EQ(pieces[0].error_code(), 42u);
+  EXPECT_EQ(traces, 1234u);
+  EXPECT_EQ(packet_answers, 567u);
 }
 
 TEST(WorkerWireTest, PackedRunsAreSplitByRunAndKeepTheirOffsets) {

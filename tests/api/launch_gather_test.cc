@@ -1,8 +1,10 @@
 // What comes back from devices: output regions, prints, exceptions, errors, cancellation.
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <thread>
+#include <vector>
 
 #include "gtest/gtest.h"
 #include "launch_fixture.h"
@@ -591,6 +593,90 @@ TEST_F(LaunchTest, CrashedDeviceFailsTheLaunchNamingDeviceAndProgram) {
   std::string message = ErrorString(ctx, RT_ERROR_LAUNCH_FAILED);
   EXPECT_NE(message.find("device 'fake"), std::string::npos) << message;
   EXPECT_NE(message.find("closest hit program 'f'"), std::string::npos) << message;
+}
+
+// Batching by measurement (api/src/auto_batching.h), through the launch path: each call reports
+// one rtTrace per launch index and, when it ran batched, how many first rays packets answered.
+// With TESSERA_BATCHING=auto the entry point starts on single rays, tries packets after a launch
+// of one ray per index and keeps them while packets answer; 1 batches every launch, 0 or unset
+// none.
+FakeDevice::Answer ReportTraces(double rays_per_index, bool packets_answer) {
+  return [=](const v1::LaunchRequest& r, const std::atomic<bool>&,
+             const std::function<void(v1::TileResult &&)>& on_result) {
+    uint64_t indices = 0;
+    for (const v1::Tile& t : r.tiles()) {
+      uint64_t n = 1;
+      for (uint64_t s : t.size()) n *= s;
+      indices += n;
+    }
+    v1::TileResult result;
+    result.set_launch_id(r.launch_id());
+    result.set_tile_index(0xFFFFFFFFu);
+    result.set_traces(static_cast<uint64_t>(rays_per_index * static_cast<double>(indices)));
+    result.set_packet_answers(r.batched() && packets_answer ? indices : 0);
+    on_result(std::move(result));
+    return absl::OkStatus();
+  };
+}
+
+class BatchingChoiceTest : public LaunchTest {
+ protected:
+  void SetUp() override {
+    LaunchTest::SetUp();
+    setenv("TESSERA_BATCHING", "auto", 1);
+  }
+  void TearDown() override {
+    unsetenv("TESSERA_BATCHING");
+    LaunchTest::TearDown();
+  }
+  // Whether each of `launches` launches was sent batched.
+  std::vector<bool> Batched(int launches) {
+    const size_t before = records[0]->launches.size();
+    for (int k = 0; k < launches; ++k) EXPECT_EQ(Launch(), RT_SUCCESS);
+    std::vector<bool> out;
+    for (size_t i = before; i < records[0]->launches.size(); ++i) {
+      out.push_back(records[0]->launches[i].batched());
+    }
+    return out;
+  }
+};
+
+TEST_F(BatchingChoiceTest, PrimaryRaysThatPacketsAnswerAreBatchedFromTheSecondLaunch) {
+  records[0]->answer = ReportTraces(1.0, true);
+  EXPECT_EQ(Batched(4), (std::vector<bool>{false, true, true, true}));
+}
+
+TEST_F(BatchingChoiceTest, ATryThatPacketsDoNotAnswerGoesBackToSingleRaysForGood) {
+  records[0]->answer = ReportTraces(1.0, false);
+  EXPECT_EQ(Batched(4), (std::vector<bool>{false, true, false, false}));
+  records[0]->answer = ReportTraces(1.0, true);
+  EXPECT_EQ(Batched(2), (std::vector<bool>{false, false}));
+}
+
+TEST_F(BatchingChoiceTest, ManyRaysPerIndexStayOnSingleRays) {
+  records[0]->answer = ReportTraces(8.0, true);
+  EXPECT_EQ(Batched(3), (std::vector<bool>{false, false, false}));
+}
+
+TEST_F(BatchingChoiceTest, TheVariableOverridesTheChoice) {
+  records[0]->answer = ReportTraces(1.0, true);
+  setenv("TESSERA_BATCHING", "0", 1);
+  EXPECT_EQ(Batched(3), (std::vector<bool>{false, false, false}));
+  setenv("TESSERA_BATCHING", "1", 1);
+  EXPECT_EQ(Batched(2), (std::vector<bool>{true, true}));
+  unsetenv("TESSERA_BATCHING");  // single rays, as before there was a choice
+  EXPECT_EQ(Batched(2), (std::vector<bool>{false, false}));
+}
+
+// A launch that fails teaches nothing: the next launch is chosen as if it had not run.
+TEST_F(BatchingChoiceTest, AFailedLaunchDoesNotCount) {
+  records[0]->answer = [](const v1::LaunchRequest&, const std::atomic<bool>&,
+                          const std::function<void(v1::TileResult &&)>&) {
+    return absl::InternalError("device broke");
+  };
+  EXPECT_NE(Launch(), RT_SUCCESS);
+  records[0]->answer = ReportTraces(1.0, true);
+  EXPECT_EQ(Batched(2), (std::vector<bool>{false, true}));
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// Batched tracing of OptiX 3 launches (TESSERA_BATCHING=1; docs/programs.md, "Batched tracing"):
+// Batched tracing of OptiX 3 launches (TESSERA_BATCHING=1, or =auto: chosen per entry point;
+// docs/programs.md, "Batched tracing"):
 // the first rays of each block of launch indices are traced as one Embree packet. Outputs must be
 // those of single rays, bit for bit, on every device set, and what a ray generation program does
 // before its first rtTrace (buffer writes, prints, exceptions) must happen once.
@@ -59,6 +60,15 @@ class BatchedTest : public TrianglesFixture {
     EXPECT_GT(first, 0u) << raygen;
     EXPECT_GT(second, 0u) << raygen;
   }
+  // The `counts` buffer the count_* programs add one to per launch index, all zero.
+  RTbuffer ZeroedCounts() {
+    RTbuffer counts = Buffer2D("counts", RT_BUFFER_INPUT_OUTPUT, RT_FORMAT_UNSIGNED_INT, kW, kH);
+    void* p = nullptr;
+    Ok(rtBufferMap(counts, &p));
+    std::memset(p, 0, sizeof(unsigned) * kW * kH);
+    Ok(rtBufferUnmap(counts));
+    return counts;
+  }
   static uint32_t Bits(float f) {
     uint32_t u;
     std::memcpy(&u, &f, sizeof(u));
@@ -101,11 +111,7 @@ TEST_P(BatchedTest, GroupsAboveAndAnyHitProgramsGiveTheSameHits) {
 // A write before the first trace happens once per launch: the engine's run of the ray generation
 // program up to its trace ends at the first access to a buffer programs may write.
 TEST_P(BatchedTest, BufferWritesBeforeTheFirstTraceHappenOnce) {
-  RTbuffer counts = Buffer2D("counts", RT_BUFFER_INPUT_OUTPUT, RT_FORMAT_UNSIGNED_INT, kW, kH);
-  void* p = nullptr;
-  Ok(rtBufferMap(counts, &p));
-  std::memset(p, 0, sizeof(unsigned) * kW * kH);
-  Ok(rtBufferUnmap(counts));
+  RTbuffer counts = ZeroedCounts();
   const std::vector<Float4> plain = Run("plain", false);
   for (int k = 0; k < 3; ++k) EXPECT_EQ(Run("count_then_trace", true), plain);
   for (unsigned c : ReadAs<unsigned>(counts)) ASSERT_EQ(c, 3u);
@@ -145,6 +151,48 @@ TEST_P(BatchedTest, ExceptionsBeforeTheFirstTraceReachTheExceptionProgramOnce) {
   EXPECT_EQ(batched, single);
   EXPECT_EQ(batched_reports, single_reports);
   for (unsigned y = 0; y < kH; ++y) EXPECT_EQ(batched[y * kW + 2][0], -7.f) << y;
+}
+
+// With TESSERA_BATCHING=auto, an entry point chooses for itself (api/src/auto_batching.h): a
+// program tracing one ray per launch index, which packets answer, runs its first launch on single
+// rays, tries packets on the second and keeps them; every launch gives single rays' bits. The
+// devices' counts reach the host from every device set, which therefore chooses alike.
+TEST_P(BatchedTest, AutoTheFirstRaysOfPrimaryRayLaunchesBecomePacketsAndGiveTheSameBits) {
+  const std::vector<Float4> single = Run("plain", false);
+  setenv("TESSERA_BATCHING", "auto", 1);  // the launch with it at 0 measured nothing
+  std::vector<int> batched;
+  for (int k = 0; k < 3; ++k) {
+    const RTresult r = rtContextLaunch2D(ctx_, 0, kW, kH);
+    ASSERT_EQ(r, RT_SUCCESS) << Error(r);
+    int b = -1;
+    Ok(tesseraContextGetLastLaunchBatched(ctx_, &b));
+    batched.push_back(b);
+    const std::vector<Float4> out = Read(wide_);
+    ASSERT_EQ(out.size(), single.size());
+    for (size_t i = 0; i < out.size(); ++i) {
+      for (int c = 0; c < 4; ++c) ASSERT_EQ(Bits(out[i][c]), Bits(single[i][c])) << k << " " << i;
+    }
+  }
+  EXPECT_EQ(batched, (std::vector<int>{0, 1, 1}));
+}
+
+// A program that writes before its first trace cannot be answered by packets (its first run stops
+// at the write): the try gives single rays' results and the entry point goes back to single rays.
+TEST_P(BatchedTest, AutoAWriteBeforeTheTraceTriesPacketsOnceAndGoesBack) {
+  RTbuffer counts = ZeroedCounts();
+  const std::vector<Float4> plain = Run("plain", false);
+  setenv("TESSERA_BATCHING", "auto", 1);
+  Ok(rtContextSetRayGenerationProgram(ctx_, 0, B("count_then_trace")));
+  std::vector<int> batched;
+  for (int k = 0; k < 4; ++k) {
+    ASSERT_EQ(rtContextLaunch2D(ctx_, 0, kW, kH), RT_SUCCESS);
+    int b = -1;
+    Ok(tesseraContextGetLastLaunchBatched(ctx_, &b));
+    batched.push_back(b);
+    EXPECT_EQ(Read(wide_), plain) << k;
+  }
+  EXPECT_EQ(batched, (std::vector<int>{0, 1, 0, 0}));
+  for (unsigned c : ReadAs<unsigned>(counts)) ASSERT_EQ(c, 4u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Devices, BatchedTest,

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -265,6 +266,8 @@ class InprocDevice : public Device {
     const std::vector<worker::TilePiece> pieces =
         worker::SplitTiles(request.tiles(), dims, threads, request.batched());
     CallTiles tiles(request, pieces, started, on_result);
+    // The call's rtTrace calls and packet answers, sent with its last result (TileResult).
+    std::atomic<uint64_t> traces{0}, packet_answers{0};
     auto run_piece = [&](const worker::TilePiece& piece) {
       v1::TileResult part;
       bool done = false;
@@ -283,6 +286,10 @@ class InprocDevice : public Device {
       }
       // How much of the call's thread time went into pieces, not waiting (TESSERA_LAUNCH_TIMING).
       if (timing_) piece_ns += (std::chrono::steady_clock::now() - piece_start).count();
+      traces.fetch_add(part.traces(), std::memory_order_relaxed);
+      packet_answers.fetch_add(part.packet_answers(), std::memory_order_relaxed);
+      part.clear_traces();  // the call's figures go with its last result, not with each tile's
+      part.clear_packet_answers();
       tiles.PieceEnded(piece.tile, done, part);
     };
     // Results go out in write epochs while later pieces trace (no barrier: nobody waits for a
@@ -353,6 +360,8 @@ class InprocDevice : public Device {
     }
     if (!failure.ok()) return failure;
     if (cancel.load()) return absl::CancelledError("launch cancelled");
+    final_result.set_traces(traces.load());
+    final_result.set_packet_answers(packet_answers.load());
     on_result(std::move(final_result));
     return absl::OkStatus();
   }

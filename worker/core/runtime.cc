@@ -572,6 +572,8 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
   LimitStack(ts, __builtin_frame_address(0));
   ts.dims = dims;
   ts.out = &out;
+  ts.traces = 0;
+  ts.packet_answers = 0;
   ts.out_print_bytes = 0;
   ts.out_dropped_prints = nullptr;
   ts.out_unshown_report_sent = false;
@@ -579,6 +581,8 @@ bool RunTile(const LaunchPlan& plan, unsigned entry, const Index3& origin, const
   struct ClearOut {  // prints after the tile (say from a bounds program) have nowhere to go
     ThreadState& ts;
     ~ClearOut() {
+      ts.out->set_traces(ts.out->traces() + ts.traces);
+      ts.out->set_packet_answers(ts.out->packet_answers() + ts.packet_answers);
       // No program runs any more: a crash in the engine or Embree, or the worker's own exit, must
       // not be reported as the tile's last program's (crash_report.cc reads `current`).
       ts.current = nullptr;

@@ -187,6 +187,10 @@ struct ThreadState {
   bool verify_triangles = false;
   Index3 index{}, dims{};
   uint64_t index_serial = 0;  // bumps with every launch index this thread runs
+  // The current tile's rtTrace calls and first rays a packet answered (TileResult.traces,
+  // packet_answers): what the host chooses batching from (api/src/auto_batching.h).
+  uint64_t traces = 0;
+  uint64_t packet_answers = 0;
   std::vector<Frame> frames;  // frames[0 .. depth) are live; sized once per plan
   size_t depth = 0;
   std::vector<SuspendedSlots> suspended;  // one per depth, reused

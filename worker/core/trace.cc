@@ -869,6 +869,7 @@ __attribute__((noinline)) void TraverseReplayed(ThreadState& ts, unsigned long l
     Traverse(ts, node, top, ray);
     return;
   }
+  ++ts.packet_answers;
   TraceContext ctx;
   ctx.scene = scene;
   ctx.any_hit_bit = AnyHitBit(ray.ray_type, false);
@@ -894,6 +895,7 @@ __attribute__((always_inline)) inline void Trace(unsigned long long node, const 
   if (__builtin_expect(ts.packet.collecting != nullptr, 0)) {
     CollectTrace(ts, node, ray_ptr, mask, flags);
   }
+  ++ts.traces;
   const LaunchPlan& plan = *ts.plan;
   // The ray goes straight into the frame it is traced in: frames has max_depth + 1 entries, so
   // frames[depth] exists even for a trace that RejectTrace refuses, and nothing writes it before

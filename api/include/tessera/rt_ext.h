@@ -30,6 +30,11 @@ RTAPI RTresult tesseraDeviceGetAddress(int ordinal, RTsize size, char* address);
  * launch. */
 RTAPI RTresult tesseraContextGetExceptionReportCount(RTcontext context, RTsize* count);
 
+/* Whether the context's last launch traced its launch indices' first rays as Embree packets
+ * (batched tracing: TESSERA_BATCHING=1, or =auto and chosen for its entry point from what the
+ * entry's earlier launches measured; docs/programs.md "Batched tracing"). 0 before any launch. */
+RTAPI RTresult tesseraContextGetLastLaunchBatched(RTcontext context, int* batched);
+
 /* Bytes of buffer contents that travelled for this context's launches since it was created:
  * host → devices (chunks of state deltas) and devices → host (written regions of OUTPUT and
  * INPUT_OUTPUT buffers). Either pointer may be null. */
