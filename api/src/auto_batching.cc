@@ -16,7 +16,7 @@ AutoBatching::Mode AutoBatching::Parse(const char* value, std::string* warning) 
 bool AutoBatching::Choose(unsigned entry, const void* program) {
   Entry& e = At(entry);
   if (e.program != program) e = Entry{State::kWatching, program};
-  return e.state == State::kTrying || e.state == State::kOn;
+  return e.state == State::kOn;
 }
 
 bool AutoBatching::Record(unsigned entry, uint64_t indices, uint64_t traces,
@@ -29,9 +29,8 @@ bool AutoBatching::Record(unsigned entry, uint64_t indices, uint64_t traces,
   const State before = e.state;
   switch (e.state) {
     case State::kWatching:
-      if (few_rays) e.state = State::kTrying;
+      if (few_rays) e.state = State::kOn;
       break;
-    case State::kTrying:
     case State::kOn:
       e.state = few_rays && answered ? State::kOn : State::kOff;
       break;
@@ -45,8 +44,6 @@ const char* ToString(AutoBatching::State s) {
   switch (s) {
     case AutoBatching::State::kWatching:
       return "single rays, watching";
-    case AutoBatching::State::kTrying:
-      return "trying packets";
     case AutoBatching::State::kOn:
       return "packets";
     case AutoBatching::State::kOff:

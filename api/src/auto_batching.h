@@ -10,10 +10,10 @@
 // rays (a path tracer), or whose first rays no packet can answer (user geometry, any-hit
 // programs, a write before the trace), pays that and gains little or nothing. So an entry point
 // starts on single rays and is watched: after a launch tracing at most kMaxTracesPerIndex rays a
-// launch index it tries packets once, and keeps them while packets answer at least
-// kMinAnswered of its indices and the rays per index stay that few; a try or a later launch that
-// falls short turns them off for the entry point (and its ray generation program) for good, so
-// that the choice never goes back and forth.
+// launch index it takes packets, and keeps them while packets answer at least kMinAnswered of its
+// indices and the rays per index stay that few; the first batched launch that falls short turns
+// them off for the entry point (and its ray generation program) for good, so that the choice
+// never goes back and forth.
 //
 // Determinism: the figures are a launch's totals over every device (a device's call counts only
 // when it finished, and every launch index runs once), and which indices a packet answers
@@ -40,7 +40,7 @@ class AutoBatching {
   static constexpr double kMaxTracesPerIndex = 1.25;
   static constexpr double kMinAnswered = 0.9;
 
-  enum class State { kWatching, kTrying, kOn, kOff };
+  enum class State { kWatching, kOn, kOff };
 
   // Whether the next launch of `entry`, whose ray generation program is `program`, is batched.
   // Another program than the last launch's starts the entry point afresh.

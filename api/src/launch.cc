@@ -536,9 +536,10 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
   // the launch makes the same choice: TESSERA_BATCHING=1 for every launch, =auto per entry point
   // from what its earlier launches measured (OptiX 3 launches only), else never.
   const AutoBatching::Mode batching = BatchingMode();
-  const bool batched = batching == AutoBatching::Mode::kAlways ||
-                       (batching == AutoBatching::Mode::kAuto && optix7 == nullptr &&
-                        auto_batching().Choose(entry_point, ray_generation(entry_point)));
+  const bool choosing = batching == AutoBatching::Mode::kAuto && optix7 == nullptr;
+  const bool batched =
+      batching == AutoBatching::Mode::kAlways ||
+      (choosing && auto_batching().Choose(entry_point, ray_generation(entry_point)));
   set_last_launch_batched(batched);
   if (optix7 == nullptr) {
     common.set_batched(batched);
@@ -633,8 +634,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
                       dispatcher.tile_costs()};
   }
   absl::Status tile_status = gather.Finish();
-  if (batching == AutoBatching::Mode::kAuto && optix7 == nullptr && dispatcher.status().ok() &&
-      !poller.cancelled() && tile_status.ok() &&
+  if (choosing && dispatcher.status().ok() && !poller.cancelled() && tile_status.ok() &&
       auto_batching().Record(entry_point, indices, gather.traces(), gather.packet_answers())) {
     log::Debug(log::Component::kApi,
                "launch %llu: entry point %u now %s (its launch indices traced %.2f rays each, "

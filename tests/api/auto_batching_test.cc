@@ -32,9 +32,9 @@ TEST(AutoBatchingTest, PrimaryRaysTryPacketsAndKeepThemWhilePacketsAnswer) {
   AutoBatching a;
   EXPECT_FALSE(a.Choose(0, kRg));  // nothing measured yet: single rays
   EXPECT_TRUE(a.Record(0, 1000, 1000, 0));
-  EXPECT_EQ(a.state(0), State::kTrying);
+  EXPECT_EQ(a.state(0), State::kOn);
   EXPECT_TRUE(a.Choose(0, kRg));
-  EXPECT_TRUE(a.Record(0, 1000, 1000, 1000));
+  EXPECT_FALSE(a.Record(0, 1000, 1000, 1000));  // packets answered every index: kept
   EXPECT_EQ(a.state(0), State::kOn);
   EXPECT_TRUE(a.Choose(0, kRg));
   EXPECT_FALSE(a.Record(0, 1000, 1000, 950));  // 0.95 answered: still on
@@ -51,7 +51,7 @@ TEST(AutoBatchingTest, ManyRaysPerIndexStayOnSingleRays) {
   // The bound itself: 1.25 rays an index tries, a little more does not.
   EXPECT_FALSE(a.Record(0, 1000, 1251, 0));
   EXPECT_TRUE(a.Record(0, 1000, 1250, 0));
-  EXPECT_EQ(a.state(0), State::kTrying);
+  EXPECT_EQ(a.state(0), State::kOn);
 }
 
 TEST(AutoBatchingTest, ATryThatPacketsDoNotAnswerTurnsThemOffForGood) {
