@@ -71,13 +71,25 @@ class EndlessTest : public OnDevicesFixture {
   // Launches with `raygen` and a callback that cancels at its first poll: the launch must end as
   // cancelled. Then, with no index looping and no callback, the next launch must work at once
   // (a worker still spinning would hold it up for TESSERA_WORKER_TIMEOUT, 10 s) and write 1
-  // everywhere.
-  void ExpectCancelledThenWorking(const char* raygen) {
+  // everywhere. A launch with nothing looping comes first, so that the cancel finds the devices
+  // running programs: on worker processes that start with the first launch, a cancel while the
+  // state ships to them would end the launch before any program ran. `rebuild`: an acceleration
+  // to build again in the cancelled launch (its bounding box programs loop).
+  void ExpectCancelledThenWorking(const char* raygen, RTacceleration rebuild = nullptr) {
     Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, raygen)));
+    Ok(rtVariableSet1i(ContextVar("endless_at"), -1));
+    RTresult code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
+    ASSERT_EQ(code, RT_SUCCESS) << Error(code);
+    Ok(rtVariableSet1i(ContextVar("endless_at"), kEndlessAt));
+    if (rebuild != nullptr) Ok(rtAccelerationMarkDirty(rebuild));
+
     Ok(rtContextSetTimeoutCallback(ctx_, &CancelAlways, 0.05));
     auto start = std::chrono::steady_clock::now();
-    RTresult code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
+    code = rtContextLaunch2D(ctx_, 0, kWidth, kHeight);
     EXPECT_EQ(code, RT_TIMEOUT_CALLBACK) << Error(code);
+    int batched = -1;
+    Ok(tesseraContextGetLastLaunchBatched(ctx_, &batched));
+    EXPECT_EQ(batched, std::string(GetParam()).rfind("batched:", 0) == 0 ? 1 : 0);
     EXPECT_LT(Seconds(start), 30.0);
 
     Ok(rtContextSetTimeoutCallback(ctx_, nullptr, 0.0));
@@ -131,7 +143,9 @@ TEST_P(EndlessTest, ABoundingBoxProgram) {
                               1, Program(kModule, "quick_closest_hit"));
   Ok(rtVariableSetObject(ContextVar("top_object"), box.group));
   Ok(rtContextSetMissProgram(ctx_, 0, Program(kModule, "loop_miss")));
-  ExpectCancelledThenWorking("trace_raygen");
+  RTacceleration accel = nullptr;
+  Ok(rtGeometryGroupGetAcceleration(box.group, &accel));
+  ExpectCancelledThenWorking("trace_raygen", accel);
 }
 
 // rtPrintf in a loop spends its time formatting, in libc and the engine.
@@ -161,7 +175,6 @@ TEST_P(EndlessTest, ALoopInACatchBlock) {
 TEST_P(EndlessTest, InterruptedAgainAndAgain) {
   Scene("loop_intersect", "loop_closest_hit", "loop_miss", true);
   for (int i = 0; i < 3; ++i) {
-    Ok(rtVariableSet1i(ContextVar("endless_at"), kEndlessAt));
     ExpectCancelledThenWorking(i % 2 == 0 ? "trace_raygen" : "loop_raygen");
   }
 }
@@ -213,7 +226,12 @@ TEST_F(EndlessContextsTest, AStuckBuildDoesNotHoldUpAnotherContext) {
   rtContextDestroy(other);
 }
 
-INSTANTIATE_TEST_SUITE_P(Devices, EndlessTest, ::testing::Values("inproc", "local:2"), DeviceName);
+// Batched, each launch index's ray generation program first runs alone up to its first rtTrace
+// (its rays collected for a packet): a loop there, or in a loop of traces, must end the same way.
+INSTANTIATE_TEST_SUITE_P(Devices, EndlessTest,
+                         ::testing::Values("inproc", "local:2", "batched:inproc",
+                                           "batched:local:2"),
+                         DeviceName);
 
 }  // namespace
 }  // namespace tessera::testing

@@ -1,5 +1,8 @@
 // Each exception of OptiX 3 (stack overflow, buffer index out of bounds, invalid ray, user codes),
-// on and off per rtContextSetExceptionEnabled, with the exception program at its launch index.
+// on and off per rtContextSetExceptionEnabled, with the exception program at its launch index;
+// with single rays and batched (TESSERA_BATCHING=1: each ray generation program first runs alone
+// up to its first rtTrace, where an exception must not be raised twice).
+#include <cstdlib>
 #include <string>
 
 #include "rt_fixture.h"
@@ -10,11 +13,12 @@ namespace {
 
 constexpr char kModule[] = "semantics_programs";
 
-class ExceptionsTest : public RtFixture {
+class ExceptionsTest : public RtFixture, public ::testing::WithParamInterface<bool> {
  protected:
   static constexpr size_t kW = 3;
   void SetUp() override {
     RtFixture::SetUp();
+    if (GetParam()) setenv("TESSERA_BATCHING", "1", 1);
     Ok(rtContextSetEntryPointCount(ctx_, 1));
     Ok(rtContextSetRayTypeCount(ctx_, 1));
     result_ = Float4Buffer("result", RT_BUFFER_OUTPUT, kW, 1);
@@ -36,13 +40,20 @@ class ExceptionsTest : public RtFixture {
     Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, raygen)));
     RTresult r = rtContextLaunch2D(ctx_, 0, kW, 1);
     EXPECT_EQ(r, RT_SUCCESS) << Error(r);
+    int batched = -1;
+    Ok(tesseraContextGetLastLaunchBatched(ctx_, &batched));
+    EXPECT_EQ(batched, GetParam() ? 1 : 0);
     return Read(result_);
+  }
+  void TearDown() override {
+    unsetenv("TESSERA_BATCHING");
+    RtFixture::TearDown();
   }
   RTbuffer result_ = nullptr;
   Instance sphere_;
 };
 
-TEST_F(ExceptionsTest, StackOverflowIsOnByDefault) {
+TEST_P(ExceptionsTest, StackOverflowIsOnByDefault) {
   int enabled = 0;
   Ok(rtContextGetExceptionEnabled(ctx_, RT_EXCEPTION_STACK_OVERFLOW, &enabled));
   EXPECT_EQ(enabled, 1);
@@ -55,14 +66,14 @@ TEST_F(ExceptionsTest, StackOverflowIsOnByDefault) {
   }
 }
 
-TEST_F(ExceptionsTest, StackOverflowOffSkipsTheTooDeepTrace) {
+TEST_P(ExceptionsTest, StackOverflowOffSkipsTheTooDeepTrace) {
   std::vector<Float4> r = Run("trace_camera", RT_EXCEPTION_STACK_OVERFLOW, false);
   EXPECT_EQ(r[0][0], 1.f);  // closest_hit_recurse's own write, after the skipped trace
 }
 
 // Programs' locals take native stack too: deep enough nesting of a program with large locals
 // raises the stack overflow exception (or skips the trace) instead of crashing the device.
-TEST_F(ExceptionsTest, StackOverflowWhenLocalsFillTheNativeStack) {
+TEST_P(ExceptionsTest, StackOverflowWhenLocalsFillTheNativeStack) {
   Ok(rtContextSetStackSize(ctx_, 131072));  // 1024 levels
   Ok(rtMaterialSetClosestHitProgram(sphere_.material, 0,
                                     Program(kModule, "closest_hit_recurse_heavy")));
@@ -72,7 +83,7 @@ TEST_F(ExceptionsTest, StackOverflowWhenLocalsFillTheNativeStack) {
   EXPECT_EQ(off[0][0], 1.f);  // the program's own write, after the skipped trace
 }
 
-TEST_F(ExceptionsTest, UserExceptionOnlyWhenEnabled) {
+TEST_P(ExceptionsTest, UserExceptionOnlyWhenEnabled) {
   std::vector<Float4> off = Run("raygen_throw", RT_EXCEPTION_USER, false);
   EXPECT_EQ(off[1][0], 1.f);
   std::vector<Float4> on = Run("raygen_throw", RT_EXCEPTION_USER, true);
@@ -83,7 +94,7 @@ TEST_F(ExceptionsTest, UserExceptionOnlyWhenEnabled) {
 
 // An exception raised inside the exception program ends its launch index and is reported like
 // one no exception program handled, not lost.
-TEST_F(ExceptionsTest, AnExceptionInTheExceptionProgramIsReported) {
+TEST_P(ExceptionsTest, AnExceptionInTheExceptionProgramIsReported) {
   Ok(rtContextSetExceptionProgram(ctx_, 0, Program(kModule, "exception_out_of_bounds")));
   Ok(rtContextSetExceptionEnabled(ctx_, RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS, 1));
   Ok(rtContextSetPrintEnabled(ctx_, 1));
@@ -100,7 +111,7 @@ TEST_F(ExceptionsTest, AnExceptionInTheExceptionProgramIsReported) {
   EXPECT_EQ(out.find(where, at + 1), std::string::npos) << out;
 }
 
-TEST_F(ExceptionsTest, BufferIndexOutOfBoundsOnlyWhenEnabled) {
+TEST_P(ExceptionsTest, BufferIndexOutOfBoundsOnlyWhenEnabled) {
   std::vector<Float4> off =
       Run("raygen_out_of_bounds", RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS, false);
   EXPECT_EQ(off[0][0], 1.f);
@@ -109,7 +120,7 @@ TEST_F(ExceptionsTest, BufferIndexOutOfBoundsOnlyWhenEnabled) {
   EXPECT_EQ(on[0][0], float(RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS));
 }
 
-TEST_F(ExceptionsTest, InvalidRaysOnlyWhenEnabled) {
+TEST_P(ExceptionsTest, InvalidRaysOnlyWhenEnabled) {
   for (int mode = 0; mode < 4; ++mode) {
     Ok(rtVariableSet1i(ContextVar("mode"), mode));
     std::vector<Float4> off = Run("raygen_invalid_ray", RT_EXCEPTION_INVALID_RAY, false);
@@ -119,7 +130,7 @@ TEST_F(ExceptionsTest, InvalidRaysOnlyWhenEnabled) {
   }
 }
 
-TEST_F(ExceptionsTest, AllTogglesEveryCode) {
+TEST_P(ExceptionsTest, AllTogglesEveryCode) {
   Ok(rtContextSetExceptionEnabled(ctx_, RT_EXCEPTION_ALL, 1));
   for (RTexception e : {RT_EXCEPTION_STACK_OVERFLOW, RT_EXCEPTION_BUFFER_INDEX_OUT_OF_BOUNDS,
                         RT_EXCEPTION_INVALID_RAY, RT_EXCEPTION_USER}) {
@@ -132,7 +143,7 @@ TEST_F(ExceptionsTest, AllTogglesEveryCode) {
   EXPECT_EQ(r[1][0], 1.f);
 }
 
-TEST_F(ExceptionsTest, PrintReachesStdoutInLaunchIndexOrderBeforeLaunchReturns) {
+TEST_P(ExceptionsTest, PrintReachesStdoutInLaunchIndexOrderBeforeLaunchReturns) {
   Ok(rtContextSetPrintEnabled(ctx_, 1));
   Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "print_hello")));
   ::testing::internal::CaptureStdout();
@@ -151,7 +162,7 @@ TEST_F(ExceptionsTest, PrintReachesStdoutInLaunchIndexOrderBeforeLaunchReturns) 
 
 // Bounding box programs run outside any launch index, so their prints have no place in the
 // launch's output; the first is reported on stderr rather than lost without a word.
-TEST_F(ExceptionsTest, PrintsFromBoundingBoxProgramsAreReported) {
+TEST_P(ExceptionsTest, PrintsFromBoundingBoxProgramsAreReported) {
   Ok(rtContextSetPrintEnabled(ctx_, 1));
   Ok(rtGeometrySetBoundingBoxProgram(sphere_.geometry, Program(kModule, "printing_sphere_bounds")));
   Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "raygen_value")));
@@ -166,7 +177,7 @@ TEST_F(ExceptionsTest, PrintsFromBoundingBoxProgramsAreReported) {
   EXPECT_NE(err.find("is not printed"), std::string::npos) << err;
 }
 
-TEST_F(ExceptionsTest, PrintsOfAnyLengthComeOutWhole) {
+TEST_P(ExceptionsTest, PrintsOfAnyLengthComeOutWhole) {
   Ok(rtContextSetPrintEnabled(ctx_, 1));
   Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "print_wide")));
   ::testing::internal::CaptureStdout();
@@ -178,7 +189,7 @@ TEST_F(ExceptionsTest, PrintsOfAnyLengthComeOutWhole) {
 
 // With printing on, exceptions that reach no exception program are printed as
 // rtPrintExceptionDetails would: only at the launch index rtContextSetPrintLaunchIndex selects.
-TEST_F(ExceptionsTest, UnhandledExceptionReportsFollowThePrintLaunchIndex) {
+TEST_P(ExceptionsTest, UnhandledExceptionReportsFollowThePrintLaunchIndex) {
   Ok(rtContextSetEntryPointCount(ctx_, 2));  // entry 1: no exception program
   Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, "trace_camera")));
   Ok(rtContextSetRayGenerationProgram(ctx_, 1, Program(kModule, "trace_camera")));
@@ -191,6 +202,11 @@ TEST_F(ExceptionsTest, UnhandledExceptionReportsFollowThePrintLaunchIndex) {
   EXPECT_EQ(out.find("at launch index (0, 0, 0)"), std::string::npos) << out;
   EXPECT_EQ(out.find("at launch index (2, 0, 0)"), std::string::npos) << out;
 }
+
+INSTANTIATE_TEST_SUITE_P(Rays, ExceptionsTest, ::testing::Bool(),
+                         [](const ::testing::TestParamInfo<bool>& info) {
+                           return std::string(info.param ? "Batched" : "SingleRays");
+                         });
 
 }  // namespace
 }  // namespace tessera::testing

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cctype>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -122,14 +123,27 @@ class RtFixture : public ::testing::Test {
 };
 
 // A context on the device set GetParam() names ("inproc", "local:2"), with one entry point and
-// one ray type.
+// one ray type. "batched:" before the spec ("batched:local:2") makes the test's launches trace
+// their first rays in packets (TESSERA_BATCHING=1, docs/programs.md "Batched tracing"), so that a
+// suite checks that what it tests holds on that path too.
 class OnDevicesFixture : public RtFixture, public ::testing::WithParamInterface<const char*> {
  protected:
+  static constexpr char kBatched[] = "batched:";
+
   void SetUp() override {
     RtFixture::SetUp();
-    Ok(tesseraContextSetDeviceSpec(ctx_, GetParam()));
+    std::string spec = GetParam();
+    if (spec.rfind(kBatched, 0) == 0) {
+      spec.erase(0, sizeof(kBatched) - 1);
+      setenv("TESSERA_BATCHING", "1", 1);
+    }
+    Ok(tesseraContextSetDeviceSpec(ctx_, spec.c_str()));
     Ok(rtContextSetEntryPointCount(ctx_, 1));
     Ok(rtContextSetRayTypeCount(ctx_, 1));
+  }
+  void TearDown() override {
+    unsetenv("TESSERA_BATCHING");
+    RtFixture::TearDown();
   }
 };
 
@@ -174,13 +188,16 @@ class GridFixture : public OnDevicesFixture {
   RTbuffer result_ = nullptr;
 };
 
-// A test name for a device spec parameter: "inproc" -> "Inproc", "local:2" -> "Local2".
+// A test name for a device spec parameter: "inproc" -> "Inproc", "local:2" -> "Local2",
+// "batched:local:2" -> "BatchedLocal2".
 inline std::string DeviceName(const ::testing::TestParamInfo<const char*>& info) {
   std::string name;
+  bool word_start = true;
   for (const char* c = info.param; *c != '\0'; ++c) {
-    if (std::isalnum(static_cast<unsigned char>(*c))) name += *c;
+    const auto u = static_cast<unsigned char>(*c);
+    if (std::isalnum(u)) name += static_cast<char>(word_start ? std::toupper(u) : u);
+    word_start = *c == ':' && !std::isdigit(static_cast<unsigned char>(c[1]));
   }
-  if (!name.empty()) name[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(name[0])));
   return name;
 }
 
