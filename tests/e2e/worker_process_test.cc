@@ -323,15 +323,15 @@ TEST(WorkerProcessTest, LargeWrittenRegionsArriveInBoundedMessages) {
   auto device = GrpcDevice::Connect(std::move(worker));
   ASSERT_TRUE(device.ok()) << device.status();
   constexpr uint64_t kW = 1024, kH = 700;  // 11 MiB: three messages on the wire
-  ASSERT_TRUE((*device)->Apply(WriteIndexDelta(1, kW, kH)).ok());
+  const absl::Status applied = (*device)->Apply(WriteIndexDelta(1, kW, kH));
+  ASSERT_TRUE(applied.ok()) << applied;
   std::atomic<bool> cancel{false};
   std::vector<v1::TileResult> finals;
-  ASSERT_TRUE((*device)
-                  ->Launch(TwoTiles(kW, kH), cancel,
-                           [&](v1::TileResult&& r) {
-                             if (r.tile_index() == kFinalTileIndex) finals.push_back(std::move(r));
-                           })
-                  .ok());
+  const absl::Status launched =
+      (*device)->Launch(TwoTiles(kW, kH), cancel, [&](v1::TileResult&& r) {
+        if (r.tile_index() == kFinalTileIndex) finals.push_back(std::move(r));
+      });
+  ASSERT_TRUE(launched.ok()) << launched;
   // Several messages, each within the bound, that together hold the whole buffer.
   EXPECT_GE(finals.size(), 3u);
   std::string buffer;
