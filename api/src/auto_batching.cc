@@ -21,8 +21,8 @@ bool AutoBatching::Choose(unsigned entry, const void* program) {
 
 bool AutoBatching::Record(unsigned entry, uint64_t indices, uint64_t traces,
                           uint64_t packet_answers) {
-  Entry& e = At(entry);
   if (indices == 0) return false;
+  Entry& e = At(entry);
   const double n = static_cast<double>(indices);
   const bool few_rays = static_cast<double>(traces) <= kMaxTracesPerIndex * n;
   const bool answered = static_cast<double>(packet_answers) >= kMinAnswered * n;

@@ -203,10 +203,10 @@ class Context : public Object {
   AutoBatching& auto_batching() { return auto_batching_; }
   uint64_t NextLaunchId() { return ++last_launch_id_; }
   void set_running(bool running) { running_.store(running); }
-  // The exception reports of the last launch.
-  // Exceptions of the last launch that reached no exception program.
+  // Whether the last launch traced its first rays as packets (tesseraContextGetLastLaunchBatched).
   bool last_launch_batched() const { return last_launch_batched_; }
   void set_last_launch_batched(bool batched) { last_launch_batched_ = batched; }
+  // Exceptions of the last launch that reached no exception program.
   uint64_t last_exception_count() const { return last_exception_count_; }
   void set_last_exception_count(uint64_t count) { last_exception_count_ = count; }
 

@@ -477,6 +477,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
     return RtError(RT_ERROR_INVALID_CONTEXT, "a launch is already running on this context");
   }
   RunningScope running_scope(*this);
+  set_last_launch_batched(false);  // until this launch's choice: one that ends before says 0
   if (optix7 != nullptr) entry_point = 0;  // tile costs are kept as for entry point 0
   if (optix7 == nullptr && entry_point >= entry_point_count()) {
     return RtError(RT_ERROR_INVALID_VALUE,
@@ -634,7 +635,8 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
                       dispatcher.tile_costs()};
   }
   absl::Status tile_status = gather.Finish();
-  if (choosing && dispatcher.status().ok() && !poller.cancelled() && tile_status.ok() &&
+  const bool every_index_ran = dispatcher.status().ok() && !poller.cancelled() && tile_status.ok();
+  if (choosing && every_index_ran &&
       auto_batching().Record(entry_point, indices, gather.traces(), gather.packet_answers())) {
     log::Debug(log::Component::kApi,
                "launch %llu: entry point %u now %s (its launch indices traced %.2f rays each, "
@@ -645,9 +647,7 @@ absl::Status Context::Launch(unsigned entry_point, const std::vector<uint64_t>& 
                static_cast<double>(gather.packet_answers()) / static_cast<double>(indices));
   }
   // Batches that did not finish left their writes in the devices' copies only.
-  if (poller.cancelled() || !dispatcher.status().ok() || !tile_status.ok()) {
-    gather.ForgetDeviceCopies();
-  }
+  if (!every_index_ran) gather.ForgetDeviceCopies();
   timing.Mark("finish");
   timing.Report(launch_id);
   for (const scheduler::LostDevice& lost : dispatcher.lost()) LoseDevice(*slots[lost.device]);

@@ -2,9 +2,9 @@
 #ifndef TESSERA_TESTS_API_API_TEST_UTIL_H_
 #define TESSERA_TESTS_API_API_TEST_UTIL_H_
 
-#include <cstdlib>
 #include <string>
 
+#include "../common/scoped_env.h"
 #include "tessera/rt.h"
 
 namespace tessera::test {
@@ -18,34 +18,6 @@ inline std::string ErrorString(RTcontext context, RTresult code) {
   rtContextGetErrorString(context, code, &s);
   return s == nullptr ? std::string() : std::string(s);
 }
-
-// Sets an environment variable for the lifetime of the object.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) {
-      had_ = true;
-      old_ = old;
-    }
-    if (value != nullptr) {
-      setenv(name, value, 1);
-    } else {
-      unsetenv(name);
-    }
-  }
-  ~ScopedEnv() {
-    if (had_) {
-      setenv(name_.c_str(), old_.c_str(), 1);
-    } else {
-      unsetenv(name_.c_str());
-    }
-  }
-
- private:
-  std::string name_;
-  bool had_ = false;
-  std::string old_;
-};
 
 }  // namespace tessera::test
 

@@ -621,14 +621,7 @@ FakeDevice::Answer ReportTraces(double rays_per_index, bool packets_answer) {
 
 class BatchingChoiceTest : public LaunchTest {
  protected:
-  void SetUp() override {
-    LaunchTest::SetUp();
-    setenv("TESSERA_BATCHING", "auto", 1);
-  }
-  void TearDown() override {
-    unsetenv("TESSERA_BATCHING");
-    LaunchTest::TearDown();
-  }
+  const test::ScopedEnv batching_{"TESSERA_BATCHING", "auto"};
   // Whether each of `launches` launches was sent batched.
   std::vector<bool> Batched(int launches) {
     const size_t before = records[0]->launches.size();

@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <string>
 
+#include "../common/scoped_env.h"
 #include "e2e_scene.h"
 #include "process_util.h"
 #include "tessera/rt_ext.h"
@@ -24,7 +24,6 @@ constexpr unsigned kW = 32, kH = 32;
 class CrashReportTest : public ::testing::Test {
  protected:
   void TearDown() override {
-    unsetenv("TESSERA_BATCHING");
     if (ctx_ != nullptr) rtContextDestroy(ctx_);
   }
   void Ok(RTresult code) { ASSERT_EQ(code, RT_SUCCESS) << ErrorText(ctx_, code); }
@@ -107,7 +106,7 @@ TEST_F(CrashReportTest, AStackOverflowInARayGenerationProgramNamesDeviceAndProgr
 // Batched, the overflow comes in the run that collects each launch index's first ray for a packet
 // (docs/programs.md, "Batched tracing"): the report names the program all the same.
 TEST_F(CrashReportTest, AStackOverflowWhileCollectingRaysNamesDeviceAndProgram) {
-  setenv("TESSERA_BATCHING", "1", 1);  // TearDown unsets it
+  const test::ScopedEnv batching("TESSERA_BATCHING", "1");
   ExpectRayGenerationOverflowReport();
 }
 

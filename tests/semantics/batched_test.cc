@@ -28,11 +28,6 @@ class BatchedTest : public TrianglesFixture {
     Ok(rtContextSetMissProgram(ctx_, 0, B("miss")));
     Scene({material_});
   }
-  void TearDown() override {
-    unsetenv("TESSERA_BATCHING");
-    TrianglesFixture::TearDown();
-  }
-
   RTprogram B(const char* function) { return Program("batched_programs", function); }
 
   std::vector<Float4> Run(const char* raygen, bool batched, unsigned w = kW, unsigned h = kH) {
@@ -77,6 +72,8 @@ class BatchedTest : public TrianglesFixture {
 
   RTbuffer wide_ = nullptr;
   RTmaterial material_ = nullptr;
+  // Run and the Auto tests set TESSERA_BATCHING per launch; the run's own value comes back after.
+  const test::ScopedEnv batching_{"TESSERA_BATCHING", nullptr};
 };
 
 TEST_P(BatchedTest, HitsAreThoseOfSingleRaysBitForBit) { ExpectSameAsSingleRays("plain"); }

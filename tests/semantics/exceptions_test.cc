@@ -2,7 +2,6 @@
 // on and off per rtContextSetExceptionEnabled, with the exception program at its launch index;
 // with single rays and batched (TESSERA_BATCHING=1: each ray generation program first runs alone
 // up to its first rtTrace, where an exception must not be raised twice).
-#include <cstdlib>
 #include <string>
 
 #include "rt_fixture.h"
@@ -13,14 +12,11 @@ namespace {
 
 constexpr char kModule[] = "semantics_programs";
 
-class ExceptionsTest : public RtFixture, public ::testing::WithParamInterface<bool> {
+class ExceptionsTest : public OnDevicesFixture {
  protected:
   static constexpr size_t kW = 3;
   void SetUp() override {
-    RtFixture::SetUp();
-    if (GetParam()) setenv("TESSERA_BATCHING", "1", 1);
-    Ok(rtContextSetEntryPointCount(ctx_, 1));
-    Ok(rtContextSetRayTypeCount(ctx_, 1));
+    OnDevicesFixture::SetUp();
     result_ = Float4Buffer("result", RT_BUFFER_OUTPUT, kW, 1);
     Float4Buffer("is_log", RT_BUFFER_OUTPUT, kW, 1);
     Float4Buffer("ah_log", RT_BUFFER_OUTPUT, kW, 1);
@@ -40,14 +36,8 @@ class ExceptionsTest : public RtFixture, public ::testing::WithParamInterface<bo
     Ok(rtContextSetRayGenerationProgram(ctx_, 0, Program(kModule, raygen)));
     RTresult r = rtContextLaunch2D(ctx_, 0, kW, 1);
     EXPECT_EQ(r, RT_SUCCESS) << Error(r);
-    int batched = -1;
-    Ok(tesseraContextGetLastLaunchBatched(ctx_, &batched));
-    EXPECT_EQ(batched, GetParam() ? 1 : 0);
+    ExpectBatchedIfAsked();
     return Read(result_);
-  }
-  void TearDown() override {
-    unsetenv("TESSERA_BATCHING");
-    RtFixture::TearDown();
   }
   RTbuffer result_ = nullptr;
   Instance sphere_;
@@ -203,10 +193,8 @@ TEST_P(ExceptionsTest, UnhandledExceptionReportsFollowThePrintLaunchIndex) {
   EXPECT_EQ(out.find("at launch index (2, 0, 0)"), std::string::npos) << out;
 }
 
-INSTANTIATE_TEST_SUITE_P(Rays, ExceptionsTest, ::testing::Bool(),
-                         [](const ::testing::TestParamInfo<bool>& info) {
-                           return std::string(info.param ? "Batched" : "SingleRays");
-                         });
+INSTANTIATE_TEST_SUITE_P(Devices, ExceptionsTest, ::testing::Values("inproc", "batched:inproc"),
+                         DeviceName);
 
 }  // namespace
 }  // namespace tessera::testing

@@ -7,11 +7,13 @@
 
 #include <array>
 #include <cctype>
-#include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "../common/scoped_env.h"
 #include "tessera/rt.h"
 #include "tessera/rt_ext.h"
 
@@ -128,23 +130,34 @@ class RtFixture : public ::testing::Test {
 // suite checks that what it tests holds on that path too.
 class OnDevicesFixture : public RtFixture, public ::testing::WithParamInterface<const char*> {
  protected:
-  static constexpr char kBatched[] = "batched:";
-
   void SetUp() override {
     RtFixture::SetUp();
     std::string spec = GetParam();
-    if (spec.rfind(kBatched, 0) == 0) {
+    if (batched()) {
       spec.erase(0, sizeof(kBatched) - 1);
-      setenv("TESSERA_BATCHING", "1", 1);
+      batching_.emplace("TESSERA_BATCHING", "1");
     }
     Ok(tesseraContextSetDeviceSpec(ctx_, spec.c_str()));
     Ok(rtContextSetEntryPointCount(ctx_, 1));
     Ok(rtContextSetRayTypeCount(ctx_, 1));
   }
-  void TearDown() override {
-    unsetenv("TESSERA_BATCHING");
-    RtFixture::TearDown();
+  // Whether the parameter asks for batched launches.
+  bool batched() const {
+    return std::string_view(GetParam()).substr(0, sizeof(kBatched) - 1) == kBatched;
   }
+  // With a "batched:" parameter, the last launch reached its tiles batched (a launch that ended
+  // before them, while state shipped, says not batched). A plain spec leaves the choice to the
+  // environment (a run under TESSERA_BATCHING=auto may take packets), so nothing is checked.
+  void ExpectBatchedIfAsked() {
+    if (!batched()) return;
+    int last = -1;
+    Ok(tesseraContextGetLastLaunchBatched(ctx_, &last));
+    EXPECT_EQ(last, 1) << GetParam();
+  }
+
+ private:
+  static constexpr char kBatched[] = "batched:";
+  std::optional<test::ScopedEnv> batching_;
 };
 
 // OnDevicesFixture with a width x height float OUTPUT buffer `result` that launches fill: launches

@@ -32,7 +32,8 @@ RTAPI RTresult tesseraContextGetExceptionReportCount(RTcontext context, RTsize* 
 
 /* Whether the context's last launch traced its launch indices' first rays as Embree packets
  * (batched tracing: TESSERA_BATCHING=1, or =auto and chosen for its entry point from what the
- * entry's earlier launches measured; docs/programs.md "Batched tracing"). 0 before any launch. */
+ * entry's earlier launches measured; docs/programs.md "Batched tracing"). 0 before any launch,
+ * and after one that ended before it traced (invalid, or cancelled while state shipped). */
 RTAPI RTresult tesseraContextGetLastLaunchBatched(RTcontext context, int* batched);
 
 /* Bytes of buffer contents that travelled for this context's launches since it was created:
